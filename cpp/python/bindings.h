@@ -1,0 +1,8 @@
+#pragma once
+#include <pybind11/pybind11.h>
+
+namespace hairlod::python {
+
+void bind_core(pybind11::module_& m);
+
+}  // namespace hairlod::python
