@@ -18,34 +18,39 @@ double knot_interval(const glm::dvec3& a, const glm::dvec3& b) {
 
 }  // namespace
 
-CatmullRomSegment::CatmullRomSegment(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2,
-                                     const glm::vec3& p3)
-    : p0_(p0), p1_(p1), p2_(p2), p3_(p3) {
-    d12_ = knot_interval(p1_, p2_);
-    d01_ = knot_interval(p0_, p1_);
-    d23_ = knot_interval(p2_, p3_);
-    if (d01_ <= kCoincidentFraction * d12_) {
-        p0_ = 2.0 * p1_ - p2_;
-        d01_ = d12_;
+CatmullRomSegment::CatmullRomSegment(const glm::vec3& p0_in, const glm::vec3& p1_in,
+                                     const glm::vec3& p2_in, const glm::vec3& p3_in)
+    : start_(p1_in), end_(p2_in) {
+    glm::dvec3 p0(p0_in), p1(p1_in), p2(p2_in), p3(p3_in);
+    const double d12 = knot_interval(p1, p2);
+    if (d12 == 0.0) {
+        d_ = p1;
+        return;
     }
-    if (d23_ <= kCoincidentFraction * d12_) {
-        p3_ = 2.0 * p2_ - p1_;
-        d23_ = d12_;
+    double d01 = knot_interval(p0, p1), d23 = knot_interval(p2, p3);
+    if (d01 <= kCoincidentFraction * d12) {
+        p0 = 2.0 * p1 - p2;
+        d01 = d12;
     }
+    if (d23 <= kCoincidentFraction * d12) {
+        p3 = 2.0 * p2 - p1;
+        d23 = d12;
+    }
+    // Tangents of the non-uniform Catmull-Rom spline with knots t0 = -d01, t1 = 0, t2 = d12,
+    // t3 = d12 + d23 (t1 at zero avoids cancellation), scaled to the unit parameter u.
+    const glm::dvec3 m1 = ((p1 - p0) / d01 - (p2 - p0) / (d01 + d12) + (p2 - p1) / d12) * d12;
+    const glm::dvec3 m2 = ((p2 - p1) / d12 - (p3 - p1) / (d12 + d23) + (p3 - p2) / d23) * d12;
+    a_ = 2.0 * (p1 - p2) + m1 + m2;
+    b_ = 3.0 * (p2 - p1) - 2.0 * m1 - m2;
+    c_ = m1;
+    d_ = p1;
 }
 
 glm::vec3 CatmullRomSegment::evaluate(float u) const {
-    if (d12_ == 0.0 || u <= 0.0f) return glm::vec3(p1_);
-    if (u >= 1.0f) return glm::vec3(p2_);
-    // Barry-Goldman pyramid on the knots t0 = -d01, t1 = 0, t2 = d12, t3 = d12 + d23.
-    const double t0 = -d01_, t1 = 0.0, t2 = d12_, t3 = d12_ + d23_;
-    const double t = static_cast<double>(u) * d12_;
-    const glm::dvec3 a1 = ((t1 - t) * p0_ + (t - t0) * p1_) / (t1 - t0);
-    const glm::dvec3 a2 = ((t2 - t) * p1_ + (t - t1) * p2_) / (t2 - t1);
-    const glm::dvec3 a3 = ((t3 - t) * p2_ + (t - t2) * p3_) / (t3 - t2);
-    const glm::dvec3 b1 = ((t2 - t) * a1 + (t - t0) * a2) / (t2 - t0);
-    const glm::dvec3 b2 = ((t3 - t) * a2 + (t - t1) * a3) / (t3 - t1);
-    return glm::vec3(((t2 - t) * b1 + (t - t1) * b2) / (t2 - t1));
+    if (u <= 0.0f) return start_;
+    if (u >= 1.0f) return end_;
+    const double t = u;
+    return glm::vec3(((a_ * t + b_) * t + c_) * t + d_);
 }
 
 CatmullRomSegment curve_segment(const glm::vec3* points, size_t count, size_t i) {

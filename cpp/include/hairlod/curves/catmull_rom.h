@@ -17,10 +17,9 @@ public:
     glm::vec3 evaluate(float u) const;
 
 private:
-    glm::dvec3 p0_, p1_, p2_, p3_;
-    // Knots relative to p1: t0 = -d01, t1 = 0, t2 = d12, t3 = d12 + d23; keeping t1 at zero avoids
-    // cancellation when an interval is tiny.
-    double d01_, d12_, d23_;
+    // Cubic in Horner form, p(u) = ((a u + b) u + c) u + d, evaluated in double.
+    glm::dvec3 a_{0.0}, b_{0.0}, c_{0.0}, d_{0.0};
+    glm::vec3 start_, end_;
 };
 
 // The segment between control points i and i+1 of a polyline of `count` points, with the
