@@ -40,8 +40,12 @@ def datablock_counts():
 def add_nodes_modifier(obj, build):
     """A Geometry Nodes modifier whose tree is input -> build(tree, geometry socket) -> output."""
     tree = bpy.data.node_groups.new("test_nodes", 'GeometryNodeTree')
-    tree.inputs.new('NodeSocketGeometry', "Geometry")
-    tree.outputs.new('NodeSocketGeometry', "Geometry")
+    if bpy.app.version >= (4, 0, 0):
+        tree.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
+        tree.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+    else:
+        tree.inputs.new('NodeSocketGeometry', "Geometry")
+        tree.outputs.new('NodeSocketGeometry', "Geometry")
     group_input = tree.nodes.new('NodeGroupInput')
     group_output = tree.nodes.new('NodeGroupOutput')
     tree.links.new(build(tree, group_input.outputs["Geometry"]), group_output.inputs["Geometry"])

@@ -27,7 +27,7 @@ def curves_to_strands(obj, evaluated=True, depsgraph=None) -> Strands:
 
     With ``evaluated`` the object's evaluated data (Geometry Nodes output) is read, using
     ``depsgraph`` or the context's evaluated depsgraph. Float point and curve attributes become
-    Strands attributes; a missing ``radius`` attribute gives radius 0, Blender's default.
+    Strands attributes; a missing ``radius`` attribute gives radius 0 (Blender 3.x's default).
     Raises TypeError for objects that are not hair Curves, ValueError for unusable curves.
     """
     if obj is None or obj.type != 'CURVES':

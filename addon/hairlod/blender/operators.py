@@ -100,15 +100,13 @@ class HAIRLOD_OT_export_hair(bpy.types.Operator, ExportHelper):
         return {'FINISHED'}
 
 
-def _format_list(formats):
-    return ", ".join(formats)
+def _menu_text(formats):
+    return f"Hair Strands ({', '.join(formats)})"
 
 
 def menu_func_import(self, context):
-    self.layout.operator(HAIRLOD_OT_import_hair.bl_idname,
-                         text=f"Hair Strands ({_format_list(io.READ_FORMATS)})")
+    self.layout.operator(HAIRLOD_OT_import_hair.bl_idname, text=_menu_text(io.READ_FORMATS))
 
 
 def menu_func_export(self, context):
-    self.layout.operator(HAIRLOD_OT_export_hair.bl_idname,
-                         text=f"Hair Strands ({_format_list(io.WRITE_FORMATS)})")
+    self.layout.operator(HAIRLOD_OT_export_hair.bl_idname, text=_menu_text(io.WRITE_FORMATS))
