@@ -162,10 +162,15 @@ def test_rejects_empty_curves(empty_scene):
         curves_to_strands(obj)
 
 
-def test_failed_conversion_leaves_nothing_behind(empty_scene):
+@pytest.mark.parametrize("name, components, message", [
+    ("too_wide", 5, "'too_wide' has 5 components"),
+    ("radius", 1, "'radius' clashes"),
+])
+def test_failed_conversion_leaves_nothing_behind(empty_scene, name, components, message):
     strands = random_strands(10)
-    strands.set_attribute("too_wide", np.zeros((strands.point_count, 5), np.float32))
+    shape = (strands.point_count, components) if components > 1 else strands.point_count
+    strands.set_attribute(name, np.zeros(shape, np.float32))
     before = datablock_counts()
-    with pytest.raises(ValueError, match="too_wide"):
+    with pytest.raises(ValueError, match=message):
         strands_to_curves(strands, "failed")
     assert datablock_counts() == before
