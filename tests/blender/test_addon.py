@@ -1,7 +1,5 @@
 """The add-on inside Blender: registration, operators, menus, undo, .blend round trip."""
 
-import os
-
 import bpy
 import numpy as np
 import pytest

@@ -16,9 +16,10 @@ _DOMAIN_FROM_BLENDER = {blender: ours for ours, blender in _DOMAIN_TO_BLENDER.it
 # Float attribute types by component count, and the name of their foreach property.
 _FLOAT_TYPES = {1: ("FLOAT", "value"), 2: ("FLOAT2", "vector"), 3: ("FLOAT_VECTOR", "vector"),
                 4: ("FLOAT_COLOR", "color")}
-_COMPONENTS_BY_TYPE = {data_type: (components, prop) for components, (data_type, prop) in _FLOAT_TYPES.items()}
+_COMPONENTS_BY_TYPE = {data_type: (components, prop)
+                       for components, (data_type, prop) in _FLOAT_TYPES.items()}
 
-# Attributes with a dedicated Strands field, or that Blender manages itself.
+# Attributes that have their own Strands field.
 _BUILTIN_ATTRIBUTES = {"position", "radius"}
 
 
