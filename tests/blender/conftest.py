@@ -1,6 +1,7 @@
 """Shared fixtures for the tests that run inside Blender (see pytest_main.py)."""
 
 import os
+import pathlib
 import sys
 
 import pytest
@@ -13,15 +14,13 @@ SHARED_DATA_DIR = os.path.abspath(os.path.join(REPO_ROOT, os.pardir, "shared", "
 sys.path.insert(0, ADDON_DIR)
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def shared_data():
-    """Path builder for files in <repo>/../shared/data; fails (not skips) when a file is missing."""
-    def path(*parts):
-        result = os.path.join(SHARED_DATA_DIR, *parts)
-        if not os.path.isfile(result):
-            pytest.fail(f"test data missing: {result} (expected next to the repository in ../shared/data)")
-        return result
-    return path
+    """../shared/data/hairutil; a fresh clone has no ../shared, which is an error, not a skip."""
+    folder = pathlib.Path(SHARED_DATA_DIR, "hairutil")
+    if not folder.is_dir():
+        pytest.fail(f"shared test data missing: {folder} (tests need ../shared/data next to the repository)")
+    return folder
 
 
 @pytest.fixture

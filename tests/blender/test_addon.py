@@ -4,7 +4,7 @@ import bpy
 import numpy as np
 import pytest
 
-BANGS = ("hairutil", "Bangs_100.hair")
+BANGS = "Bangs_100.hair"
 
 
 def menu_draw_functions(menu):
@@ -42,7 +42,7 @@ def test_enable_disable_enable_is_clean():
 def test_import_creates_selected_active_curves(empty_scene, addon, shared_data):
     import hairlod.io
 
-    path = shared_data(*BANGS)
+    path = str(shared_data / BANGS)
     assert bpy.ops.hairlod.import_hair(filepath=path) == {'FINISHED'}
     obj = bpy.context.active_object
     assert obj.name == "Bangs_100" and obj.type == 'CURVES'
@@ -72,7 +72,7 @@ def test_export_reads_back_identical(empty_scene, addon, shared_data, tmp_path, 
     import hairlod.io
     from hairlod.blender.curves import curves_to_strands
 
-    bpy.ops.hairlod.import_hair(filepath=shared_data(*BANGS))
+    bpy.ops.hairlod.import_hair(filepath=str(shared_data / BANGS))
     target = tmp_path / ("exported" + extension)
     assert bpy.ops.hairlod.export_hair(filepath=str(target)) == {'FINISHED'}
     written = hairlod.io.read(str(target))
@@ -91,7 +91,7 @@ def test_export_needs_active_hair_curves(empty_scene, addon, tmp_path):
 
 
 def test_export_failure_reports_and_writes_nothing(empty_scene, addon, shared_data, tmp_path):
-    bpy.ops.hairlod.import_hair(filepath=shared_data(*BANGS))
+    bpy.ops.hairlod.import_hair(filepath=str(shared_data / BANGS))
     target = tmp_path / "unsupported.ply"
     with pytest.raises(RuntimeError, match="Cannot export"):
         bpy.ops.hairlod.export_hair(filepath=str(target))
@@ -101,7 +101,7 @@ def test_export_failure_reports_and_writes_nothing(empty_scene, addon, shared_da
 def test_import_is_undoable(empty_scene, addon, shared_data):
     assert {'REGISTER', 'UNDO'} <= bpy.types.HAIRLOD_OT_import_hair.bl_options
     bpy.ops.ed.undo_push(message="before import")
-    bpy.ops.hairlod.import_hair(filepath=shared_data(*BANGS))
+    bpy.ops.hairlod.import_hair(filepath=str(shared_data / BANGS))
     bpy.ops.ed.undo_push(message="import")
     assert "Bangs_100" in bpy.data.objects
     bpy.ops.ed.undo()
@@ -111,7 +111,7 @@ def test_import_is_undoable(empty_scene, addon, shared_data):
 
 
 def test_blend_file_keeps_imported_curves(empty_scene, addon, shared_data, tmp_path):
-    bpy.ops.hairlod.import_hair(filepath=shared_data(*BANGS))
+    bpy.ops.hairlod.import_hair(filepath=str(shared_data / BANGS))
     original = np.empty(1165 * 3, np.float32)
     bpy.data.objects["Bangs_100"].data.attributes["position"].data.foreach_get("vector", original)
     blend = str(tmp_path / "saved.blend")

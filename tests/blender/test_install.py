@@ -48,7 +48,7 @@ def test_zip_installs_enables_and_imports(empty_scene, user_scripts, addon_zip, 
     assert os.path.dirname(hairlod.__file__) == str(installed)
     assert "hairlod" in {addon.module for addon in bpy.context.preferences.addons}
 
-    path = shared_data("hairutil", "Bangs_100.hair")
+    path = str(shared_data / "Bangs_100.hair")
     assert bpy.ops.hairlod.import_hair(filepath=path) == {'FINISHED'}
     obj = bpy.context.active_object
     assert obj.name == "Bangs_100" and len(obj.data.curves) == 100 and len(obj.data.points) == 1165
