@@ -76,8 +76,8 @@ def steps():
     draw = bpy.types.VIEW3D_PT_hairlod.draw
 
     def recording_draw(panel, context):
-        panel_draws.append(context.region.as_pointer())
         draw(panel, context)
+        panel_draws.append(context.region.as_pointer())  # only draws that did not raise
 
     bpy.types.VIEW3D_PT_hairlod.draw = recording_draw
     for _ in range(8):
