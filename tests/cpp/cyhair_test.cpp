@@ -21,6 +21,7 @@ constexpr size_t segments_flag = 1;
 // A 128-byte header with the given counts and flags and default segments 1.
 std::vector<std::byte> header_bytes(uint32_t hairs, uint32_t points, uint32_t flags) {
     ByteWriter writer;
+    writer.reserve(cyhair_header_bytes);
     for (char c : std::string_view("HAIR")) writer.write(static_cast<uint8_t>(c));
     writer.write(hairs);
     writer.write(points);

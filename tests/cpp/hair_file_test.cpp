@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "hairlod/core/bounds.h"
+#include "hairlod/core/strand_metrics.h"
 #include "io_test_support.h"
 
 namespace hairlod::io {

@@ -71,7 +71,9 @@ std::vector<std::byte> read_whole_file(const std::filesystem::path& path) {
 std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
     std::random_device random;
     const uint64_t suffix = (uint64_t{random()} << 32) ^ random();
-    std::string name = "." + path.filename().string() + ".tmp-";
+    std::string name(1, '.');
+    name += path.filename().string();
+    name += ".tmp-";
     constexpr char hex[] = "0123456789abcdef";
     for (int shift = 60; shift >= 0; shift -= 4) name += hex[(suffix >> shift) & 0xf];
     return path.parent_path() / name;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "hairlod/core/bounds.h"
+#include "hairlod/core/strand_metrics.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::io {

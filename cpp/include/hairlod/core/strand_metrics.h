@@ -1,8 +1,11 @@
 #pragma once
-// Axis-aligned bounding box of points.
+// Whole-set measurements: bounding box and per-curve polyline lengths.
 #include <span>
+#include <vector>
 
 #include <glm/vec3.hpp>
+
+#include "hairlod/core/strand_set.h"
 
 namespace hairlod {
 
@@ -15,5 +18,8 @@ struct Bounds3 {
 };
 
 Bounds3 bounding_box(std::span<const glm::vec3> points);
+
+// Length of each curve's control polyline, accumulated in double.
+std::vector<double> curve_lengths(const StrandSet& strands);
 
 }  // namespace hairlod

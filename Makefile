@@ -1,0 +1,50 @@
+# hairlod entry points. `make demo` and `make test` set up everything they need (Debian packages
+# through scripts/bootstrap.sh), build, and run.
+PYTHON    := /usr/bin/python3
+BUILD_DIR := build
+JOBS      ?= 2
+CMAKE_ARGS ?=
+export PYTHONPATH := $(CURDIR)/addon
+
+.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui addon bench fuzz clean
+
+all: build
+
+bootstrap:
+	@scripts/bootstrap.sh
+
+$(BUILD_DIR)/CMakeCache.txt:
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_ARGS)
+
+build: $(BUILD_DIR)/CMakeCache.txt
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+demo: bootstrap build
+	$(PYTHON) examples/demo.py
+
+test: bootstrap build
+	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui
+
+test-cpp:
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+test-python:
+	$(PYTHON) -m pytest -q tests/python
+
+test-blender:
+	scripts/run_blender_tests.sh
+
+test-ui:
+	scripts/run_ui_tests.sh
+
+addon: build
+	$(PYTHON) scripts/build_addon.py
+
+bench: bootstrap build
+	scripts/bench.sh
+
+fuzz:
+	scripts/fuzz.sh
+
+clean:
+	rm -rf $(BUILD_DIR) dist addon/hairlod/_core*.so

@@ -1,0 +1,174 @@
+"""Bridge between Blender hair ``Curves`` objects and ``hairlod.Strands``.
+
+Data moves with ``foreach_get`` / ``foreach_set`` on contiguous numpy arrays; no Python loop
+touches individual points or curves.
+"""
+
+import bpy
+import numpy as np
+
+from .. import Strands
+
+# Strands attribute domain <-> Blender attribute domain.
+_DOMAIN_TO_BLENDER = {"point": "POINT", "curve": "CURVE"}
+_DOMAIN_FROM_BLENDER = {blender: ours for ours, blender in _DOMAIN_TO_BLENDER.items()}
+
+# Float attribute types by component count, and the name of their foreach property.
+_FLOAT_TYPES = {1: ("FLOAT", "value"), 2: ("FLOAT2", "vector"), 3: ("FLOAT_VECTOR", "vector"),
+                4: ("FLOAT_COLOR", "color")}
+_COMPONENTS_BY_TYPE = {data_type: (components, prop)
+                       for components, (data_type, prop) in _FLOAT_TYPES.items()}
+
+# Attributes that have their own Strands field.
+_BUILTIN_ATTRIBUTES = {"position", "radius"}
+
+
+def curves_to_strands(obj, evaluated=True, depsgraph=None) -> Strands:
+    """Strands from a hair Curves object.
+
+    With ``evaluated`` the object's evaluated data (Geometry Nodes output) is read, using
+    ``depsgraph`` or the context's evaluated depsgraph. Float point and curve attributes become
+    Strands attributes; a missing ``radius`` attribute gives radius 0 (Blender 3.x's default).
+    Raises TypeError for objects that are not hair Curves, ValueError for unusable curves.
+    """
+    if obj is None or obj.type != 'CURVES':
+        kind = "nothing" if obj is None else f"'{obj.name}' ({obj.type})"
+        raise TypeError(f"expected a hair Curves object, got {kind}")
+    if evaluated:
+        depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
+        obj = obj.evaluated_get(depsgraph)
+    curves = obj.data
+    point_count, curve_count = len(curves.points), len(curves.curves)
+    if curve_count == 0:
+        raise ValueError(f"'{obj.name}' has no curves")
+
+    offsets = np.empty(curve_count + 1, np.int32)
+    curves.curve_offset_data.foreach_get("value", offsets)
+    counts = np.diff(offsets)
+    if counts.min() < 2:
+        short = int(np.argmax(counts < 2))
+        raise ValueError(f"'{obj.name}': curve {short} has {counts[short]} point(s); "
+                         "hair strands need at least 2")
+
+    points = np.empty((point_count, 3), np.float32)
+    curves.attributes["position"].data.foreach_get("vector", points.ravel())
+    radius_attribute = curves.attributes.get("radius")
+    radius = None
+    if radius_attribute is not None:
+        radius = np.empty(point_count, np.float32)
+        radius_attribute.data.foreach_get("value", radius)
+    strands = Strands(points, offsets.astype(np.int64), radius)
+
+    for attribute in curves.attributes:
+        name = attribute.name
+        domain = _DOMAIN_FROM_BLENDER.get(attribute.domain)
+        # Names starting with "." are Blender's internal attributes (selection and the like).
+        if (name in _BUILTIN_ATTRIBUTES or name.startswith(".") or domain is None
+                or attribute.data_type not in _COMPONENTS_BY_TYPE):
+            continue
+        components, prop = _COMPONENTS_BY_TYPE[attribute.data_type]
+        rows = point_count if domain == "point" else curve_count
+        values = np.empty((rows, components) if components > 1 else rows, np.float32)
+        attribute.data.foreach_get(prop, values.ravel())
+        strands.set_attribute(name, values, domain)
+    return strands
+
+
+def strands_to_curves(strands: Strands, name, collection=None):
+    """A new hair Curves object named ``name`` holding ``strands``, linked to ``collection``
+    (the context's collection when None). Curves are Catmull-Rom; Strands attributes become
+    Blender attributes (1-4 float components). Nothing is left behind when it fails.
+    """
+    collection = collection or bpy.context.collection
+    curves = bpy.data.hair_curves.new(name)
+    obj = bpy.data.objects.new(name, curves)
+    try:
+        collection.objects.link(obj)
+        counts = np.diff(strands.offsets)
+        if bpy.app.version >= (4, 0, 0):
+            curves.add_curves(counts.tolist())
+        else:
+            _build_topology_with_geometry_nodes(obj, strands.points, counts)
+        # Positions are written even where the topology came with them: the values are exact.
+        curves.attributes["position"].data.foreach_set("vector", strands.points.ravel())
+        # A "radius" that does not exist yet silently drops foreach_set writes: create it first.
+        radius = curves.attributes.get("radius") or curves.attributes.new("radius", 'FLOAT', 'POINT')
+        radius.data.foreach_set("value", np.ascontiguousarray(strands.radius))
+        for attribute_name in strands.attribute_names():
+            _write_attribute(curves, attribute_name, strands)
+        curves.update_tag()
+    except BaseException:
+        bpy.data.objects.remove(obj)
+        bpy.data.hair_curves.remove(curves)
+        raise
+    return obj
+
+
+def _write_attribute(curves, name, strands):
+    values = strands.attribute(name)
+    components = values.shape[1] if values.ndim == 2 else 1
+    if components not in _FLOAT_TYPES:
+        raise ValueError(f"attribute '{name}' has {components} components; Blender takes 1 to 4")
+    if name in curves.attributes:
+        raise ValueError(f"attribute '{name}' clashes with a Blender attribute of the same name")
+    data_type, prop = _FLOAT_TYPES[components]
+    domain = _DOMAIN_TO_BLENDER[strands.attribute_domain(name)]
+    attribute = curves.attributes.new(name, data_type, domain)
+    attribute.data.foreach_set(prop, np.ascontiguousarray(values, np.float32).ravel())
+
+
+def _build_topology_with_geometry_nodes(obj, points, counts):
+    """Gives the (empty) Curves of ``obj`` one curve per entry of ``counts`` (Blender < 4.0).
+
+    These versions cannot resize Curves from Python, so a temporary edge mesh, one chain per
+    curve, goes through Geometry Nodes "Mesh to Curve" in a modifier that is then applied.
+    Mesh to Curve starts each chain at its lowest-index end and orders the chains by that
+    index, so points and curves keep the input's order (checked by the tests).
+    """
+    point_count = len(points)
+    last_points = np.cumsum(counts) - 1
+    edge_starts = np.delete(np.arange(point_count, dtype=np.int32), last_points)
+    edges = np.stack([edge_starts, edge_starts + 1], axis=1)
+
+    mesh = bpy.data.meshes.new("hairlod_edges")
+    mesh_obj = node_group = None
+    try:
+        mesh.vertices.add(point_count)
+        mesh.vertices.foreach_set("co", np.ascontiguousarray(points).ravel())
+        mesh.edges.add(len(edges))
+        mesh.edges.foreach_set("vertices", edges.ravel())
+        mesh_obj = bpy.data.objects.new("hairlod_edges", mesh)
+        node_group = _mesh_to_curve_node_group(mesh_obj)
+        modifier = obj.modifiers.new("hairlod_mesh_to_curve", 'NODES')
+        modifier.node_group = node_group
+        with bpy.context.temp_override(object=obj, active_object=obj):
+            bpy.ops.object.modifier_apply(modifier=modifier.name)
+    finally:
+        if mesh_obj is not None:
+            bpy.data.objects.remove(mesh_obj)
+        bpy.data.meshes.remove(mesh)
+        if node_group is not None:
+            bpy.data.node_groups.remove(node_group)
+
+    curves = obj.data
+    if len(curves.points) != point_count or len(curves.curves) != len(counts):
+        raise RuntimeError("Mesh to Curve changed the strand topology: "
+                           f"{len(curves.curves)} curves / {len(curves.points)} points, "
+                           f"expected {len(counts)} / {point_count}")
+    # Without curve_type the curves are Catmull-Rom; the others are mesh leftovers or defaults.
+    for leftover in ("curve_type", "cyclic", ".select_vert", ".select_edge"):
+        attribute = curves.attributes.get(leftover)
+        if attribute is not None:
+            curves.attributes.remove(attribute)
+
+
+def _mesh_to_curve_node_group(mesh_obj):
+    node_group = bpy.data.node_groups.new("hairlod_mesh_to_curve", 'GeometryNodeTree')
+    node_group.outputs.new('NodeSocketGeometry', "Geometry")
+    object_info = node_group.nodes.new('GeometryNodeObjectInfo')
+    object_info.inputs["Object"].default_value = mesh_obj
+    mesh_to_curve = node_group.nodes.new('GeometryNodeMeshToCurve')
+    output = node_group.nodes.new('NodeGroupOutput')
+    node_group.links.new(object_info.outputs["Geometry"], mesh_to_curve.inputs["Mesh"])
+    node_group.links.new(mesh_to_curve.outputs["Curve"], output.inputs["Geometry"])
+    return node_group

@@ -1,0 +1,139 @@
+"""Command line: python3 -m hairlod <command> ... [--json].
+
+Contract (DESIGN.md): --json prints one JSON object on stdout; bad input exits with code 2 and one
+line on stderr naming the file or parameter and the problem, never a traceback; no partial output
+file is left behind.
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+
+from . import __version__
+
+EXIT_BAD_INPUT = 2
+
+
+class UsageError(Exception):
+    """A bad command line: reported as one line, exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def strand_summary(strands):
+    """Counts, points per strand, bounding box and total length of Strands, as plain Python."""
+    import numpy as np
+
+    counts = strands.counts()
+    lower, upper = strands.bounding_box()
+    has_curves = len(strands) > 0
+    return {
+        "strands": len(strands),
+        "points": strands.point_count,
+        "points_per_strand": {
+            "min": int(counts.min()) if has_curves else 0,
+            "mean": float(counts.mean()) if has_curves else 0.0,
+            "max": int(counts.max()) if has_curves else 0,
+        },
+        "bounding_box": {"min": [float(v) for v in lower], "max": [float(v) for v in upper]},
+        "total_length": float(np.sum(strands.curve_lengths())),
+        "radius": {
+            "min": float(strands.radius.min()) if has_curves else 0.0,
+            "max": float(strands.radius.max()) if has_curves else 0.0,
+        },
+        "attributes": {name: strands.attribute_domain(name) for name in strands.attribute_names()},
+    }
+
+
+def _print_summary(path, summary):
+    per_strand = summary["points_per_strand"]
+    box = summary["bounding_box"]
+    print(f"{path}")
+    print(f"  strands            {summary['strands']}")
+    print(f"  points             {summary['points']}")
+    print(f"  points per strand  min {per_strand['min']}  mean {per_strand['mean']:.2f}  max {per_strand['max']}")
+    print("  bounding box       min ({:.6g}, {:.6g}, {:.6g})  max ({:.6g}, {:.6g}, {:.6g})".format(*box["min"], *box["max"]))
+    print(f"  total length       {summary['total_length']:.6g}")
+    print(f"  radius             min {summary['radius']['min']:.6g}  max {summary['radius']['max']:.6g}")
+    if summary["attributes"]:
+        attributes = ", ".join(f"{name} ({domain})" for name, domain in summary["attributes"].items())
+        print(f"  attributes         {attributes}")
+
+
+def _read_timed(path):
+    from . import io
+
+    start = time.perf_counter()
+    strands = io.read(path)
+    return strands, time.perf_counter() - start
+
+
+def command_info(args):
+    strands, seconds = _read_timed(args.file)
+    summary = strand_summary(strands)
+    if args.json:
+        print(json.dumps({"file": args.file, **summary, "read_seconds": seconds}))
+    else:
+        _print_summary(args.file, summary)
+    return 0
+
+
+def command_convert(args):
+    from . import io
+
+    extension = os.path.splitext(args.output)[1].lower()
+    if extension not in io.WRITE_FORMATS:
+        supported = ", ".join(io.WRITE_FORMATS)
+        raise UsageError(f"{args.output}: cannot write '{extension or 'no extension'}' files (supported: {supported})")
+    strands, read_seconds = _read_timed(args.input)
+    start = time.perf_counter()
+    io.write(args.output, strands)
+    write_seconds = time.perf_counter() - start
+    result = {
+        "input": args.input,
+        "output": args.output,
+        "strands": len(strands),
+        "points": strands.point_count,
+        "read_seconds": read_seconds,
+        "write_seconds": write_seconds,
+    }
+    if args.json:
+        print(json.dumps(result))
+    else:
+        print(f"{args.input} -> {args.output}: {result['strands']} strands, {result['points']} points")
+    return 0
+
+
+def build_parser():
+    parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
+    parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    commands.required = True
+
+    info = commands.add_parser("info", help="summarise a hair file")
+    info.add_argument("file", help="hair file (.hair .data .bin .ply .tfx)")
+    info.add_argument("--json", action="store_true", help="print one JSON object")
+    info.set_defaults(run=command_info)
+
+    convert = commands.add_parser("convert", help="convert between hair file formats")
+    convert.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
+    convert.add_argument("output", help="hair file to write (.hair .data)")
+    convert.add_argument("--json", action="store_true", help="print one JSON object")
+    convert.set_defaults(run=command_convert)
+    return parser
+
+
+def main(argv=None):
+    try:
+        args = build_parser().parse_args(argv)
+        return args.run(args)
+    except UsageError as error:
+        print(f"hairlod: error: {error}", file=sys.stderr)
+    except (ValueError, OSError) as error:
+        print(f"hairlod: error: {error}", file=sys.stderr)
+    return EXIT_BAD_INPUT

@@ -1,0 +1,138 @@
+"""The Hair LoD sidebar tab is drawn in a real viewport (Blender under Xvfb, see scripts/run_ui_tests.sh).
+
+Enables the add-on, imports a hair file, opens the sidebar on the "Hair LoD" tab and takes a
+screenshot; disables the add-on and takes another. The tab's panel must change the sidebar's
+pixels, and only there. Screenshots go to $HAIRLOD_UI_OUT (default <repo>/out/ui). Exits 0 on
+success, 1 on failure.
+"""
+
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+SHARED_DATA_DIR = os.path.abspath(os.path.join(REPO_ROOT, os.pardir, "shared", "data"))
+OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+
+# Seconds between steps: long enough for the window to redraw after each change.
+REDRAW_DELAY = 1.0
+
+
+def view3d_area_and_sidebar(window):
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    return area, next(r for r in area.regions if r.type == 'UI')
+
+
+def screenshot(window, area, name):
+    path = os.path.join(OUT_DIR, name)
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.screen.screenshot(filepath=path, check_existing=False)
+    image = bpy.data.images.load(path)
+    width, height = image.size
+    pixels = np.empty(width * height * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    bpy.data.images.remove(image)
+    # Image rows run bottom-up, like window coordinates.
+    return pixels.reshape(height, width, 4)[..., :3]
+
+
+def crop(pixels, window, region):
+    """The region's pixels; the screenshot may be scaled from window to image size."""
+    scale_y, scale_x = pixels.shape[0] / window.height, pixels.shape[1] / window.width
+    x0, y0 = int(region.x * scale_x), int(region.y * scale_y)
+    x1, y1 = int((region.x + region.width) * scale_x), int((region.y + region.height) * scale_y)
+    return pixels[y0:y1, x0:x1]
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def steps():
+    """Yields the delay before the next step; the timer callback drives it."""
+    import addon_utils
+
+    window = bpy.context.window_manager.windows[0]
+    area, sidebar = view3d_area_and_sidebar(window)
+
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    hair_file = os.path.join(SHARED_DATA_DIR, "hairutil", "Bangs_100.hair")
+    check(os.path.isfile(hair_file), f"test data present: {hair_file}")
+    with bpy.context.temp_override(window=window, area=area):
+        check(bpy.ops.hairlod.import_hair(filepath=hair_file) == {'FINISHED'}, "hair file imported")
+    area.spaces.active.show_region_ui = True
+    yield REDRAW_DELAY
+
+    # Blender 3.4 has no Python access to the active sidebar tab: record when the panel draws
+    # and cycle the tabs with Ctrl+Wheel over the empty bottom of the tab strip at the sidebar's
+    # right edge, where no button takes the wheel (needs --enable-event-simulate).
+    panel_draws = []
+    draw = bpy.types.VIEW3D_PT_hairlod.draw
+
+    def recording_draw(panel, context):
+        draw(panel, context)
+        panel_draws.append(context.region.as_pointer())  # only draws that did not raise
+
+    bpy.types.VIEW3D_PT_hairlod.draw = recording_draw
+    for _ in range(8):
+        area, sidebar = view3d_area_and_sidebar(window)
+        if sidebar.as_pointer() in panel_draws:
+            break
+        tab_strip_x, tab_strip_y = sidebar.x + sidebar.width - 8, sidebar.y + 16
+        window.event_simulate('MOUSEMOVE', 'NOTHING', x=tab_strip_x, y=tab_strip_y)
+        window.event_simulate('WHEELDOWNMOUSE', 'PRESS', ctrl=True, x=tab_strip_x, y=tab_strip_y)
+        panel_draws.clear()
+        yield REDRAW_DELAY
+    bpy.types.VIEW3D_PT_hairlod.draw = draw
+    check(sidebar.as_pointer() in panel_draws, "sidebar shows the Hair LoD tab")
+    check(sidebar.width > 100 and sidebar.height > 100, f"sidebar is open ({sidebar.width}x{sidebar.height})")
+    with_panel = screenshot(window, area, "sidebar_hairlod.png")
+    addon_utils.disable("hairlod", default_set=True)
+    area.tag_redraw()
+    yield REDRAW_DELAY
+
+    without_panel = screenshot(window, area, "sidebar_without_hairlod.png")
+    check(with_panel.shape == without_panel.shape, "screenshots have the same size")
+    changed = np.abs(with_panel - without_panel).max(axis=2) > 0.05
+    in_sidebar = crop(changed, window, sidebar)
+    check(in_sidebar.mean() > 0.01, f"the panel changes the sidebar ({in_sidebar.mean():.1%} of its pixels)")
+    check(changed.sum() - in_sidebar.sum() < 0.1 * in_sidebar.sum(),
+          f"and little else ({changed.sum() - in_sidebar.sum()} pixels outside it)")
+    # Text and icons: the panel draws bright pixels on a darker background.
+    panel = crop(with_panel, window, sidebar)
+    check((panel.mean(axis=2) > 0.7).mean() > 0.002, "the panel shows text")
+
+
+def run():
+    os.makedirs(OUT_DIR, exist_ok=True)
+    bpy.context.preferences.view.show_splash = False
+    step = steps()
+
+    def tick():
+        try:
+            return next(step)
+        except StopIteration:
+            finish(0)
+        except Exception:
+            traceback.print_exc()
+            finish(1)
+        return None
+
+    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY)
+
+
+def finish(status):
+    print("ui test:", "passed" if status == 0 else "FAILED")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # quit_blender() always exits 0; the status must reach the runner.
+    os._exit(status)
+
+
+run()
