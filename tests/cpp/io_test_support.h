@@ -21,12 +21,19 @@ inline std::filesystem::path hairutil_dir() {
     return std::filesystem::path(HAIRLOD_SHARED_DATA_DIR) / "hairutil";
 }
 
-// Loads ../shared/data/hairutil/<name>; fails the test (never skips) when the data is missing.
-inline void load_hairutil_file(const std::string& name, std::vector<std::byte>& bytes) {
+// Fails the test (never skips) when ../shared/data/hairutil/<name> is missing; use with
+// ASSERT_NO_FATAL_FAILURE.
+inline void require_hairutil_file(const std::string& name) {
     const std::filesystem::path path = hairutil_dir() / name;
     if (!std::filesystem::is_regular_file(path))
         GTEST_FAIL() << "test data " << path << " is missing: the io tests need the shared "
                      << "../shared/data folder next to the repository (hairutil test files)";
+}
+
+// Loads ../shared/data/hairutil/<name>; fails the test when it is missing.
+inline void load_hairutil_file(const std::string& name, std::vector<std::byte>& bytes) {
+    ASSERT_NO_FATAL_FAILURE(require_hairutil_file(name));
+    const std::filesystem::path path = hairutil_dir() / name;
     std::ifstream stream(path, std::ios::binary);
     const auto size = std::filesystem::file_size(path);
     bytes.resize(size);
