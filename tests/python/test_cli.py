@@ -82,7 +82,7 @@ def test_unknown_extension(tmp_path):
 
 def test_hostile_header_is_rejected_before_allocating(tmp_path):
     path = tmp_path / "hostile.hair"
-    header = b"HAIR" + struct.pack("<IIIIfff3f", 2**31, 2**31, 3, 0, 1.0, 0.0, 1.0, 1.0, 1.0)
+    header = b"HAIR" + struct.pack("<IIIIff3f", 2**31, 2**31, 3, 0, 1.0, 0.0, 1.0, 1.0, 1.0)
     path.write_bytes(header.ljust(128, b"\0") + bytes(100))
     line = one_line_error(run_cli("info", path))
     assert "hostile.hair" in line
