@@ -31,7 +31,7 @@ constexpr const char* color_name = "color";
 std::vector<float> read_floats(ByteReader& reader, size_t count, std::string_view what) {
     reader.require(count * sizeof(float), what);
     std::vector<float> values(count);
-    for (float& value : values) value = reader.read<float>(what);
+    reader.read_array(std::span(values), what);
     return values;
 }
 
@@ -91,9 +91,11 @@ CyHairFile read_cyhair(std::span<const std::byte> bytes) {
     std::vector<int64_t> counts;
     if (flags & has_segments) {
         counts.resize(hair_count);
+        std::vector<uint16_t> segments_array(hair_count);
+        reader.read_array(std::span(segments_array), "segments");
         uint64_t total = 0;
         for (uint64_t h = 0; h < hair_count; ++h) {
-            const uint16_t segments = reader.read<uint16_t>("segments");
+            const uint16_t segments = segments_array[h];
             if (segments == 0)
                 throw Error("strand " + std::to_string(h) +
                             " has 0 segments; every strand needs at least 1");
@@ -115,8 +117,7 @@ CyHairFile read_cyhair(std::span<const std::byte> bytes) {
     }
 
     std::vector<glm::vec3> points(point_count);
-    for (glm::vec3& p : points)
-        for (int k = 0; k < 3; ++k) p[k] = reader.read<float>("points");
+    reader.read_array(std::span(&points.data()->x, 3 * points.size()), "points");
 
     std::vector<float> radius;
     if (flags & has_thickness) {
@@ -196,21 +197,22 @@ std::vector<std::byte> write_cyhair(const StrandSet& strands, const CyHairHeader
     writer.write_bytes(std::as_bytes(std::span(header.info.data(), header.info.size())));
     writer.write_zeros(cyhair_info_bytes - header.info.size());
 
-    if (write_segments)
-        for (size_t c = 0; c < strands.curve_count(); ++c)
-            writer.write(static_cast<uint16_t>(strands.curve_size(c) - 1));
-    for (const glm::vec3& p : strands.points)
-        for (int k = 0; k < 3; ++k) writer.write(p[k]);
-    for (size_t i = 0; i < strands.radius.size(); ++i) {
-        const float thickness = 2.0f * strands.radius[i];
-        if (!std::isfinite(thickness))
-            throw Error("radius[" + std::to_string(i) + "] is too large for a .hair thickness");
-        writer.write(thickness);
+    if (write_segments) {
+        std::vector<uint16_t> segments(strands.curve_count());
+        for (size_t c = 0; c < segments.size(); ++c)
+            segments[c] = static_cast<uint16_t>(strands.curve_size(c) - 1);
+        writer.write_array(std::span<const uint16_t>(segments));
     }
-    if (transparency)
-        for (float value : transparency->values) writer.write(value);
-    if (color)
-        for (float value : color->values) writer.write(value);
+    writer.write_array(std::span<const float>(&strands.points.data()->x, 3 * strands.points.size()));
+    std::vector<float> thickness(strands.radius.size());
+    for (size_t i = 0; i < thickness.size(); ++i) {
+        thickness[i] = 2.0f * strands.radius[i];
+        if (!std::isfinite(thickness[i]))
+            throw Error("radius[" + std::to_string(i) + "] is too large for a .hair thickness");
+    }
+    writer.write_array(std::span<const float>(thickness));
+    if (transparency) writer.write_array(std::span<const float>(transparency->values));
+    if (color) writer.write_array(std::span<const float>(color->values));
     return std::move(writer).take();
 }
 

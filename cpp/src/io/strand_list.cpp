@@ -67,13 +67,15 @@ StrandListFile read_strand_list(std::span<const std::byte> bytes, int floats_per
             continue;
         }
         counts.push_back(static_cast<int64_t>(n));
-        for (size_t i = 0; i < n; ++i) {
-            glm::vec3 p;
-            p.x = reader.read<float>("point x");
-            p.y = reader.read<float>("point y");
-            p.z = reader.read<float>("point z");
+        const size_t first = points.size();
+        points.resize(first + n);
+        if (unused_bytes == 0) {
+            reader.read_array(std::span(&points[first].x, 3 * n), "strand points");
+            continue;
+        }
+        for (size_t i = first; i < first + n; ++i) {
+            reader.read_array(std::span(&points[i].x, 3), "strand points");
             reader.skip(unused_bytes, "point extra values");
-            points.push_back(p);
         }
     }
     const float radius = resolve_default_radius(options, points);

@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cstddef>
+#include <cstring>
 #include <span>
 #include <string>
 #include <string_view>
@@ -58,16 +59,30 @@ public:
     template <typename T>
         requires std::is_arithmetic_v<T>
     T read(std::string_view what) {
-        std::span<const std::byte> source = read_bytes(sizeof(T), what);
-        std::array<std::byte, sizeof(T)> raw;
-        std::copy(source.begin(), source.end(), raw.begin());
+        T value;
+        read_array(std::span<T>(&value, 1), what);
+        return value;
+    }
+
+    // Reads out.size() values in one copy (the hot path for point arrays).
+    template <typename T>
+        requires std::is_arithmetic_v<T>
+    void read_array(std::span<T> out, std::string_view what) {
+        const std::span<const std::byte> source = read_bytes(out.size_bytes(), what);
+        std::memcpy(out.data(), source.data(), source.size());
         const bool file_is_little = order_ == ByteOrder::LittleEndian;
-        if (file_is_little != (std::endian::native == std::endian::little))
-            std::reverse(raw.begin(), raw.end());
-        return std::bit_cast<T>(raw);
+        if (sizeof(T) > 1 && file_is_little != (std::endian::native == std::endian::little))
+            for (T& value : out) value = reversed_bytes(value);
     }
 
 private:
+    template <typename T>
+    static T reversed_bytes(T value) {
+        auto raw = std::bit_cast<std::array<std::byte, sizeof(T)>>(value);
+        std::reverse(raw.begin(), raw.end());
+        return std::bit_cast<T>(raw);
+    }
+
     std::span<const std::byte> bytes_;
     ByteOrder order_;
     size_t position_ = 0;

@@ -24,6 +24,16 @@ public:
         bytes_.insert(bytes_.end(), raw.begin(), raw.end());
     }
 
+    // Writes all values in one copy on little-endian hosts (the hot path for point arrays).
+    template <typename T>
+        requires std::is_arithmetic_v<T>
+    void write_array(std::span<const T> values) {
+        if constexpr (std::endian::native == std::endian::little)
+            write_bytes(std::as_bytes(values));
+        else
+            for (T value : values) write(value);
+    }
+
     void write_bytes(std::span<const std::byte> bytes) {
         bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
     }
