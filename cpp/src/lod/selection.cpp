@@ -118,12 +118,17 @@ Selection empty_selection(const Context& context) {
 
 float projected_width(const glm::mat4& view_projection, const glm::vec2& viewport, const glm::vec3& centre,
                       const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners) {
+    const glm::vec4 clip_centre = view_projection * glm::vec4(centre, 1.0f);
+    if (!(clip_centre.w > 0.0f)) return kInfinity;
+    // Offsets are projected with the perspective divide of the centre: the cross-section is tiny
+    // next to its depth, and a width that only scales with 1 / depth makes a farther camera never
+    // select a finer level.
+    const glm::vec2 to_pixels = 0.5f * viewport / clip_centre.w;
     glm::vec2 screen[4];
     for (int i = 0; i < 4; ++i) {
-        const glm::vec3 on_plane = corners[i] - glm::dot(corners[i] - centre, tangent) * tangent;
-        const glm::vec4 clip = view_projection * glm::vec4(on_plane, 1.0f);
-        if (!(clip.w > 0.0f)) return kInfinity;
-        screen[i] = glm::vec2(clip) / clip.w * (0.5f * viewport);
+        const glm::vec3 offset = corners[i] - centre;
+        const glm::vec3 on_plane = offset - glm::dot(offset, tangent) * tangent;
+        screen[i] = glm::vec2(view_projection * glm::vec4(on_plane, 0.0f)) * to_pixels;
     }
     float widest = 0.0f;
     for (int i = 0; i < 4; ++i)

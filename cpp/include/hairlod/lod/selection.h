@@ -38,7 +38,8 @@ struct Selection {
 
 // Projected width in pixels of one thick-hair cross-section (Sec. 5.2 "Hair width calculation"):
 // the corners projected onto the plane through the centre normal to the tangent, then to the
-// screen; the largest distance between them. Infinite when a corner is behind the camera.
+// screen with the centre's perspective divide; the largest distance between them. Infinite when
+// the centre is behind the camera.
 float projected_width(const glm::mat4& view_projection, const glm::vec2& viewport, const glm::vec3& centre,
                       const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners);
 
