@@ -9,4 +9,5 @@ PYBIND11_MODULE(_core, m) {
     pybind11::register_exception<hairlod::Error>(m, "HairlodError", PyExc_ValueError);
     hairlod::python::bind_core(m);
     hairlod::python::bind_io(m);
+    hairlod::python::bind_lod(m);
 }
