@@ -8,12 +8,11 @@
 namespace hairlod::io {
 namespace {
 
-using testing::load_hairutil_file;
 
 TEST(Ct2HairBin, ReadsBangs100LikeTheDataFile) {
     std::vector<std::byte> bin, data;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.bin", bin));
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.data", data));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.bin", bin);
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.data", data);
     const StrandListFile file = read_ct2hair_bin(bin);
     EXPECT_EQ(file.strands.curve_count(), 100u);
     EXPECT_EQ(file.strands.point_count(), 1165u);
@@ -22,7 +21,7 @@ TEST(Ct2HairBin, ReadsBangs100LikeTheDataFile) {
 
 TEST(Ct2HairBin, ReadsBangs20) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_20.bin", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_20.bin", bytes);
     const StrandListFile file = read_ct2hair_bin(bytes, {0.5f});
     EXPECT_EQ(file.strands.curve_count(), 20u);
     EXPECT_EQ(file.strands.point_count(), 235u);
@@ -31,13 +30,13 @@ TEST(Ct2HairBin, ReadsBangs20) {
 
 TEST(Ct2HairBin, DataFileIsNotABinFile) {
     std::vector<std::byte> data;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.data", data));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.data", data);
     EXPECT_THROW(read_ct2hair_bin(data), Error);
 }
 
 TEST(Ct2HairBin, EveryTruncationIsRejected) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_20.bin", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_20.bin", bytes);
     testing::expect_truncations_rejected(bytes, [](auto cut) { read_ct2hair_bin(cut); });
 }
 

@@ -13,7 +13,6 @@ namespace hairlod::io {
 namespace {
 
 using testing::expect_error_containing;
-using testing::load_hairutil_file;
 
 constexpr size_t flags_offset = 12;
 constexpr size_t segments_flag = 1;
@@ -51,7 +50,7 @@ StrandSet strands_with_all_attributes() {
 
 TEST(CyHair, ReadsBangs100) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.hair", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.hair", bytes);
     const CyHairFile file = read_cyhair(bytes);
     EXPECT_EQ(file.strands.curve_count(), 100u);
     EXPECT_EQ(file.strands.point_count(), 1165u);
@@ -186,7 +185,7 @@ TEST(CyHair, RejectsNonFiniteValues) {
 
 TEST(CyHair, EveryTruncationIsRejected) {
     std::vector<std::byte> bangs;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.hair", bangs));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.hair", bangs);
     testing::expect_truncations_rejected(bangs, [](auto cut) { read_cyhair(cut); });
     testing::expect_truncations_rejected(write_cyhair(strands_with_all_attributes()),
                                          [](auto cut) { read_cyhair(cut); });

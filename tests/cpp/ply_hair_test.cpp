@@ -15,7 +15,6 @@ namespace {
 
 using testing::bytes_of;
 using testing::expect_error_containing;
-using testing::load_hairutil_file;
 
 template <typename T>
 void append_big_endian(std::vector<std::byte>& bytes, T value) {
@@ -109,9 +108,9 @@ TEST(PlyHair, ReadsSyntheticBigEndianWithColour) {
 
 TEST(PlyHair, AsciiAndBinaryBangsMatchTheDataFile) {
     std::vector<std::byte> ascii, binary, data;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100_ascii.ply", ascii));
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100_binary.ply", binary));
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.data", data));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100_ascii.ply", ascii);
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100_binary.ply", binary);
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.data", data);
     const StrandSet from_ascii = read_ply_hair(ascii);
     const StrandSet from_binary = read_ply_hair(binary);
     EXPECT_EQ(from_binary.curve_count(), 100u);
@@ -125,7 +124,7 @@ TEST(PlyHair, AsciiAndBinaryBangsMatchTheDataFile) {
 
 TEST(PlyHair, ReadsCurly100) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Curly_100.ply", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Curly_100.ply", bytes);
     const StrandSet strands = read_ply_hair(bytes, {0.01f});
     EXPECT_EQ(strands.curve_count(), 100u);
     EXPECT_EQ(strands.point_count(), 2528u);
@@ -134,8 +133,8 @@ TEST(PlyHair, ReadsCurly100) {
 
 TEST(PlyHair, EveryTruncationIsRejected) {
     std::vector<std::byte> binary, ascii;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100_binary.ply", binary));
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100_ascii.ply", ascii));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100_binary.ply", binary);
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100_ascii.ply", ascii);
     testing::expect_truncations_rejected(binary, [](auto cut) { read_ply_hair(cut); });
     // Cutting into the last ascii number leaves a shorter valid number; stop before it.
     testing::expect_truncations_rejected(ascii, [](auto cut) { read_ply_hair(cut); },

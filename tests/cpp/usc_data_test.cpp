@@ -7,11 +7,10 @@
 namespace hairlod::io {
 namespace {
 
-using testing::load_hairutil_file;
 
 TEST(UscData, ReadsBangs100) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.data", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.data", bytes);
     const StrandListFile file = read_usc_data(bytes);
     EXPECT_EQ(file.strands.curve_count(), 100u);
     EXPECT_EQ(file.strands.point_count(), 1165u);
@@ -28,7 +27,7 @@ TEST(UscData, RoundTripIsExact) {
 
 TEST(UscData, RoundTripOfBangs100IsByteExact) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.data", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.data", bytes);
     EXPECT_EQ(write_usc_data(read_usc_data(bytes).strands), bytes);
 }
 
@@ -40,7 +39,7 @@ TEST(UscData, WriterRejectsInvalidStrands) {
 
 TEST(UscData, EveryTruncationIsRejected) {
     std::vector<std::byte> bytes;
-    ASSERT_NO_FATAL_FAILURE(load_hairutil_file("Bangs_100.data", bytes));
+    HAIRLOD_LOAD_HAIRUTIL_FILE("Bangs_100.data", bytes);
     testing::expect_truncations_rejected(bytes, [](auto cut) { read_usc_data(cut); });
 }
 
