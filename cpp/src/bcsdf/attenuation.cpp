@@ -50,7 +50,7 @@ std::array<glm::dvec3, 4> mean_fiber_attenuation(double eta, const glm::dvec3& s
             for (int p = 0; p < 4; ++p) s.value[p] = (0.5 * std::cos(gamma)) * att.a[p];
             return s;
         },
-        -0.5 * std::numbers::pi, 0.5 * std::numbers::pi, 4);
+        -0.5 * std::numbers::pi, 0.5 * std::numbers::pi, 8);
     return sum.value;
 }
 

@@ -19,7 +19,7 @@ constexpr double kPi = std::numbers::pi;
 // width 3s (at least 8) resolve the logistic of scale s; the tests hold this to 1e-4 relative
 // against adaptive quadrature.
 int panels_for_scale(double s) {
-    return std::clamp(static_cast<int>(std::ceil(kPi / (3.0 * s))), 8, 4096);
+    return std::clamp(static_cast<int>(std::ceil(kPi / (3.0 * s))), 8, 512);
 }
 
 }  // namespace

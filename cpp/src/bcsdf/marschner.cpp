@@ -133,7 +133,7 @@ glm::dvec3 MarschnerBcsdf::trt_azimuthal(double phi, double theta_d, double eta)
     if (strength <= 0.0) return n;
     // The removed energy 1/2 integral of A K dh returns as two Gaussian lobes of width w_c at +-phi_c.
     const glm::dvec3 removed = integrate_gauss_legendre(
-        [&](double h) { return (0.5 * (1.0 - kept(h))) * attenuation(2, h, theta_d, eta); }, -1.0, 1.0, 8);
+        [&](double h) { return (0.5 * (1.0 - kept(h))) * attenuation(2, h, theta_d, eta); }, -1.0, 1.0, 4);
     return n + (0.5 * (wrapped_gaussian(phi - phi_c, caustic_.width) + wrapped_gaussian(phi + phi_c, caustic_.width))) *
                    removed;
 }

@@ -20,7 +20,8 @@ struct FiberAttenuation {
 FiberAttenuation fiber_attenuation(double eta, const glm::dvec3& sigma_a, double sin_theta, double cos_theta,
                                    double h);
 
-// The attenuations averaged over the offset h in [-1, 1] (1/2 the integral over h).
+// The attenuations averaged over the offset h in [-1, 1] (1/2 the integral over h), by composite
+// Gauss-Legendre in asin(h): 1e-4 relative to adaptive quadrature up to theta = 1.5 (tested).
 std::array<glm::dvec3, 4> mean_fiber_attenuation(double eta, const glm::dvec3& sigma_a, double sin_theta,
                                                  double cos_theta);
 
