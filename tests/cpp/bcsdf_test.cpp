@@ -9,6 +9,7 @@
 
 #include "bcsdf_test_util.h"
 #include "hairlod/bcsdf/chiang.h"
+#include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hairlod/bcsdf/marschner.h"
+#include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {

@@ -8,9 +8,6 @@
 #include <tbb/parallel_for.h>
 
 #include "hairlod/bcsdf/chiang.h"
-#include "hairlod/bcsdf/fiber_rtd.h"
-#include "hairlod/bcsdf/marschner.h"
-#include "hairlod/bcsdf/realtime.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {
@@ -43,25 +40,6 @@ double magnitude(const LobeValues& lobes) {
 LobeValues operator*(double w, LobeValues a) {
     for (auto& v : a.value) v *= w;
     return a;
-}
-
-BcsdfModel parse_bcsdf_model(std::string_view name) {
-    if (name == "chiang") return BcsdfModel::Chiang;
-    if (name == "marschner") return BcsdfModel::Marschner;
-    if (name == "fiber_rtd") return BcsdfModel::FiberRtd;
-    if (name == "realtime") return BcsdfModel::Realtime;
-    throw Error("unknown BCSDF model '" + std::string(name) +
-                "' (expected chiang, marschner, fiber_rtd or realtime)");
-}
-
-std::unique_ptr<FiberBcsdf> make_bcsdf(BcsdfModel model, const HairParams& params) {
-    switch (model) {
-        case BcsdfModel::Chiang: return std::make_unique<ChiangBcsdf>(params);
-        case BcsdfModel::Marschner: return std::make_unique<MarschnerBcsdf>(params);
-        case BcsdfModel::FiberRtd: return std::make_unique<FiberRtdBcsdf>(params);
-        case BcsdfModel::Realtime: return std::make_unique<RealtimeBcsdf>(params);
-    }
-    throw Error("unknown BCSDF model");
 }
 
 namespace {

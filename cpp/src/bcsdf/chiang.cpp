@@ -27,7 +27,7 @@ int panels_for_scale(double s) {
 ChiangBcsdf::ChiangBcsdf(const HairParams& params)
     : params_(params), lobes_(chiang_lobes(params)), s_(logistic_scale(params.beta_n)) {
     params_.validate();
-    // Chiang et al. 2016, Eq. 12: mass of the logistic inside [-pi, pi].
+    // Chiang et al. 2016, Sec. 4.2 (trimmed logistic): mass of the logistic inside [-pi, pi].
     logistic_normalisation_ = 1.0 / (1.0 + std::exp(-kPi / s_)) - 1.0 / (1.0 + std::exp(kPi / s_));
     panels_ = panels_for_scale(s_);
 }
@@ -36,9 +36,9 @@ double ChiangBcsdf::deflection(int p, double gamma_o, double gamma_t) {
     return 2.0 * p * gamma_t - 2.0 * gamma_o + p * kPi;
 }
 
-double ChiangBcsdf::azimuthal_lobe(double phi, double s) const {
-    const double e = std::exp(-std::abs(wrap_angle(phi)) / s);
-    return e / (s * (1.0 + e) * (1.0 + e)) / logistic_normalisation_;
+double ChiangBcsdf::azimuthal_lobe(double phi) const {
+    const double e = std::exp(-std::abs(wrap_angle(phi)) / s_);
+    return e / (s_ * (1.0 + e) * (1.0 + e)) / logistic_normalisation_;
 }
 
 std::array<double, 4> ChiangBcsdf::longitudinal(const FiberDirection& di, const FiberDirection& dout) const {
@@ -63,7 +63,7 @@ LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, d
     LobeValues out;
     out.count = 4;
     for (int p = 0; p < 3; ++p) {
-        const double n = azimuthal_lobe(phi - deflection(p, att.gamma_o, att.gamma_t), s_);
+        const double n = azimuthal_lobe(phi - deflection(p, att.gamma_o, att.gamma_t));
         out.value[p] = (weight[p] * m[p] * n * inv_cos) * att.a[p];
     }
     out.value[3] = (weight[3] * m[3] * inv_cos / (2.0 * kPi)) * att.a[3];
@@ -76,7 +76,7 @@ LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) c
     const std::array<double, 4> m = longitudinal(di, dout);
     const double phi = di.phi - dout.phi;
 
-    // d'Eon et al. 2011, Eq. 9: N_p(phi) = 1/2 integral over h of A_p(h) D_p(phi - Phi(p, h)) dh,
+    // d'Eon et al. 2011, Sec. 4 (far-field azimuthal scattering): N_p(phi) = 1/2 integral over h of A_p(h) D_p(phi - Phi(p, h)) dh,
     // integrated in gamma_o (dh = cos(gamma_o) d gamma_o), where Phi has a bounded slope.
     const LobeValues integral = integrate_gauss_legendre(
         [&](double gamma_o) {
@@ -87,7 +87,7 @@ LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) c
             LobeValues value;
             value.count = 4;
             for (int p = 0; p < 3; ++p)
-                value.value[p] = (jacobian * azimuthal_lobe(phi - deflection(p, att.gamma_o, att.gamma_t), s_)) * att.a[p];
+                value.value[p] = (jacobian * azimuthal_lobe(phi - deflection(p, att.gamma_o, att.gamma_t))) * att.a[p];
             value.value[3] = (jacobian / (2.0 * kPi)) * att.a[3];
             return value;
         },

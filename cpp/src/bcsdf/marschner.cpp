@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "hairlod/bcsdf/attenuation.h"
 #include "hairlod/bcsdf/fiber_frame.h"
 #include "hairlod/bcsdf/longitudinal.h"
 #include "hairlod/bcsdf/quadrature.h"
+#include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {
 
@@ -78,6 +80,12 @@ double marschner_dphi_dgamma(int p, double gamma, double eta_prime) {
 MarschnerBcsdf::MarschnerBcsdf(const HairParams& params, const MarschnerCaustic& caustic)
     : params_(params), caustic_(caustic), lobes_(marschner_lobes(params)) {
     params_.validate();
+    if (!(caustic_.width > 0.0 && caustic_.width < 2.0 * kPi))
+        throw Error("caustic_width must be in (0, 2 pi), got " + std::to_string(caustic_.width));
+    if (!(caustic_.fade_range > 0.0 && caustic_.fade_range <= 2.0))
+        throw Error("caustic_fade_range must be in (0, 2], got " + std::to_string(caustic_.fade_range));
+    if (!(caustic_.max_window > 0.0 && caustic_.max_window <= 2.0))
+        throw Error("caustic_max_window must be in (0, 2], got " + std::to_string(caustic_.max_window));
 }
 
 double MarschnerBcsdf::eccentric_eta(double phi_h) const {

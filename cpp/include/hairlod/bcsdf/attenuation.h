@@ -14,7 +14,7 @@ struct FiberAttenuation {
     double gamma_t = 0.0;  // asin(h / eta')
 };
 
-// Chiang et al. 2016, Eq. 3 and 6 (Xu et al. 2011, Eq. 10): at inclination theta (sin, cos) and
+// Xu et al. 2011, Eq. 10 and Table 1 (Chiang et al. 2016, Sec. 4.3, adds the residual A_3): at inclination theta (sin, cos) and
 // offset h, f = Fresnel of the 3D incidence cos(theta) cos(gamma_o), T = exp(-sigma_a 2 cos(gamma_t)
 // / cos(theta_t)) with sin(theta_t) = sin(theta) / eta and sin(gamma_t) = h / eta'.
 FiberAttenuation fiber_attenuation(double eta, const glm::dvec3& sigma_a, double sin_theta, double cos_theta,

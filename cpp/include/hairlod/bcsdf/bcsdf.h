@@ -6,7 +6,6 @@
 // has integral of S cos(theta_i) dw_i = 1 (white furnace). Directions are in the fibre frame with the
 // tangent along +x and need not be normalised.
 #include <array>
-#include <memory>
 #include <span>
 #include <string_view>
 
@@ -45,14 +44,6 @@ public:
     virtual std::string_view name() const = 0;
     glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const { return eval_lobes(wi, wo).sum(); }
 };
-
-enum class BcsdfModel { Chiang, Marschner, FiberRtd, Realtime };
-
-// Parses "chiang", "marschner", "fiber_rtd", "realtime"; throws Error naming the model otherwise.
-BcsdfModel parse_bcsdf_model(std::string_view name);
-
-// A model with its default options; the parameters are validated.
-std::unique_ptr<FiberBcsdf> make_bcsdf(BcsdfModel model, const HairParams& params);
 
 // out[k] = S(wi[k], wo[k]) (RGB); spans must have equal sizes. Batches are split over TBB threads.
 void evaluate(const FiberBcsdf& bcsdf, std::span<const glm::vec3> wi, std::span<const glm::vec3> wo,

@@ -25,7 +25,7 @@ struct DualScatteringSample {
     // Attenuation-weighted mean shift alpha_p and width beta_p (theta_h convention, radians) of the lobes.
     glm::dvec3 alpha_f{0.0}, alpha_b{0.0};
     glm::dvec3 beta_f{0.0}, beta_b{0.0};
-    // Zinke et al. 2008, Eq. 12-18 (Sec. 4.3): local backscattering.
+    // Zinke et al. 2008, Sec. 4 (local multiple scattering): backscattering terms.
     glm::dvec3 A_1{0.0}, A_3{0.0}, A_b{0.0};
     glm::dvec3 delta_b{0.0}, sigma_b{0.0};
 };
@@ -40,7 +40,7 @@ std::vector<DualScatteringSample> dual_scattering_table(const FiberBcsdf& bcsdf,
                                                         double backscatter_density = kDefaultBackscatterDensity,
                                                         const QuadratureTolerance& tolerance = {1e-6, 1e-5, 30});
 
-// The backscattering terms from averaged a_f, a_b, alpha_f/b, beta_f/b (Zinke et al. 2008, Eq. 12-18);
+// The backscattering terms from averaged a_f, a_b, alpha_f/b, beta_f/b (Zinke et al. 2008, Sec. 4);
 // fills A_1, A_3, A_b, delta_b and sigma_b of `sample`.
 void backscattering_terms(DualScatteringSample& sample, double backscatter_density);
 

@@ -8,7 +8,7 @@ namespace hairlod::bcsdf {
 // e^x / sqrt(2 pi x) * sum_k ((2k-1)!!)^2 / (k! (8x)^k) above; relative error below 1e-14.
 double log_bessel_i0(double x);
 
-// d'Eon et al. 2011, Eq. 6 (Chiang et al. 2016, Eq. 4): the rough-cone lobe of variance v,
+// d'Eon et al. 2011 (Chiang et al. 2016, Sec. 4.1): the rough-cone lobe of variance v,
 //   M = exp(-sin_i sin_o / v) I_0(cos_i cos_o / v) / (2 v sinh(1 / v)),
 // evaluated in log space so that it is exact (normalised to 1e-12) for every v in [1e-7, 10].
 double deon_longitudinal(double sin_theta_i, double cos_theta_i, double sin_theta_o, double cos_theta_o, double v);
