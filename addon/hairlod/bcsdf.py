@@ -65,9 +65,10 @@ def as_params(params=None):
             raise ValueError(f"unknown hair parameter(s) {', '.join(unknown)}; expected {', '.join(FIELDS)}")
         result = HairParams()
         for name, value in params.items():
-            if name == "sigma_a":
-                value = _rgb(value, "sigma_a")
-            setattr(result, name, value)
+            try:
+                setattr(result, name, _rgb(value, name) if name == "sigma_a" else float(value))
+            except (TypeError, ValueError) as error:
+                raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
     else:
         raise ValueError(f"params must be a HairParams or a dict, got {type(params).__name__}")
     result.validate()

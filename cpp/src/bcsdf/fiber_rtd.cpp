@@ -13,11 +13,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double wrapped_normal(double x, double variance) {
-    x = wrap_angle(x);
-    return gaussian(x, variance) + gaussian(x - 2.0 * kPi, variance) + gaussian(x + 2.0 * kPi, variance);
-}
-
 }  // namespace
 
 FiberRtdBcsdf::FiberRtdBcsdf(const HairParams& params) : params_(params) {
@@ -42,7 +37,7 @@ LobeValues FiberRtdBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo)
     out.value[0] = (params_.weight_r * m_r / (2.0 * kPi)) * a[0];
     // Eq. 8, TT: M = G(beta_TT^M, theta_h), N = G(beta_TT^N, phi - pi).
     const double m_tt = gaussian_longitudinal(di.theta, dout.theta, lobes_[1].shift, lobes_[1].variance);
-    out.value[1] = (params_.weight_tt * m_tt * wrapped_normal(angles.phi - kPi, azimuthal_variance_)) * a[1];
+    out.value[1] = (params_.weight_tt * m_tt * wrapped_gaussian(angles.phi - kPi, azimuthal_variance_)) * a[1];
     // Eq. 8, D: uniform over the sphere.
     out.value[2] = (params_.weight_trt / (kPi * kPi)) * (a[2] + a[3]);
     return out;

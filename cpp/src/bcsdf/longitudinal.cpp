@@ -51,6 +51,12 @@ double gaussian(double x, double variance) {
     return std::exp(-0.5 * x * x / variance) / std::sqrt(2.0 * std::numbers::pi * variance);
 }
 
+double wrapped_gaussian(double x, double variance) {
+    x = std::remainder(x, 2.0 * std::numbers::pi);
+    return gaussian(x, variance) + gaussian(x - 2.0 * std::numbers::pi, variance) +
+           gaussian(x + 2.0 * std::numbers::pi, variance);
+}
+
 double gaussian_longitudinal(double theta_i, double theta_o, double shift, double variance) {
     return gaussian(theta_i + theta_o - 2.0 * shift, variance);
 }

@@ -32,13 +32,6 @@ double smoothstep(double edge0, double edge1, double x) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-// Gaussian of standard deviation `width` on the circle (the two neighbouring periods included).
-double wrapped_gaussian(double x, double width) {
-    x = wrap_angle(x);
-    const double variance = width * width;
-    return gaussian(x, variance) + gaussian(x - 2.0 * kPi, variance) + gaussian(x + 2.0 * kPi, variance);
-}
-
 }  // namespace
 
 AzimuthalRoots marschner_roots(int p, double phi, double eta_prime) {
@@ -139,10 +132,11 @@ glm::dvec3 MarschnerBcsdf::trt_azimuthal(double phi, double theta_d, double eta)
         n += (0.5 * std::cos(gamma) * keep / std::max(slope, 1e-300)) * attenuation(2, h, theta_d, eta);
     }
     if (strength <= 0.0) return n;
+    const double width2 = caustic_.width * caustic_.width;
     // The removed energy 1/2 integral of A K dh returns as two Gaussian lobes of width w_c at +-phi_c.
     const glm::dvec3 removed = integrate_gauss_legendre(
         [&](double h) { return (0.5 * (1.0 - kept(h))) * attenuation(2, h, theta_d, eta); }, -1.0, 1.0, 4);
-    return n + (0.5 * (wrapped_gaussian(phi - phi_c, caustic_.width) + wrapped_gaussian(phi + phi_c, caustic_.width))) *
+    return n + (0.5 * (wrapped_gaussian(phi - phi_c, width2) + wrapped_gaussian(phi + phi_c, width2))) *
                    removed;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Longitudinal scattering functions M_p, normalised so that the integral of M cos(theta_i) over
+// Longitudinal scattering functions M_p (and the Gaussian lobes shared with azimuthal terms), normalised so that the integral of M cos(theta_i) over
 // theta_i in [-pi/2, pi/2] is 1 (d'Eon et al. 2011) or the integral over theta_i is 1 (Gaussians).
 
 namespace hairlod::bcsdf {
@@ -26,5 +26,9 @@ double gaussian_longitudinal(double theta_i, double theta_o, double shift, doubl
 
 // Normalised Gaussian of variance `variance` at x.
 double gaussian(double x, double variance);
+
+// The same Gaussian wrapped onto the circle (x and the neighbouring periods x -+ 2 pi), for
+// azimuthal lobes of width well below 2 pi.
+double wrapped_gaussian(double x, double variance);
 
 }  // namespace hairlod::bcsdf
