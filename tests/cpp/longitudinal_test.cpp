@@ -42,6 +42,30 @@ TEST(Longitudinal, DeonLobeIsNormalisedForEveryRoughnessAndAngle) {
     EXPECT_LT(worst, 1e-4);
 }
 
+// Negative control: the same lobe with I_0 truncated to its first ten series terms (as common
+// reference implementations do) misses the normalisation by 1.3% at beta_m = 0.3, theta_o = 0, which the
+// test above would catch.
+TEST(Longitudinal, TruncatedBesselSeriesWouldFailTheNormalisationTest) {
+    const double v = longitudinal_variance(0.3);
+    const auto truncated_i0 = [](double x) {
+        double term = 1.0, sum = 1.0;
+        for (int k = 1; k < 10; ++k) {
+            term *= 0.25 * x * x / (double(k) * double(k));
+            sum += term;
+        }
+        return sum;
+    };
+    const double integral = integrate_adaptive(
+        [&](double theta_i) {
+            return truncated_i0(std::cos(theta_i) / v) / (2.0 * v * std::sinh(1.0 / v)) *
+                   std::cos(theta_i);
+        },
+        -kHalfPi, kHalfPi, {1e-12, 1e-12, 40});
+    RecordProperty("truncated_series_error", std::to_string(integral - 1.0));
+    EXPECT_GT(std::abs(integral - 1.0), 5e-3);
+    EXPECT_NEAR(normalisation(0.0, 1.0, 0.0, v), 1.0, 1e-12);
+}
+
 TEST(Longitudinal, TiltKeepsTheNormalisationAndMovesThePeak) {
     const double v = longitudinal_variance(0.2);
     for (double theta_o : {-1.5, -0.3, 0.0, 0.9, 1.55})
