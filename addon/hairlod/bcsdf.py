@@ -7,7 +7,8 @@ fields.
 
 Models: ``"chiang"`` (d'Eon 2011 / Chiang 2016, as in Cycles; far field, or near field with ``h``),
 ``"marschner"`` (Marschner 2003 as in Xu et al. 2011 Sec. 4.1), ``"fiber_rtd"`` (the R, TT, D fibre of
-Huang et al. 2025 Eq. 1) and ``"realtime"`` (Karis / Tafuri approximations, thesis Sec. 4.3).
+Huang et al. 2025 Eq. 1), ``"realtime"`` (Karis / Tafuri approximations, thesis Sec. 4.3) and
+``"aggregated"`` (the thick-hair BCSDF of Huang et al. 2025, Eq. 6-15).
 """
 
 import math
@@ -19,7 +20,7 @@ from . import _core
 HairParams = _core.HairParams
 
 FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
-MODELS = ("chiang", "marschner", "fiber_rtd", "realtime")
+MODELS = ("chiang", "marschner", "fiber_rtd", "realtime", "aggregated")
 
 # Inputs each model takes besides the directions (see evaluate()).
 _MODEL_INPUTS = {
@@ -27,6 +28,7 @@ _MODEL_INPUTS = {
     "marschner": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
     "fiber_rtd": set(),
     "realtime": {"tt"},
+    "aggregated": {"hair_count", "density"},
 }
 
 # Principled Hair BSDF sockets (snake case) and their Cycles 3.4 defaults.
@@ -114,6 +116,17 @@ def sigma_a_from_melanin(eumelanin, pheomelanin=0.0):
     return np.array(_core.sigma_a_from_melanin(float(eumelanin), float(pheomelanin)))
 
 
+def cluster_density(hair_total, hair_radius, major_axis, minor_axis):
+    """Huang et al. 2025, Sec. 4: area fraction rho of an elliptical cluster covered by its hairs."""
+    return _core.cluster_density(float(hair_total), float(hair_radius), float(major_axis), float(minor_axis))
+
+
+def hairs_crossed(density, ray_length, hair_total, major_axis, minor_axis):
+    """Huang et al. 2025, Sec. 4: number n of hairs a ray of length ray_length crosses (at least 1)."""
+    return _core.hairs_crossed(float(density), float(ray_length), float(hair_total), float(major_axis),
+                               float(minor_axis))
+
+
 def _directions(value, name):
     array = np.ascontiguousarray(value, dtype=np.float32)
     if array.ndim != 2 or array.shape[1] != 3:
@@ -132,7 +145,8 @@ def evaluate(model, params, wi, wo, **model_inputs):
     wi, wo: float [N, 3] in the fibre frame (need not be normalised). Model inputs:
     chiang ``h`` (float [N] offsets in [-1, 1]: near field; default far field, averaged over h);
     marschner ``caustic_width``, ``caustic_fade_range``, ``caustic_max_window``;
-    realtime ``tt`` ('tafuri' or 'karis').
+    realtime ``tt`` ('tafuri' or 'karis');
+    aggregated ``hair_count`` (n >= 1 hairs crossed) and ``density`` (rho in (0, 1]), see cluster_density().
     """
     _check_model(model)
     unknown = sorted(set(model_inputs) - _MODEL_INPUTS[model])
@@ -178,6 +192,8 @@ __all__ = [
     "MODELS",
     "HairParams",
     "as_params",
+    "cluster_density",
+    "hairs_crossed",
     "dual_scattering",
     "evaluate",
     "from_principled_hair",

@@ -54,5 +54,6 @@ BENCHMARK_CAPTURE(BM_Model, chiang_far_field, BcsdfModel::Chiang)->Unit(benchmar
 BENCHMARK_CAPTURE(BM_Model, marschner, BcsdfModel::Marschner)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Model, fiber_rtd, BcsdfModel::FiberRtd)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Model, realtime, BcsdfModel::Realtime)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Model, aggregated, BcsdfModel::Aggregated)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

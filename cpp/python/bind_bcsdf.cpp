@@ -121,7 +121,7 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         "bcsdf_evaluate",
         [](const std::string& model, const HairParams& params, const FloatArray& wi, const FloatArray& wo,
            const std::optional<FloatArray>& h, const std::string& tt, double caustic_width, double caustic_fade_range,
-           double caustic_max_window) {
+           double caustic_max_window, double hair_count, double density) {
             const std::span<const glm::vec3> in = directions(wi, "wi");
             const std::span<const glm::vec3> out_dirs = directions(wo, "wo");
             if (in.size() != out_dirs.size()) throw Error("wi and wo must have the same number of directions");
@@ -135,6 +135,7 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
             ModelOptions options;
             options.realtime_tt = parse_realtime_tt(tt);
             options.marschner_caustic = {caustic_width, caustic_fade_range, caustic_max_window};
+            options.cluster = {hair_count, density};
             const BcsdfModel kind = parse_bcsdf_model(model);
             {
                 py::gil_scoped_release release;
@@ -150,8 +151,15 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         py::arg("model"), py::arg("params"), py::arg("wi"), py::arg("wo"), py::arg("h") = py::none(),
         py::arg("tt") = "tafuri", py::arg("caustic_width") = MarschnerCaustic{}.width,
         py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
-        py::arg("caustic_max_window") = MarschnerCaustic{}.max_window,
+        py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("hair_count") = 1.0,
+        py::arg("density") = 1.0,
         "S(wi, wo) as float32 [N, 3]; directions in the fibre frame (tangent +x).");
+
+    m.def("cluster_density", &cluster_density, py::arg("hair_total"), py::arg("hair_radius"), py::arg("major_axis"),
+          py::arg("minor_axis"), "Huang et al. 2025, Sec. 4: rho = n_total r^2 / (|r_A| |r_B|), at most 1.");
+    m.def("hairs_crossed", &hairs_crossed, py::arg("density"), py::arg("ray_length"), py::arg("hair_total"),
+          py::arg("major_axis"), py::arg("minor_axis"),
+          "Huang et al. 2025, Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)), at least 1.");
 
     m.def("bcsdf_white_furnace", &white_furnace_of, py::arg("model"), py::arg("params"), py::arg("wo"),
           py::arg("h") = py::none(), py::arg("tolerance") = 1e-6,

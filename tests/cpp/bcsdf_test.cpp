@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bcsdf_test_util.h"
+#include "hairlod/bcsdf/aggregated.h"
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/core/error.h"
@@ -16,7 +17,7 @@ namespace hairlod::bcsdf {
 namespace {
 
 TEST(Bcsdf, ParseAndFactory) {
-    for (const char* name : {"chiang", "marschner", "fiber_rtd", "realtime"})
+    for (const char* name : {"chiang", "marschner", "fiber_rtd", "realtime", "aggregated"})
         EXPECT_EQ(make_bcsdf(parse_bcsdf_model(name), HairParams{})->name(), name);
     try {
         parse_bcsdf_model("kajiya");
@@ -97,6 +98,30 @@ TEST(Bcsdf, HardCasesAreFiniteAndNonNegative) {
                     << bcsdf->name() << " eta " << params.eta << " beta_m " << params.beta_m << " beta_n "
                     << params.beta_n << " wi " << wi[k].x << "," << wi[k].y << "," << wi[k].z << " wo " << wo[k].x
                     << "," << wo[k].y << "," << wo[k].z;
+        }
+    }
+    // The aggregated model: n from 1 to 10^4, rho from 1e-4 to 1 (one table per parameter set).
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int set = 0; set < 12; ++set) {
+        const HairParams params = random_params(rng);
+        const auto table = std::make_shared<const AggregatedTable>(aggregated_table(FiberRtdBcsdf(params), 9));
+        for (const ClusterState cluster : {ClusterState{1.0, 1e-4}, ClusterState{1e4, 1.0},
+                                           ClusterState{std::pow(10.0, 4.0 * unit(rng)), std::pow(10.0, -4.0 * unit(rng))}}) {
+            const AggregatedBcsdf bcsdf(params, cluster, table);
+            std::vector<glm::vec3> wi, wo;
+            for (int k = 0; k < 2000; ++k) {
+                wi.push_back(glm::vec3(test::random_direction(rng)));
+                wo.push_back(glm::vec3(test::random_direction(rng)));
+            }
+            for (const glm::dvec3& a : corners)
+                for (const glm::dvec3& b : corners) {
+                    wi.push_back(glm::vec3(a));
+                    wo.push_back(glm::vec3(b));
+                }
+            std::vector<glm::vec3> out(wi.size());
+            evaluate(bcsdf, wi, wo, out);
+            evaluations += out.size();
+            for (const glm::vec3& v : out) ASSERT_TRUE(test::finite_non_negative(glm::dvec3(v))) << cluster.hair_count;
         }
     }
     // The near field of the Chiang model, with h -> +-1.

@@ -25,7 +25,8 @@ TEST(FiberRtd, LobesFollowEq8) {
     EXPECT_GT(b.value[1].x, a.value[1].x);
     // D carries TRT and everything above, averaged over h.
     const auto mean = mean_fiber_attenuation(params.eta, params.sigma_a, std::sin(-0.25), std::cos(-0.25));
-    EXPECT_NEAR(a.value[2].z, (mean[2].z + mean[3].z) / (std::numbers::pi * std::numbers::pi), 1e-12);
+    EXPECT_NEAR(a.value[2].z, (mean[2].z + mean[3].z) / (std::numbers::pi * std::numbers::pi),
+                1e-5 * a.value[2].z);  // tabulated over theta_d
 }
 
 TEST(FiberRtd, ReciprocalAndBoundedEnergy) {

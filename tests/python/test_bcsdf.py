@@ -120,3 +120,22 @@ def test_dual_scattering_table():
     np.testing.assert_allclose(table["A_b"], table["A_1"] + table["A_3"], rtol=1e-12)
     with pytest.raises(ValueError, match="theta_d"):
         bcsdf.dual_scattering({}, [2.0], model="realtime")
+
+
+def test_aggregated_model_and_cluster_geometry():
+    wi, wo = random_directions(300, 4)
+    single = bcsdf.evaluate("fiber_rtd", {"sigma_a": [0.2, 0.5, 1.2]}, wi, wo)
+    one = bcsdf.evaluate("aggregated", {"sigma_a": [0.2, 0.5, 1.2]}, wi, wo, hair_count=1.0, density=0.3)
+    many = bcsdf.evaluate("aggregated", {"sigma_a": [0.2, 0.5, 1.2]}, wi, wo, hair_count=20.0, density=0.3)
+    # Through the back (|phi| > pi/2) with n = 1 the aggregate is the single fibre (Huang et al. 2025, Sec. 4).
+    phi = np.arctan2(wo[:, 2], wo[:, 1]) - np.arctan2(wi[:, 2], wi[:, 1])
+    back = np.abs(np.angle(np.exp(1j * phi))) > math.pi / 2
+    np.testing.assert_allclose(one[back], single[back], rtol=1e-5, atol=1e-9)
+    assert many.sum() < one.sum()
+    rho = bcsdf.cluster_density(100, 0.01, 0.2, 0.1)
+    assert rho == pytest.approx(0.5)
+    assert bcsdf.hairs_crossed(rho, 0.4, 100, 0.2, 0.1) == pytest.approx(0.5 * 0.4 * math.sqrt(100 / (math.pi * 0.02)))
+    with pytest.raises(ValueError, match="hair_count"):
+        bcsdf.evaluate("aggregated", {}, wi, wo, hair_count=0.5)
+    with pytest.raises(ValueError, match="hair_radius"):
+        bcsdf.cluster_density(100, -1.0, 0.2, 0.1)
