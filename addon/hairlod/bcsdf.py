@@ -167,7 +167,8 @@ def evaluate(model, params, wi, wo, **model_inputs):
 def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6):
     """Integral of S(wi, wo) cos(theta_i) dw_i over the sphere (RGB, float64 [3]).
 
-    Adaptive Gauss-Kronrod in double precision; ``h`` selects the chiang near field.
+    Adaptive Gauss-Kronrod in double precision; ``h`` selects the chiang near field. Other models use
+    their default inputs (aggregated: n = 1, rho = 1).
     """
     _check_model(model)
     wo = _rgb(wo, "wo")
