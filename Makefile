@@ -4,7 +4,6 @@ PYTHON    := /usr/bin/python3
 BUILD_DIR := build
 JOBS      ?= 2
 CMAKE_ARGS ?=
-export PYTHONPATH := $(CURDIR)/addon
 
 .PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui addon bench fuzz clean
 

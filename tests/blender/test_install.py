@@ -10,8 +10,9 @@ import pytest
 
 from conftest import ADDON_DIR, REPO_ROOT
 
-# The add-on under test is the installed copy, not the source tree conftest put on sys.path.
-sys.path.remove(ADDON_DIR)
+# The add-on under test is the installed copy, not the source tree that conftest (or a PYTHONPATH
+# from the environment) put on sys.path.
+sys.path[:] = [entry for entry in sys.path if os.path.abspath(entry) != os.path.abspath(ADDON_DIR)]
 
 
 @pytest.fixture
