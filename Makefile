@@ -42,8 +42,10 @@ addon: build
 bench: bootstrap build
 	scripts/bench.sh
 
+FUZZ_TARGET  ?= cyhair
+FUZZ_SECONDS ?= 60
 fuzz:
-	scripts/fuzz.sh
+	scripts/fuzz.sh $(FUZZ_TARGET) $(FUZZ_SECONDS)
 
 clean:
 	rm -rf $(BUILD_DIR) dist addon/hairlod/_core*.so

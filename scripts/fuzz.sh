@@ -14,7 +14,7 @@ shift $(( $# >= 2 ? 2 : 1 ))
 root=$(cd "$(dirname "$0")/.." && pwd)
 cxx=${HAIRLOD_FUZZ_CXX:-$(command -v clang++ || command -v clang++-14)}
 
-cmake -S "$root" -B "$root/build-fuzz" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S "$root" -B "$root/build-fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_COMPILER="$cxx" -DHAIRLOD_BUILD_FUZZERS=ON -DHAIRLOD_BUILD_PYTHON=OFF \
     -DHAIRLOD_BUILD_TESTS=OFF -DHAIRLOD_BUILD_BENCH=OFF > /dev/null
 cmake --build "$root/build-fuzz" --target "fuzz_$target" -j 2
