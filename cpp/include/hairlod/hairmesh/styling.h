@@ -1,0 +1,83 @@
+#pragma once
+// Procedural styling operations (hair-meshes-realtime.txt Sec. 3.4). Offsets are computed in the
+// styling frame [u v w] of the strand vertex (d = M d^r) with amplitudes in object units, so a
+// bundle that stretches keeps its curl radius. Phases run along w measured from the strand's root,
+// so every offset vanishes at the root and the root stays on the scalp. Randomness in [0, 1]
+// scales per-strand random variation; all randomness is a pure function of (seed, strand).
+#include <cstdint>
+#include <span>
+#include <variant>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace hairlod {
+
+// Helix around the strand: offset radius (cos phi - cos phi0) u + radius (sin phi - sin phi0) v with
+// phi = phi0 + 2 pi frequency w. Randomness varies radius and frequency by up to +-50 % and
+// spreads the start phase phi0 over up to a full turn.
+struct Curl {
+    float radius = 0.0f;     // object units
+    float frequency = 0.0f;  // turns per unit of w
+    float randomness = 0.0f;
+};
+
+// Planar wave along u: amplitude (sin(2 pi frequency w + phi0) - sin phi0) u; randomness spreads phi0.
+struct Wave {
+    float amplitude = 0.0f;  // object units
+    float frequency = 0.0f;  // periods per unit of w
+    float randomness = 0.0f;
+};
+
+// Rotates the strand about the bundle's centre curve, around w, by 2 pi rate w.
+struct Twist {
+    float rate = 0.0f;  // turns per unit of w
+};
+
+// Pulls the strand towards its bundle's centre curve by amount t^profile, t in [0, 1] the
+// position along the strand (0 at the root).
+struct Clump {
+    float amount = 0.0f;   // fraction of the distance to the centre at the tip, in [0, 1]
+    float profile = 1.0f;  // exponent > 0: larger keeps the clump nearer the tip
+};
+
+// Smooth per-strand value noise in the [u v w] frame: amplitude (n(frequency w) - n(0)).
+struct Frizz {
+    float amplitude = 0.0f;  // object units
+    float frequency = 0.0f;  // noise cells per unit of w
+};
+
+// Shortens each strand to a random fraction in [1 - amount, 1] of its length (its curve
+// parameter range), before the other operations; its place in the list does not matter.
+struct Trim {
+    float amount = 0.0f;  // in [0, 1]
+};
+
+using StylingOperation = std::variant<Curl, Wave, Twist, Clump, Frizz, Trim>;
+
+// Throws Error naming the operation (by list index) and parameter that is out of range or not finite.
+void validate_styling(std::span<const StylingOperation> operations);
+
+// The state of one strand vertex the operations read and move.
+struct StylingVertex {
+    glm::vec3 position;
+    glm::vec3 u, v, w;      // unit styling frame (Eq. 1, 4)
+    glm::vec3 centre;       // the bundle's centre curve at the same curve parameter
+    float w_from_root;      // styling w minus the root's w
+    float t;                // position along the strand in [0, 1]
+};
+
+// Per-strand constants of the operations (random phases, scales), drawn once per strand.
+struct StrandStyling {
+    std::vector<glm::vec4> parameters;  // one entry per operation
+    uint64_t noise_key = 0;
+    float length_fraction = 1.0f;       // product of the Trim operations
+};
+
+StrandStyling strand_styling(std::span<const StylingOperation> operations, uint64_t seed, uint64_t strand_key);
+
+// Applies the operations in list order to the vertex position.
+void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand, StylingVertex& vertex);
+
+}  // namespace hairlod
