@@ -25,18 +25,21 @@ constexpr int kSampleSetCount = 4;
 constexpr uint64_t kStrandLodKey = 0x6c6f64;
 
 glm::vec3 unit_or_zero(const glm::vec3& d) {
-    const float length = glm::length(d);
-    return length > 0.0f ? d / length : glm::vec3(0.0f);
+    const float length_squared = glm::dot(d, d);
+    return length_squared > 0.0f ? d * (1.0f / std::sqrt(length_squared)) : glm::vec3(0.0f);
 }
 
 // A bundle's interpolated layer data at one root: control points of the strand curve and the
-// styling frame and w on every layer (hair-meshes-realtime.txt Sec. 2.2 and 3.4).
+// styling frame and w on every layer (hair-meshes-realtime.txt Sec. 2.2 and 3.4). The frame is made
+// unit on each layer (w_axis by Eq. 4) and interpolated linearly between layers without
+// renormalising, as the paper's trilinear u- and v-texture lookups do; the per-vertex square roots
+// would double the cost of styling.
 struct LayerSamples {
-    std::vector<glm::vec3> position, u, v;
+    std::vector<glm::vec3> position, u, v, w_axis;
     std::vector<float> w;
     glm::vec2 uv{0.0f};
 
-    explicit LayerSamples(size_t layers) : position(layers), u(layers), v(layers), w(layers) {}
+    explicit LayerSamples(size_t layers) : position(layers), u(layers), v(layers), w_axis(layers), w(layers) {}
 
     void interpolate(const HairMesh& mesh, const StylingFrames& frames, const FaceCorners& corners, glm::vec2 st) {
         const std::array<float, 4> weight = bilinear_weights(st.x, st.y);
@@ -53,15 +56,16 @@ struct LayerSamples {
                 v[layer] += weight[k] * frames.v[at];
                 w[layer] += weight[k] * frames.w[at];
             }
+            u[layer] = unit_or_zero(u[layer]);
+            v[layer] = unit_or_zero(v[layer]);
+            w_axis[layer] = unit_or_zero(glm::cross(u[layer], v[layer]));  // Eq. 4
         }
     }
 };
 
-std::vector<CatmullRomSegment> curve_segments(const std::vector<glm::vec3>& control) {
-    std::vector<CatmullRomSegment> segments;
-    segments.reserve(control.size() - 1);
+void curve_segments(const std::vector<glm::vec3>& control, std::vector<CatmullRomSegment>& segments) {
+    segments.clear();
     for (size_t i = 0; i + 1 < control.size(); ++i) segments.push_back(curve_segment(control.data(), control.size(), i));
-    return segments;
 }
 
 bool needs_centre(const std::vector<StylingOperation>& styling) {
@@ -119,8 +123,8 @@ RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions&
     return make_root_sample_sets(std::bit_ceil(static_cast<size_t>(largest)), kSampleSetCount, options.seed);
 }
 
-StrandSet generate_strands(const HairMesh& mesh, const StylingFrames& frames, const RootSampleSets& samples,
-                           const GenerateOptions& options) {
+void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const RootSampleSets& samples,
+                      const GenerateOptions& options, StrandSet& strands) {
     mesh.validate();
     validate_options(options);
     if (frames.u.size() != mesh.positions.size() || frames.corner_uv.size() != mesh.corner_count())
@@ -149,14 +153,22 @@ StrandSet generate_strands(const HairMesh& mesh, const StylingFrames& frames, co
     const size_t segments = size_t{1} << lod.exponent, points_per_strand = segments + 1;
     const size_t strand_count = strand_bundle.size();
 
-    StrandSet strands;
-    std::vector<int64_t> offsets(strand_count + 1);
-    for (size_t c = 0; c <= strand_count; ++c) offsets[c] = static_cast<int64_t>(c * points_per_strand);
-    strands.offsets = std::move(offsets);
+    // Reuse the output's arrays (and the attribute arrays it already holds).
+    const auto take_attribute = [&strands](const char* name) {
+        auto it = strands.attributes.find(name);
+        return it == strands.attributes.end() ? std::vector<float>{} : std::move(it->second.values);
+    };
+    std::vector<float> tangent_values = take_attribute("tangent"), uvw_values = take_attribute("uvw"),
+                       bundle_values = take_attribute("bundle");
+    strands.attributes.clear();
     const size_t point_count = strand_count * points_per_strand;
+    strands.offsets.resize(strand_count + 1);
+    for (size_t c = 0; c <= strand_count; ++c) strands.offsets[c] = static_cast<int64_t>(c * points_per_strand);
     strands.points.resize(point_count);
     strands.radius.resize(point_count);
-    std::vector<float> tangent_values(point_count * 3), uvw_values(point_count * 3), bundle_values(strand_count);
+    tangent_values.resize(point_count * 3);
+    uvw_values.resize(point_count * 3);
+    bundle_values.resize(strand_count);
 
     const size_t layers = mesh.layer_count();
     const bool with_centre = needs_centre(options.styling);
@@ -165,19 +177,21 @@ StrandSet generate_strands(const HairMesh& mesh, const StylingFrames& frames, co
         LayerSamples centre(layers);
         const FaceCorners corners = mesh.face_corners(f);
         centre.interpolate(mesh, frames, corners, face_centre(corners.triangle));
-        centre_segments[f] = curve_segments(centre.position);
+        curve_segments(centre.position, centre_segments[f]);
     }
 
     tbb::parallel_for(tbb::blocked_range<size_t>(0, strand_count, 64), [&](const tbb::blocked_range<size_t>& range) {
         LayerSamples at_root(layers);
         std::vector<glm::vec3> coarse(points_per_strand);
+        std::vector<CatmullRomSegment> curve;
+        StrandStyling styling;
         for (size_t c = range.begin(); c != range.end(); ++c) {
             const auto bundle = static_cast<size_t>(strand_bundle[c]);
             const auto local = static_cast<size_t>(strand_local[c]);
             const FaceCorners corners = mesh.face_corners(bundle);
             at_root.interpolate(mesh, frames, corners, samples.root_coordinates(bundle, local, corners.triangle));
-            const std::vector<CatmullRomSegment> curve = curve_segments(at_root.position);
-            const StrandStyling styling = strand_styling(options.styling, options.seed, (uint64_t{bundle} << 32) | local);
+            curve_segments(at_root.position, curve);
+            draw_strand_styling(options.styling, options.seed, (uint64_t{bundle} << 32) | local, styling);
             // Trim shortens the curve parameter range; parameter x runs over layers 0 .. layers - 1.
             const float x_end = styling.length_fraction * static_cast<float>(layers - 1);
 
@@ -195,9 +209,9 @@ StrandSet generate_strands(const HairMesh& mesh, const StylingFrames& frames, co
                 StylingVertex vertex;
                 vertex.position = curve[segment].evaluate(a);
                 if (k > 0 && !options.styling.empty()) {
-                    vertex.u = unit_or_zero(glm::mix(at_root.u[segment], at_root.u[segment + 1], a));
-                    vertex.v = unit_or_zero(glm::mix(at_root.v[segment], at_root.v[segment + 1], a));
-                    vertex.w = unit_or_zero(glm::cross(vertex.u, vertex.v));  // Eq. 4
+                    vertex.u = glm::mix(at_root.u[segment], at_root.u[segment + 1], a);
+                    vertex.v = glm::mix(at_root.v[segment], at_root.v[segment + 1], a);
+                    vertex.w = glm::mix(at_root.w_axis[segment], at_root.w_axis[segment + 1], a);
                     vertex.centre = with_centre ? centre_segments[bundle][segment].evaluate(a) : vertex.position;
                     vertex.w_from_root = w - at_root.w[0];
                     vertex.t = t;
@@ -216,13 +230,14 @@ StrandSet generate_strands(const HairMesh& mesh, const StylingFrames& frames, co
     strands.set_attribute("tangent", AttributeDomain::Point, 3, std::move(tangent_values));
     strands.set_attribute("uvw", AttributeDomain::Point, 3, std::move(uvw_values));
     strands.set_attribute("bundle", AttributeDomain::Curve, 1, std::move(bundle_values));
-    return strands;
 }
 
 StrandSet generate_strands(const HairMesh& mesh, const GenerateOptions& options) {
     mesh.validate();
     validate_options(options);
-    return generate_strands(mesh, compute_styling_frames(mesh), root_sample_sets_for(mesh, options), options);
+    StrandSet strands;
+    generate_strands(mesh, compute_styling_frames(mesh), root_sample_sets_for(mesh, options), options, strands);
+    return strands;
 }
 
 }  // namespace hairlod

@@ -39,8 +39,10 @@ RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions&
 
 // The full pipeline with precomputed frames and sample sets (both depend only on the mesh and the
 // seed, so interactive callers reuse them). Parallel over strands; deterministic for a seed.
-StrandSet generate_strands(const HairMesh& mesh, const StylingFrames& frames, const RootSampleSets& samples,
-                           const GenerateOptions& options);
+// Writes into `output`, reusing its storage: an interactive viewer regenerating strands of the
+// same size every frame allocates (and page-faults) nothing. Other attributes of `output` are dropped.
+void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const RootSampleSets& samples,
+                      const GenerateOptions& options, StrandSet& output);
 
 StrandSet generate_strands(const HairMesh& mesh, const GenerateOptions& options);
 

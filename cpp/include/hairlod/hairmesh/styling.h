@@ -10,7 +10,6 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
-#include <glm/vec4.hpp>
 
 namespace hairlod {
 
@@ -62,20 +61,29 @@ void validate_styling(std::span<const StylingOperation> operations);
 // The state of one strand vertex the operations read and move.
 struct StylingVertex {
     glm::vec3 position;
-    glm::vec3 u, v, w;      // unit styling frame (Eq. 1, 4)
+    glm::vec3 u, v, w;      // styling frame (Eq. 1, 4), unit on the layers, interpolated between
     glm::vec3 centre;       // the bundle's centre curve at the same curve parameter
     float w_from_root;      // styling w minus the root's w
     float t;                // position along the strand in [0, 1]
 };
 
-// Per-strand constants of the operations (random phases, scales), drawn once per strand.
-struct StrandStyling {
-    std::vector<glm::vec4> parameters;  // one entry per operation
-    uint64_t noise_key = 0;
-    float length_fraction = 1.0f;       // product of the Trim operations
+// Per-strand constants of one operation, drawn once per strand.
+struct OperationConstants {
+    float amplitude = 0.0f;         // curl radius or wave amplitude after randomisation
+    float angular_rate = 0.0f;      // 2 pi frequency after randomisation (curl, wave)
+    float phase = 0.0f;             // phi0
+    glm::vec3 at_root{0.0f};        // the operation's raw offset at the root, subtracted so roots stay
+    uint64_t noise_key = 0;         // frizz
 };
 
-StrandStyling strand_styling(std::span<const StylingOperation> operations, uint64_t seed, uint64_t strand_key);
+struct StrandStyling {
+    std::vector<OperationConstants> operations;  // one per operation
+    float length_fraction = 1.0f;                // product of the Trim operations
+};
+
+// Draws the per-strand constants into `strand`, reusing its storage (one call per generated strand).
+void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t seed, uint64_t strand_key,
+                         StrandStyling& strand);
 
 // Applies the operations in list order to the vertex position.
 void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand, StylingVertex& vertex);
