@@ -4,5 +4,6 @@
 namespace hairlod::python {
 
 void bind_core(pybind11::module_& m);
+void bind_hairmesh(pybind11::module_& m);
 
 }  // namespace hairlod::python

@@ -8,4 +8,5 @@ PYBIND11_MODULE(_core, m) {
     m.doc() = "hairlod C++ core";
     pybind11::register_exception<hairlod::Error>(m, "HairlodError", PyExc_ValueError);
     hairlod::python::bind_core(m);
+    hairlod::python::bind_hairmesh(m);
 }

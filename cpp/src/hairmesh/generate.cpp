@@ -120,7 +120,10 @@ std::vector<int64_t> bundle_strand_counts(const HairMesh& mesh, size_t count) {
 RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions& options) {
     const std::vector<int64_t> counts = bundle_strand_counts(mesh, options.count);
     const int64_t largest = std::max<int64_t>(1, *std::max_element(counts.begin(), counts.end()));
-    return make_root_sample_sets(std::bit_ceil(static_cast<size_t>(largest)), kSampleSetCount, options.seed);
+    bool has_quads = false, has_triangles = false;
+    for (size_t f = 0; f < mesh.face_count(); ++f) (mesh.face_size(f) == 3 ? has_triangles : has_quads) = true;
+    return make_root_sample_sets(std::bit_ceil(static_cast<size_t>(largest)), kSampleSetCount, options.seed,
+                                 has_quads, has_triangles);
 }
 
 void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const RootSampleSets& samples,
@@ -140,6 +143,10 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
     if (static_cast<size_t>(largest) > samples.samples_per_set)
         throw Error("root sample sets hold " + std::to_string(samples.samples_per_set) + " samples but a bundle needs " +
                     std::to_string(largest));
+    for (size_t f = 0; f < faces; ++f)
+        if (lod_counts[f] > 0 && (mesh.face_size(f) == 3 ? samples.triangle : samples.square).empty())
+            throw Error("root sample sets lack the " + std::string(mesh.face_size(f) == 3 ? "triangle" : "square") +
+                        " family that face " + std::to_string(f) + " needs");
     std::vector<int32_t> strand_bundle;
     std::vector<int32_t> strand_local;
     for (size_t f = 0; f < faces; ++f)

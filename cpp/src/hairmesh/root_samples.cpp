@@ -16,7 +16,11 @@ namespace {
 // Yuksel 2015: candidates per output sample, the weight exponent alpha and the weight-limiting
 // constants beta and gamma (Sec. 4 and 5 of that paper).
 constexpr size_t kCandidatesPerSample = 5;
-constexpr double kWeightExponent = 8.0;
+// (1 - d / (2 r_max))^alpha with alpha = 8, by repeated squaring.
+double weight_of(double x) {
+    const double x2 = x * x, x4 = x2 * x2;
+    return x4 * x4;
+}
 constexpr double kLimitBeta = 0.65;
 constexpr double kLimitGamma = 1.5;
 
@@ -91,6 +95,10 @@ Neighbours find_neighbours(const std::vector<glm::vec2>& points, double radius) 
         sorted[fill[cell_of(points[i].y) * cells + cell_of(points[i].x)]++] = static_cast<uint32_t>(i);
 
     Neighbours result;
+    // About pi (2 r_max)^2 / (area per candidate) ~ 18 neighbours per candidate; reserve for 32.
+    result.indices.reserve(points.size() * 32);
+    result.distances.reserve(points.size() * 32);
+    result.offsets.reserve(points.size() + 1);
     result.offsets.push_back(0);
     for (size_t i = 0; i < points.size(); ++i) {
         const int cx = cell_of(points[i].x), cy = cell_of(points[i].y);
@@ -122,7 +130,7 @@ std::vector<glm::vec2> eliminate(const std::vector<glm::vec2>& points, size_t ke
     // Weight limiting: pairs closer than 2 r_min all weigh the same, so clusters do not dominate.
     std::vector<double> pair_weight(neighbours.distances.size());
     for (size_t k = 0; k < pair_weight.size(); ++k)
-        pair_weight[k] = std::pow(1.0 - std::max(neighbours.distances[k], 2.0 * r_min) / d_max, kWeightExponent);
+        pair_weight[k] = weight_of(1.0 - std::max(neighbours.distances[k], 2.0 * r_min) / d_max);
     std::vector<double> weights(points.size(), 0.0);
     for (size_t i = 0; i < points.size(); ++i)
         for (uint32_t k = neighbours.offsets[i]; k < neighbours.offsets[i + 1]; ++k) weights[i] += pair_weight[k];
@@ -170,17 +178,22 @@ glm::vec2 triangle_to_square(glm::vec2 xi) {
     return {rest > 0.0f ? std::min(1.0f, xi.x / rest) : 0.0f, xi.y};
 }
 
-RootSampleSets make_root_sample_sets(size_t samples_per_set, int set_count, uint64_t seed) {
+RootSampleSets make_root_sample_sets(size_t samples_per_set, int set_count, uint64_t seed, bool squares,
+                                     bool triangles) {
     if (samples_per_set == 0 || set_count < 1) throw Error("root sample sets need at least one set of one sample");
     RootSampleSets sets;
     sets.samples_per_set = samples_per_set;
     sets.set_count = set_count;
     sets.seed = seed;
     for (int k = 0; k < set_count; ++k) {
-        const auto square = progressive_blue_noise(samples_per_set, SampleDomain::UnitSquare, hash_keys(seed, 1, k));
-        const auto triangle = progressive_blue_noise(samples_per_set, SampleDomain::UnitTriangle, hash_keys(seed, 2, k));
-        sets.square.insert(sets.square.end(), square.begin(), square.end());
-        sets.triangle.insert(sets.triangle.end(), triangle.begin(), triangle.end());
+        if (squares) {
+            const auto square = progressive_blue_noise(samples_per_set, SampleDomain::UnitSquare, hash_keys(seed, 1, k));
+            sets.square.insert(sets.square.end(), square.begin(), square.end());
+        }
+        if (triangles) {
+            const auto triangle = progressive_blue_noise(samples_per_set, SampleDomain::UnitTriangle, hash_keys(seed, 2, k));
+            sets.triangle.insert(sets.triangle.end(), triangle.begin(), triangle.end());
+        }
     }
     return sets;
 }

@@ -32,13 +32,16 @@ struct RootSampleSets {
     size_t samples_per_set = 0;
     int set_count = 0;
     uint64_t seed = 0;
-    std::vector<glm::vec2> square;    // set-major: set k, sample i at k * samples_per_set + i
-    std::vector<glm::vec2> triangle;  // in the triangular half, mapped by triangle_to_square on use
+    std::vector<glm::vec2> square;    // set-major: set k, sample i at k * samples_per_set + i; or empty
+    std::vector<glm::vec2> triangle;  // the same in the triangular half (mapped on use); or empty
 
     // Root coordinates (s, t) in [0, 1]^2 for strand `index` of a bundle; bilinear over FaceCorners.
     glm::vec2 root_coordinates(uint64_t bundle, size_t index, bool triangle_face) const;
 };
 
-RootSampleSets make_root_sample_sets(size_t samples_per_set, int set_count, uint64_t seed);
+// Builds the square family, the triangle family, or both (a mesh without triangles needs no
+// triangle sets); a face whose family was not built must not ask for roots.
+RootSampleSets make_root_sample_sets(size_t samples_per_set, int set_count, uint64_t seed, bool squares = true,
+                                     bool triangles = true);
 
 }  // namespace hairlod
