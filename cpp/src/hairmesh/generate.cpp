@@ -178,7 +178,7 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
     bundle_values.resize(strand_count);
 
     const size_t layers = mesh.layer_count();
-    const bool with_centre = needs_centre(options.styling);
+    const bool with_centre = needs_centre(options.styling), styled = !options.styling.empty();
     std::vector<std::vector<CatmullRomSegment>> centre_segments(with_centre ? faces : 0);
     for (size_t f = 0; f < centre_segments.size(); ++f) {
         LayerSamples centre(layers);
@@ -191,6 +191,7 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
         LayerSamples at_root(layers);
         std::vector<glm::vec3> coarse(points_per_strand);
         std::vector<CatmullRomSegment> curve;
+        std::vector<StylingVertex> vertices(points_per_strand);
         StrandStyling styling;
         for (size_t c = range.begin(); c != range.end(); ++c) {
             const auto bundle = static_cast<size_t>(strand_bundle[c]);
@@ -213,19 +214,20 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
                 // The frame and w vary linearly between layers, like the paper's u-, v- and w-textures.
                 const float w = glm::mix(at_root.w[segment], at_root.w[segment + 1], a);
                 uvw[k] = glm::vec3(at_root.uv, w);
-                StylingVertex vertex;
+                StylingVertex& vertex = vertices[k];
                 vertex.position = curve[segment].evaluate(a);
-                if (k > 0 && !options.styling.empty()) {
+                if (styled) {
                     vertex.u = glm::mix(at_root.u[segment], at_root.u[segment + 1], a);
                     vertex.v = glm::mix(at_root.v[segment], at_root.v[segment + 1], a);
                     vertex.w = glm::mix(at_root.w_axis[segment], at_root.w_axis[segment + 1], a);
                     vertex.centre = with_centre ? centre_segments[bundle][segment].evaluate(a) : vertex.position;
                     vertex.w_from_root = w - at_root.w[0];
                     vertex.t = t;
-                    apply_styling(options.styling, styling, vertex);
                 }
-                points[k] = vertex.position;
             }
+            // Sec. 3.2: styling is not applied to the root vertex.
+            if (styled) apply_styling(options.styling, styling, std::span(vertices).subspan(1));
+            for (size_t k = 0; k < points_per_strand; ++k) points[k] = vertices[k].position;
             const std::span<glm::vec3> strand_points(points, points_per_strand), strand_tangents_out(tangents, points_per_strand);
             strand_tangents(strand_points, strand_tangents_out);
             morph_vertex_lod(strand_points, strand_tangents_out, coarse, lod.gamma);

@@ -85,7 +85,9 @@ struct StrandStyling {
 void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t seed, uint64_t strand_key,
                          StrandStyling& strand);
 
-// Applies the operations in list order to the vertex position.
-void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand, StylingVertex& vertex);
+// Applies the operations in list order to the positions of one strand's vertices (operation by
+// operation, so each inner loop is one operation's arithmetic). The root is not passed in.
+void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand,
+                   std::span<StylingVertex> vertices);
 
 }  // namespace hairlod
