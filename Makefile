@@ -29,7 +29,7 @@ test-cpp:
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
 test-python:
-	$(PYTHON) -m pytest -q tests/python
+	$(PYTHON) -m pytest -q -rs tests/python
 
 test-blender:
 	scripts/run_blender_tests.sh

@@ -16,7 +16,7 @@ failed=0
 for test_file in tests/blender/test_*.py; do
     echo "== $test_file"
     "$BLENDER" -b --factory-startup --python-exit-code 1 \
-        --python tests/blender/pytest_main.py -- -q "$test_file" "$@" >"$TMPDIR/log" 2>&1
+        --python tests/blender/pytest_main.py -- -q -rs "$test_file" "$@" >"$TMPDIR/log" 2>&1
     status=$?
     cat "$TMPDIR/log"
     # pytest's last line counts the tests ("9 passed in 0.20s"); a crash leaves none.

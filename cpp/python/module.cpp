@@ -8,5 +8,8 @@ PYBIND11_MODULE(_core, m) {
     m.doc() = "hairlod C++ core";
     pybind11::register_exception<hairlod::Error>(m, "HairlodError", PyExc_ValueError);
     hairlod::python::bind_core(m);
+    hairlod::python::bind_io(m);
+    hairlod::python::bind_lod(m);
+    hairlod::python::bind_bcsdf(m);
     hairlod::python::bind_hairmesh(m);
 }

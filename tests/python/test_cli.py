@@ -11,6 +11,7 @@ import pytest
 
 from conftest import REPO
 
+BUNDLED = REPO / "examples" / "data" / "bob.hair"
 BANGS = ["Bangs_100.hair", "Bangs_100.data", "Bangs_100.bin", "Bangs_100_ascii.ply", "Bangs_100_binary.ply"]
 
 
@@ -82,28 +83,35 @@ def test_unknown_extension(tmp_path):
 
 def test_hostile_header_is_rejected_before_allocating(tmp_path):
     path = tmp_path / "hostile.hair"
-    header = b"HAIR" + struct.pack("<IIIIfff3f", 2**31, 2**31, 3, 0, 1.0, 0.0, 1.0, 1.0, 1.0)
+    header = b"HAIR" + struct.pack("<IIIIff3f", 2**31, 2**31, 3, 0, 1.0, 0.0, 1.0, 1.0, 1.0)
     path.write_bytes(header.ljust(128, b"\0") + bytes(100))
     line = one_line_error(run_cli("info", path))
     assert "hostile.hair" in line
 
 
-def test_truncated_file(shared_data, tmp_path):
-    path = tmp_path / "truncated.data"
-    path.write_bytes((shared_data / "Bangs_100.data").read_bytes()[:5000])
-    one_line_error(run_cli("info", path))
+@pytest.mark.parametrize("length", [0, 3, 127, 128, 5000, 512127])
+def test_truncated_file(tmp_path, length):
+    path = tmp_path / "truncated.hair"
+    path.write_bytes(BUNDLED.read_bytes()[:length])
+    line = one_line_error(run_cli("info", path))
+    assert "truncated.hair" in line
 
 
-def test_convert_leaves_no_partial_output(shared_data, tmp_path):
+def test_info_on_bundled_input():
+    info = json.loads(run_cli("info", BUNDLED, "--json").stdout)
+    assert info["strands"] == 2000 and info["points"] == 32000
+
+
+def test_convert_leaves_no_partial_output(tmp_path):
     out = tmp_path / "out.hair"
     bad = tmp_path / "bad.hair"
-    bad.write_bytes((shared_data / "Bangs_100.hair").read_bytes()[:1000])
+    bad.write_bytes(BUNDLED.read_bytes()[:1000])
     one_line_error(run_cli("convert", bad, out))
     assert list(tmp_path.iterdir()) == [bad]
 
 
-def test_convert_to_read_only_format_is_a_usage_error(shared_data, tmp_path):
-    line = one_line_error(run_cli("convert", shared_data / "Bangs_100.hair", tmp_path / "x.ply"))
+def test_convert_to_read_only_format_is_a_usage_error(tmp_path):
+    line = one_line_error(run_cli("convert", BUNDLED, tmp_path / "x.ply"))
     assert "x.ply" in line
     assert not (tmp_path / "x.ply").exists()
 

@@ -14,7 +14,8 @@ import bpy
 import numpy as np
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
-SHARED_DATA_DIR = os.path.abspath(os.path.join(REPO_ROOT, os.pardir, "shared", "data"))
+# The bundled default input: the UI test needs no data from outside the repository.
+BUNDLED_HAIR = os.path.join(REPO_ROOT, "examples", "data", "bob.hair")
 OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 
@@ -62,7 +63,7 @@ def steps():
     area, sidebar = view3d_area_and_sidebar(window)
 
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
-    hair_file = os.path.join(SHARED_DATA_DIR, "hairutil", "Bangs_100.hair")
+    hair_file = BUNDLED_HAIR
     check(os.path.isfile(hair_file), f"test data present: {hair_file}")
     with bpy.context.temp_override(window=window, area=area):
         check(bpy.ops.hairlod.import_hair(filepath=hair_file) == {'FINISHED'}, "hair file imported")

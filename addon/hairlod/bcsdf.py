@@ -1,0 +1,205 @@
+"""Hair BCSDFs: fibre parameters, single-fibre models, white furnace and dual scattering.
+
+Directions are in the fibre frame with the tangent along +x (sin(theta) = x), as in pbrt. A value S
+follows DESIGN.md: L_o = integral of L_i S cos(theta_i) dw_i, so a lossless energy-conserving fibre
+has a white furnace of 1. Every function taking parameters accepts a ``HairParams`` or a dict of its
+fields.
+
+Models: ``"chiang"`` (d'Eon 2011 / Chiang 2016, as in Cycles; far field, or near field with ``h``),
+``"marschner"`` (Marschner 2003 as in Xu et al. 2011 Sec. 4.1), ``"fiber_rtd"`` (the R, TT, D fibre of
+Huang et al. 2025 Eq. 1), ``"realtime"`` (Karis / Tafuri approximations, thesis Sec. 4.3) and
+``"aggregated"`` (the thick-hair BCSDF of Huang et al. 2025, Eq. 6-15).
+"""
+
+import math
+
+import numpy as np
+
+from . import _core
+
+HairParams = _core.HairParams
+
+FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
+MODELS = ("chiang", "marschner", "fiber_rtd", "realtime", "aggregated")
+
+# Inputs each model takes besides the directions (see evaluate()).
+_MODEL_INPUTS = {
+    "chiang": {"h"},
+    "marschner": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
+    "fiber_rtd": set(),
+    "realtime": {"tt"},
+    "aggregated": {"hair_count", "density"},
+}
+
+# Principled Hair BSDF sockets (snake case) and their Cycles 3.4 defaults.
+_PRINCIPLED_DEFAULTS = {
+    "parametrization": "COLOR",
+    "color": (0.017513, 0.005763, 0.002059),
+    "melanin": 0.8,
+    "melanin_redness": 1.0,
+    "tint": (1.0, 1.0, 1.0),
+    "absorption_coefficient": (0.245531, 0.52, 1.365),
+    "roughness": 0.3,
+    "radial_roughness": 0.3,
+    "coat": 0.0,
+    "ior": 1.55,
+    "offset": math.radians(2.0),
+}
+# Per-strand noise and the node's model switch: accepted, not part of a fibre's parameters.
+_PRINCIPLED_IGNORED = {"random_color", "random_roughness", "random", "model"}
+
+
+def params_to_dict(params):
+    """The fields of a HairParams as a plain dict (sigma_a as a list)."""
+    params = as_params(params)
+    return {name: list(params.sigma_a) if name == "sigma_a" else getattr(params, name) for name in FIELDS}
+
+
+def as_params(params=None):
+    """A validated HairParams from a HairParams, a dict of its fields, or None (the defaults)."""
+    if params is None:
+        result = HairParams()
+    elif isinstance(params, HairParams):
+        result = params
+    elif isinstance(params, dict):
+        unknown = sorted(set(params) - set(FIELDS))
+        if unknown:
+            raise ValueError(f"unknown hair parameter(s) {', '.join(unknown)}; expected {', '.join(FIELDS)}")
+        result = HairParams()
+        for name, value in params.items():
+            try:
+                setattr(result, name, _rgb(value, name) if name == "sigma_a" else float(value))
+            except (TypeError, ValueError) as error:
+                raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
+    else:
+        raise ValueError(f"params must be a HairParams or a dict, got {type(params).__name__}")
+    result.validate()
+    return result
+
+
+def _rgb(value, name):
+    array = np.asarray(value, dtype=np.float64).reshape(-1)
+    if array.size == 1:
+        array = np.repeat(array, 3)
+    if array.size != 3:
+        raise ValueError(f"{name} needs 1 or 3 values, got {array.size}")
+    return [float(v) for v in array]
+
+
+def from_principled_hair(**node_inputs):
+    """HairParams from the inputs of Blender's Principled Hair BSDF (Cycles 3.4, Chiang model).
+
+    Keywords are the node's sockets in snake case (``color``, ``melanin``, ``melanin_redness``, ``tint``,
+    ``absorption_coefficient``, ``roughness``, ``radial_roughness``, ``coat``, ``ior``, ``offset`` in
+    radians) and ``parametrization`` ('ABSORPTION', 'MELANIN' or 'COLOR', the node's enum). Missing
+    inputs take the node's defaults; ``random_color``, ``random_roughness`` and ``random`` are ignored.
+    """
+    unknown = sorted(set(node_inputs) - set(_PRINCIPLED_DEFAULTS) - _PRINCIPLED_IGNORED)
+    if unknown:
+        raise ValueError(f"unknown Principled Hair input(s) {', '.join(unknown)}")
+    if node_inputs.get("model", "CHIANG") != "CHIANG":
+        raise ValueError(f"model must be 'CHIANG' (the Cycles 3.4 model), got {node_inputs['model']!r}")
+    inputs = dict(_PRINCIPLED_DEFAULTS)
+    inputs.update({k: v for k, v in node_inputs.items() if k in _PRINCIPLED_DEFAULTS})
+    for name in ("color", "tint", "absorption_coefficient"):
+        inputs[name] = _rgb(inputs[name], name)[:3]
+    return _core.params_from_principled_hair(**inputs)
+
+
+def sigma_a_from_color(color, beta_n):
+    """Chiang et al. 2016, Eq. 9: absorption giving the reflectance colour for roughness beta_n."""
+    return np.array(_core.sigma_a_from_color(_rgb(color, "color"), float(beta_n)))
+
+
+def sigma_a_from_melanin(eumelanin, pheomelanin=0.0):
+    """Absorption of eumelanin and pheomelanin concentrations (Cycles' coefficients)."""
+    return np.array(_core.sigma_a_from_melanin(float(eumelanin), float(pheomelanin)))
+
+
+def cluster_density(hair_total, hair_radius, major_axis, minor_axis):
+    """Huang et al. 2025, Sec. 4: area fraction rho of an elliptical cluster covered by its hairs."""
+    return _core.cluster_density(float(hair_total), float(hair_radius), float(major_axis), float(minor_axis))
+
+
+def hairs_crossed(density, ray_length, hair_total, major_axis, minor_axis):
+    """Huang et al. 2025, Sec. 4: number n of hairs a ray of length ray_length crosses (at least 1)."""
+    return _core.hairs_crossed(float(density), float(ray_length), float(hair_total), float(major_axis),
+                               float(minor_axis))
+
+
+def _directions(value, name):
+    array = np.ascontiguousarray(value, dtype=np.float32)
+    if array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f"{name} must have shape [N, 3], got {array.shape}")
+    return array
+
+
+def _check_model(model):
+    if model not in _MODEL_INPUTS:
+        raise ValueError(f"unknown model {model!r}; expected one of {', '.join(MODELS)}")
+
+
+def evaluate(model, params, wi, wo, **model_inputs):
+    """S(wi, wo) for each pair, float32 [N, 3] RGB.
+
+    wi, wo: float [N, 3] in the fibre frame (need not be normalised). Model inputs:
+    chiang ``h`` (float [N] offsets in [-1, 1]: near field; default far field, averaged over h);
+    marschner ``caustic_width``, ``caustic_fade_range``, ``caustic_max_window``;
+    realtime ``tt`` ('tafuri' or 'karis');
+    aggregated ``hair_count`` (n >= 1 hairs crossed) and ``density`` (rho in (0, 1]), see cluster_density().
+    """
+    _check_model(model)
+    unknown = sorted(set(model_inputs) - _MODEL_INPUTS[model])
+    if unknown:
+        raise ValueError(f"model {model!r} takes no input(s) {', '.join(unknown)}")
+    wi = _directions(wi, "wi")
+    wo = _directions(wo, "wo")
+    if wi.shape != wo.shape:
+        raise ValueError(f"wi and wo must have the same shape, got {wi.shape} and {wo.shape}")
+    h = model_inputs.pop("h", None)
+    if h is not None:
+        h = np.ascontiguousarray(h, dtype=np.float32).reshape(-1)
+        if h.shape[0] != wi.shape[0]:
+            raise ValueError(f"h needs {wi.shape[0]} offsets, got {h.shape[0]}")
+    return _core.bcsdf_evaluate(model, as_params(params), wi, wo, h=h, **model_inputs)
+
+
+def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6):
+    """Integral of S(wi, wo) cos(theta_i) dw_i over the sphere (RGB, float64 [3]).
+
+    Adaptive Gauss-Kronrod in double precision; ``h`` selects the chiang near field. Other models use
+    their default inputs (aggregated: n = 1, rho = 1).
+    """
+    _check_model(model)
+    wo = _rgb(wo, "wo")
+    return np.array(_core.bcsdf_white_furnace(model, as_params(params), wo, h=h, tolerance=float(tolerance)))
+
+
+def dual_scattering(params, theta_d, model="chiang", backscatter_density=0.7, tolerance=1e-6):
+    """Zinke et al. 2008 dual-scattering terms of the fibre, tabulated over theta_d (radians).
+
+    Returns a dict: ``theta_d`` [K] and, each [K, 3] RGB, ``a_f``, ``a_b`` (average forward/backward
+    attenuation), ``alpha_f``, ``alpha_b`` (shifts), ``beta_f``, ``beta_b`` (widths), ``A_1``, ``A_3``,
+    ``A_b``, ``delta_b``, ``sigma_b``.
+    """
+    _check_model(model)
+    theta_d = np.ascontiguousarray(np.atleast_1d(theta_d), dtype=np.float64)
+    return _core.bcsdf_dual_scattering(model, as_params(params), theta_d, backscatter_density=float(backscatter_density),
+                                       tolerance=float(tolerance))
+
+
+__all__ = [
+    "FIELDS",
+    "MODELS",
+    "HairParams",
+    "as_params",
+    "cluster_density",
+    "hairs_crossed",
+    "dual_scattering",
+    "evaluate",
+    "from_principled_hair",
+    "params_to_dict",
+    "sigma_a_from_color",
+    "sigma_a_from_melanin",
+    "white_furnace",
+]

@@ -1,0 +1,72 @@
+#pragma once
+// The aggregated BCSDF of a thick hair standing for a cluster of strands (hair-lod-aggregated-bcsdf.txt,
+// Huang et al. 2025, Sec. 4, Eq. 6-15), built on the R, TT, D fibre of Eq. 1 (FiberRtdBcsdf):
+//   f = S(phi, theta_d) * sum over p in {R^, TT^, D^, B^} of A_p M_p(theta_h) N_p(phi).
+//
+// Conventions (see FiberRtdBcsdf): theta_d is Marschner's half difference (theta_o - theta_i) / 2,
+// which the paper's tables are functions of; variances of Eq. 9 are in theta_h, so they enter the
+// unit-area-in-theta_i lobes multiplied by 4. The per-hair terms a_F, a_B, the forward azimuthal
+// variance sigma_f^2, A_1, A_3, Delta_b and sigma_b are tabulated over theta_d from the single fibre by
+// numerical integration (dual_scattering.h) when the model is built.
+#include <memory>
+#include <vector>
+
+#include "hairlod/bcsdf/dual_scattering.h"
+#include "hairlod/bcsdf/fiber_rtd.h"
+
+namespace hairlod::bcsdf {
+
+// Paper constants: d_1+ of Eq. 10 and c_m of Eq. 13.
+inline constexpr double kSideScatterWeight = 0.6;
+inline constexpr double kMultipleShadowing = 0.2;
+
+// Where the shading point is inside the thick hair (Sec. 4, "Estimation of hair number n").
+struct ClusterState {
+    double hair_count = 1.0;  // n >= 1: hairs the incident ray crossed, the shaded one included
+    double density = 1.0;     // rho in (0, 1]: area fraction of the cross-section covered by hairs
+};
+
+// Sec. 4: rho = n_total r^2 / (|r_A| |r_B|) for n_total hairs of radius r in an ellipse of semi-axes
+// r_A, r_B (clamped to 1); throws Error naming the bad argument.
+double cluster_density(double hair_total, double hair_radius, double major_axis, double minor_axis);
+
+// Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)) hairs along a ray of length l, at least 1.
+double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
+
+// The per-hair terms of the single fibre over theta_d in [-pi/2, pi/2] (uniform samples).
+struct AggregatedTable {
+    std::vector<DualScatteringSample> samples;
+    std::vector<glm::dvec3> forward_azimuthal_variance;  // sigma_f^2 of Eq. 9, around phi = pi
+    // Linear interpolation at theta_d.
+    DualScatteringSample sample(double theta_d) const;
+    glm::dvec3 azimuthal_variance(double theta_d) const;
+};
+
+// Builds the table of `fiber` with `samples` >= 3 inclinations (in parallel).
+AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples = 33,
+                                 double backscatter_density = kDefaultBackscatterDensity);
+
+class AggregatedBcsdf final : public FiberBcsdf {
+public:
+    // Validates params and cluster (hair_count >= 1, density in (0, 1]); builds the table unless given.
+    AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
+                    std::shared_ptr<const AggregatedTable> table = nullptr);
+
+    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Eq. 15.
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
+    std::string_view name() const override { return "aggregated"; }
+
+    // Eq. 12-15 for |phi| < pi/2 (1 otherwise); the probabilities are clamped to [0, 1].
+    glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f) const;
+    const std::shared_ptr<const AggregatedTable>& table() const { return table_; }
+    const FiberRtdBcsdf& fiber() const { return fiber_; }
+
+private:
+    FiberRtdBcsdf fiber_;
+    ClusterState cluster_;
+    std::shared_ptr<const AggregatedTable> table_;
+    std::array<LongitudinalLobe, 4> lobes_;
+};
+
+}  // namespace hairlod::bcsdf

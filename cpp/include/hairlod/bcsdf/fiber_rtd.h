@@ -1,0 +1,46 @@
+#pragma once
+// The R, TT, D single fibre of hair-lod-aggregated-bcsdf.txt (Huang et al. 2025, Eq. 1, with the
+// lobe shapes of Eq. 8 at n = 1): S = sum_p A_p M_p(theta_h) N_p(phi), p in {R, TT, D}.
+//
+// Choices the paper leaves open: A_R, A_TT and A_D are the fibre's attenuations averaged over the
+// offset h at theta_d (D gathers TRT and every higher order), so that the fibre follows HairParams;
+// they are tabulated over |theta_d| at construction (257 samples, linear interpolation, 1e-5);
+// the Gaussians G(beta, x) have variance beta (as Eq. 9 adds variances) and M_p is unit-area in
+// theta_i; the diffuse lobe is normalised to unit energy under the measure cos^2(theta_i) dtheta_i dphi_i
+// of Sec. 3 (M_D N_D = 1/pi^2, where Eq. 8 prints M_D = 1/pi, N_D = 1/(2 pi)).
+#include <vector>
+
+#include "hairlod/bcsdf/bcsdf.h"
+
+namespace hairlod::bcsdf {
+
+// Extra spread and attenuation of light that crossed other hairs first (hair-lod-aggregated-bcsdf.txt
+// Eq. 7 and 9): added to the lobes' variances (theta_i measure / azimuth) and multiplying A_p.
+struct RtdSpread {
+    double longitudinal_variance = 0.0;
+    double azimuthal_variance = 0.0;
+    glm::dvec3 attenuation{1.0};
+};
+
+class FiberRtdBcsdf final : public FiberBcsdf {
+public:
+    explicit FiberRtdBcsdf(const HairParams& params);
+
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const RtdSpread& spread) const;
+    // A_R, A_TT, A_D at theta_d (lobe weights applied).
+    std::array<glm::dvec3, 3> lobe_attenuation(double theta_d) const;
+    std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
+    std::string_view name() const override { return "fiber_rtd"; }
+
+    // Variance of N_TT around phi = pi: the variance pi^2 s^2 / 3 of Chiang's logistic of scale s.
+    double azimuthal_variance() const { return azimuthal_variance_; }
+
+private:
+    HairParams params_;
+    std::array<LongitudinalLobe, 3> lobes_;  // R, TT, D (D: uniform, variance pi^2 / 12)
+    double azimuthal_variance_;
+    std::vector<std::array<glm::dvec3, 3>> attenuation_table_;  // over |theta_d| in [0, pi/2]
+};
+
+}  // namespace hairlod::bcsdf

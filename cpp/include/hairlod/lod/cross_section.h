@@ -1,0 +1,37 @@
+#pragma once
+// Elliptical cross-section of a thick hair at one control-point index, fitted to the members'
+// control points (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 3).
+#include <array>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace hairlod {
+
+struct CrossSection {
+    glm::vec3 centre{0.0f};      // mean of the member points
+    glm::vec3 tangent{0.0f};     // normalised mean member tangent (zero if they cancel)
+    glm::vec3 major_axis{1.0f, 0.0f, 0.0f};  // unit PCA axes that remain after dropping the one
+    glm::vec3 minor_axis{0.0f, 1.0f, 0.0f};  // closest to the tangent
+    float major_radius = 0.0f;
+    float minor_radius = 0.0f;
+    // Members closest to centre + major, centre - major, centre + minor, centre - minor (the
+    // "corner control points"), as indices into the member points.
+    std::array<int, 4> corners{0, 0, 0, 0};
+    int covered = 0;  // members inside the ellipse (projected onto its plane)
+
+    float area() const { return 3.14159265f * major_radius * minor_radius; }
+};
+
+// True when `point` projected onto the section's plane lies inside the ellipse.
+bool inside_ellipse(const CrossSection& section, const glm::vec3& point);
+
+// Fits the ellipse to `points` (with unit `tangents`, one per point, and the strands' radius):
+// PCA of the points about their mean, the axis closest to the tangent dropped, and radii
+// s * sqrt(variance + radius^2) with s >= 1 the smallest scale putting at least a fraction
+// `coverage` of the points inside. `scratch` is reused between calls.
+CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<const glm::vec3> tangents,
+                               float strand_radius, float coverage, std::vector<float>& scratch);
+
+}  // namespace hairlod

@@ -1,0 +1,101 @@
+#pragma once
+// The LoD asset of hair-lod-aggregated-bcsdf.txt Sec. 5.1: guide hairs, L0 clusters of strands
+// sharing their 3 nearest guides, finer thick-hair levels split from L0, elliptical cross-sections
+// and linear-skinning coordinates, built from any StrandSet.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "hairlod/core/strand_set.h"
+#include "hairlod/lod/guide_frame.h"
+
+namespace hairlod {
+
+struct LodOptions {
+    int guides = 256;          // k of the guide k-means
+    int levels = 6;            // n_L: thick-hair levels L0 .. L_{n_L - 2}, then the strands
+    int control_points = 16;   // n_c per strand and per thick hair
+    uint64_t seed = 0;
+    int max_kmeans_iterations = 20;  // Lloyd updates for the guides (the tail moves few strands)
+    float ellipse_coverage = 0.95f;  // fraction of member control points each ellipse must hold
+};
+
+// One level of thick hairs. Hairs are ordered by L0 cluster: cluster c owns hairs
+// [cluster_first[c], cluster_first[c + 1]). Per-control-point arrays hold hairs * n_c entries.
+struct ThickHairLevel {
+    std::vector<int32_t> cluster_first;
+    std::vector<int32_t> parent;       // the hair one level coarser holding it (-1 on L0)
+    std::vector<int32_t> n_total;      // member strands
+    std::vector<int32_t> strand_hair;  // per strand: the hair of this level holding it
+    std::vector<glm::vec3> centre_local;  // cross-section centre in the L0 cluster's guide frame
+    std::vector<glm::vec3> major_axis;    // unit, rest pose
+    std::vector<glm::vec3> minor_axis;
+    std::vector<glm::vec2> radii;         // (major, minor)
+    std::vector<float> density;           // rho = n_total r^2 / (|r_A| |r_B|), Sec. 4
+    // The strands whose control point k is a corner control point (closest to centre +- major,
+    // centre +- minor), so corners skin exactly like strand points.
+    std::vector<std::array<int32_t, 4>> corner_strands;
+    // Per L0 cluster and control point [clusters * n_c]: the hair with the largest major radius,
+    // which stands for the cluster's widest hair in the per-frame selection.
+    std::vector<int32_t> widest_hair;
+    double coverage = 0.0;    // fraction of member control points inside their ellipse
+    double mean_area = 0.0;   // mean over hairs and control points of pi r_A r_B
+
+    size_t hair_count() const { return n_total.size(); }
+};
+
+// Positions of everything drawable, for the rest pose or deformed guides.
+struct ThickHairGeometry {
+    std::vector<glm::vec3> centre;   // [hairs * n_c]
+    std::vector<glm::vec3> tangent;  // unit, from the centre curve
+    std::vector<glm::vec3> major;    // semi-axis vectors (axis * radius)
+    std::vector<glm::vec3> minor;
+    std::vector<std::array<glm::vec3, 4>> corners;
+};
+
+struct LodGeometry {
+    StrandSet strands;                       // n_c points per strand
+    std::vector<ThickHairGeometry> levels;   // one per thick level
+    std::vector<glm::vec4> cluster_bounds;   // per L0 cluster: bounding sphere (centre, radius) of its strands
+};
+
+struct LodBuildTimings {  // seconds
+    double resample = 0, kmeans = 0, clusters = 0, levels = 0, fitting = 0, weights = 0;
+};
+
+struct LodAsset {
+    int control_points = 0;
+    std::vector<int64_t> guide_strands;  // the strand each guide is (a k-means medoid)
+    std::vector<glm::vec3> rest_guides;  // [guides * n_c], resampled guide strands
+    std::vector<std::array<int32_t, 3>> cluster_guides;  // per L0 cluster, sorted, -1 padded
+    std::vector<FrameKind> frame_kinds;  // [L0 clusters * n_c]
+    std::vector<glm::vec3> strand_local;  // [strands * n_c], coordinates in the L0 guide frame
+    std::vector<float> strand_radius;     // [strands * n_c]
+    // Strands ordered by L0 cluster: cluster c owns strand_order[cluster_strand_first[c] .. [c + 1]).
+    std::vector<int32_t> strand_order;
+    std::vector<int32_t> cluster_strand_first;
+    std::vector<ThickHairLevel> thick_levels;  // L0 first; the strands are level thick_levels.size()
+    LodBuildTimings timings;
+
+    size_t strand_count() const { return strand_radius.size() / static_cast<size_t>(control_points); }
+    size_t guide_count() const { return guide_strands.size(); }
+    size_t cluster_count() const { return cluster_guides.size(); }
+    size_t level_count() const { return thick_levels.size() + 1; }
+    size_t memory_bytes() const;
+
+    // Skins strands and thick hairs to `deformed_guides` ([guides * n_c] points, the guides in the
+    // order of guide_strands) by the linear skinning of Sec. 5.1 step 4 / Sec. 5.2.
+    LodGeometry skin(std::span<const glm::vec3> deformed_guides) const;
+    LodGeometry rest_geometry() const { return skin(rest_guides); }
+};
+
+// Builds the asset; throws Error for invalid strands or options. Fewer thick levels than asked
+// are built when no cluster has enough strands left to split (8: children of about 2 strands).
+LodAsset build_lod(const StrandSet& strands, const LodOptions& options = {});
+
+}  // namespace hairlod

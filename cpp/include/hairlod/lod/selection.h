@@ -1,0 +1,55 @@
+#pragma once
+// Screen-width LoD selection per L0 cluster and segment (hair-lod-aggregated-bcsdf.txt Sec. 5.1
+// step 5 and Sec. 5.2): the initial selection and the deferred per-frame rule of Eq. 16.
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+
+#include "hairlod/lod/lod_asset.h"
+
+namespace hairlod {
+
+// Column-major OpenGL / Blender matrices: clip = projection * view * world; NDC in [-1, 1]^3.
+struct Camera {
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    glm::vec2 viewport{1.0f, 1.0f};  // pixels
+};
+
+// Segments [first_segment, first_segment + segment_count) of items [first, first + count) of one
+// level: thick hairs of that level, or at the finest level positions in LodAsset::strand_order.
+struct DrawRange {
+    int32_t level = 0;
+    int32_t cluster = 0;
+    int32_t first = 0;
+    int32_t count = 0;
+    int32_t first_segment = 0;
+    int32_t segment_count = 0;
+};
+
+struct Selection {
+    int segments = 0;             // per hair: n_c - 1
+    std::vector<uint8_t> level;   // [clusters * segments]; 0 = L0 (coarsest)
+    std::vector<uint8_t> visible; // [clusters]: inside the view frustum
+    std::vector<DrawRange> draws;
+};
+
+// Projected width in pixels of one thick-hair cross-section (Sec. 5.2 "Hair width calculation"):
+// the corners projected onto the plane through the centre normal to the tangent, then to the
+// screen with the centre's perspective divide; the largest distance between them. Infinite when
+// the centre is behind the camera.
+float projected_width(const glm::mat4& view_projection, const glm::vec2& viewport, const glm::vec3& centre,
+                      const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners);
+
+// Sec. 5.1 step 5: per visible cluster and segment, the coarsest level whose largest thick-hair
+// width is at most width_px (the strands when none is).
+Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px);
+
+// Eq. 16: one step per cluster and segment from `previous`: finer when the current level is too
+// wide, coarser when one coarser level fits, else unchanged. Culled clusters keep their level.
+Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
+                          const Selection& previous);
+
+}  // namespace hairlod

@@ -1,0 +1,206 @@
+// hairlod._core bcsdf bindings: HairParams, the Principled Hair conversion, batched evaluation,
+// white furnace and dual scattering. Thin: parsing of model inputs lives in hairlod/bcsdf.py.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "hairlod/bcsdf/chiang.h"
+#include "hairlod/bcsdf/dual_scattering.h"
+#include "hairlod/bcsdf/furnace.h"
+#include "hairlod/bcsdf/model_factory.h"
+#include "hairlod/bcsdf/principled_hair.h"
+#include "hairlod/core/error.h"
+
+namespace py = pybind11;
+
+namespace hairlod::python {
+
+namespace {
+
+using namespace hairlod::bcsdf;
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+glm::dvec3 to_dvec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
+std::array<double, 3> to_array(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+std::span<const glm::vec3> directions(const FloatArray& array, const char* name) {
+    if (array.ndim() != 2 || array.shape(1) != 3)
+        throw Error(std::string(name) + " must have shape [N, 3]");
+    return {reinterpret_cast<const glm::vec3*>(array.data()), static_cast<size_t>(array.shape(0))};
+}
+
+PrincipledParametrization parse_parametrization(const std::string& name) {
+    if (name == "ABSORPTION") return PrincipledParametrization::AbsorptionCoefficient;
+    if (name == "MELANIN") return PrincipledParametrization::MelaninConcentration;
+    if (name == "COLOR") return PrincipledParametrization::DirectColoring;
+    throw Error("parametrization must be 'ABSORPTION', 'MELANIN' or 'COLOR', got '" + name + "'");
+}
+
+RealtimeTT parse_realtime_tt(const std::string& name) {
+    if (name == "tafuri") return RealtimeTT::Tafuri;
+    if (name == "karis") return RealtimeTT::Karis;
+    throw Error("tt must be 'tafuri' or 'karis', got '" + name + "'");
+}
+
+std::array<double, 3> white_furnace_of(const std::string& model, const HairParams& params, const std::array<double, 3>& wo,
+                                       std::optional<double> h, double tolerance) {
+    const QuadratureTolerance tol{tolerance, tolerance, 30};
+    py::gil_scoped_release release;
+    const BcsdfModel kind = parse_bcsdf_model(model);
+    if (h) {
+        if (kind != BcsdfModel::Chiang) throw Error("h (near field) applies to the chiang model only");
+        return to_array(white_furnace_near_field(ChiangBcsdf(params), to_dvec3(wo), *h, tol));
+    }
+    return to_array(white_furnace(*make_bcsdf(kind, params), to_dvec3(wo), tol));
+}
+
+}  // namespace
+
+void bind_bcsdf(py::module_& m) {
+    py::class_<HairParams>(m, "HairParams", R"doc(
+Physical parameters of one hair fibre (fields as in C++ hairlod::bcsdf::HairParams).
+
+eta             index of refraction (> 1)
+sigma_a         absorption per unit fibre radius, RGB (>= 0)
+beta_m, beta_n  longitudinal / azimuthal roughness in (0, 1] (pbrt convention)
+alpha           cuticle tilt in radians (pbrt/Cycles sign)
+coat            [0, 1]: R-lobe roughness is (1 - coat) beta_m (Cycles)
+eccentricity    Marschner's a in (1/sqrt(2), sqrt(2)); 1 is circular
+weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher order))doc")
+        .def(py::init<>())
+        .def_readwrite("eta", &HairParams::eta)
+        .def_property(
+            "sigma_a", [](const HairParams& p) { return to_array(p.sigma_a); },
+            [](HairParams& p, const std::array<double, 3>& v) { p.sigma_a = to_dvec3(v); })
+        .def_readwrite("beta_m", &HairParams::beta_m)
+        .def_readwrite("beta_n", &HairParams::beta_n)
+        .def_readwrite("alpha", &HairParams::alpha)
+        .def_readwrite("coat", &HairParams::coat)
+        .def_readwrite("eccentricity", &HairParams::eccentricity)
+        .def_readwrite("weight_r", &HairParams::weight_r)
+        .def_readwrite("weight_tt", &HairParams::weight_tt)
+        .def_readwrite("weight_trt", &HairParams::weight_trt)
+        .def("validate", &HairParams::validate, "Raises ValueError naming the first invalid parameter.");
+
+    m.def("sigma_a_from_color",
+          [](const std::array<double, 3>& color, double beta_n) { return to_array(sigma_a_from_color(to_dvec3(color), beta_n)); },
+          py::arg("color"), py::arg("beta_n"), "Chiang et al. 2016, Eq. 9: absorption from a reflectance colour.");
+    m.def("sigma_a_from_melanin",
+          [](double eumelanin, double pheomelanin) { return to_array(sigma_a_from_melanin(eumelanin, pheomelanin)); },
+          py::arg("eumelanin"), py::arg("pheomelanin") = 0.0, "Absorption of melanin concentrations (Cycles).");
+    m.def(
+        "params_from_principled_hair",
+        [](const std::string& parametrization, const std::array<double, 3>& color, double melanin,
+           double melanin_redness, const std::array<double, 3>& tint, const std::array<double, 3>& absorption_coefficient,
+           double roughness, double radial_roughness, double coat, double ior, double offset) {
+            PrincipledHairInputs in;
+            in.parametrization = parse_parametrization(parametrization);
+            in.color = to_dvec3(color);
+            in.melanin = melanin;
+            in.melanin_redness = melanin_redness;
+            in.tint = to_dvec3(tint);
+            in.absorption_coefficient = to_dvec3(absorption_coefficient);
+            in.roughness = roughness;
+            in.radial_roughness = radial_roughness;
+            in.coat = coat;
+            in.ior = ior;
+            in.offset = offset;
+            return params_from_principled_hair(in);
+        },
+        py::arg("parametrization"), py::arg("color"), py::arg("melanin"), py::arg("melanin_redness"), py::arg("tint"),
+        py::arg("absorption_coefficient"), py::arg("roughness"), py::arg("radial_roughness"), py::arg("coat"),
+        py::arg("ior"), py::arg("offset"));
+
+    m.def(
+        "bcsdf_evaluate",
+        [](const std::string& model, const HairParams& params, const FloatArray& wi, const FloatArray& wo,
+           const std::optional<FloatArray>& h, const std::string& tt, double caustic_width, double caustic_fade_range,
+           double caustic_max_window, double hair_count, double density) {
+            const std::span<const glm::vec3> in = directions(wi, "wi");
+            const std::span<const glm::vec3> out_dirs = directions(wo, "wo");
+            if (in.size() != out_dirs.size()) throw Error("wi and wo must have the same number of directions");
+            std::optional<std::span<const float>> offsets;
+            if (h) {
+                if (h->ndim() != 1) throw Error("h must have shape [N]");
+                offsets = std::span<const float>(h->data(), static_cast<size_t>(h->size()));
+            }
+            py::array_t<float> result({static_cast<py::ssize_t>(in.size()), py::ssize_t(3)});
+            const std::span<glm::vec3> values(reinterpret_cast<glm::vec3*>(result.mutable_data()), in.size());
+            ModelOptions options;
+            options.realtime_tt = parse_realtime_tt(tt);
+            options.marschner_caustic = {caustic_width, caustic_fade_range, caustic_max_window};
+            options.cluster = {hair_count, density};
+            const BcsdfModel kind = parse_bcsdf_model(model);
+            {
+                py::gil_scoped_release release;
+                if (offsets) {
+                    if (kind != BcsdfModel::Chiang) throw Error("h (near field) applies to the chiang model only");
+                    evaluate_near_field(ChiangBcsdf(params), in, out_dirs, *offsets, values);
+                } else {
+                    evaluate(*make_bcsdf(kind, params, options), in, out_dirs, values);
+                }
+            }
+            return result;
+        },
+        py::arg("model"), py::arg("params"), py::arg("wi"), py::arg("wo"), py::arg("h") = py::none(),
+        py::arg("tt") = "tafuri", py::arg("caustic_width") = MarschnerCaustic{}.width,
+        py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
+        py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("hair_count") = 1.0,
+        py::arg("density") = 1.0,
+        "S(wi, wo) as float32 [N, 3]; directions in the fibre frame (tangent +x).");
+
+    m.def("cluster_density", &cluster_density, py::arg("hair_total"), py::arg("hair_radius"), py::arg("major_axis"),
+          py::arg("minor_axis"), "Huang et al. 2025, Sec. 4: rho = n_total r^2 / (|r_A| |r_B|), at most 1.");
+    m.def("hairs_crossed", &hairs_crossed, py::arg("density"), py::arg("ray_length"), py::arg("hair_total"),
+          py::arg("major_axis"), py::arg("minor_axis"),
+          "Huang et al. 2025, Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)), at least 1.");
+
+    m.def("bcsdf_white_furnace", &white_furnace_of, py::arg("model"), py::arg("params"), py::arg("wo"),
+          py::arg("h") = py::none(), py::arg("tolerance") = 1e-6,
+          "Integral of S(wi, wo) cos(theta_i) dw_i by adaptive quadrature (RGB).");
+
+    m.def(
+        "bcsdf_dual_scattering",
+        [](const std::string& model, const HairParams& params, const DoubleArray& theta_d, double backscatter_density,
+           double tolerance) {
+            if (theta_d.ndim() != 1) throw Error("theta_d must be one-dimensional");
+            const std::span<const double> angles(theta_d.data(), static_cast<size_t>(theta_d.size()));
+            std::vector<DualScatteringSample> table;
+            {
+                py::gil_scoped_release release;
+                const auto bcsdf = make_bcsdf(parse_bcsdf_model(model), params);
+                table = dual_scattering_table(*bcsdf, angles, backscatter_density, {tolerance, 10.0 * tolerance, 30});
+            }
+            const auto column = [&](glm::dvec3 DualScatteringSample::*field) {
+                py::array_t<double> values({static_cast<py::ssize_t>(table.size()), py::ssize_t(3)});
+                double* data = values.mutable_data();
+                for (size_t k = 0; k < table.size(); ++k)
+                    for (int c = 0; c < 3; ++c) data[3 * k + c] = (table[k].*field)[c];
+                return values;
+            };
+            py::dict result;
+            result["theta_d"] = py::array_t<double>(theta_d.size(), theta_d.data());
+            result["a_f"] = column(&DualScatteringSample::a_f);
+            result["a_b"] = column(&DualScatteringSample::a_b);
+            result["alpha_f"] = column(&DualScatteringSample::alpha_f);
+            result["alpha_b"] = column(&DualScatteringSample::alpha_b);
+            result["beta_f"] = column(&DualScatteringSample::beta_f);
+            result["beta_b"] = column(&DualScatteringSample::beta_b);
+            result["A_1"] = column(&DualScatteringSample::A_1);
+            result["A_3"] = column(&DualScatteringSample::A_3);
+            result["A_b"] = column(&DualScatteringSample::A_b);
+            result["delta_b"] = column(&DualScatteringSample::delta_b);
+            result["sigma_b"] = column(&DualScatteringSample::sigma_b);
+            return result;
+        },
+        py::arg("model"), py::arg("params"), py::arg("theta_d"), py::arg("backscatter_density") = kDefaultBackscatterDensity,
+        py::arg("tolerance") = 1e-6, "Zinke et al. 2008 dual-scattering terms tabulated over theta_d ([K] and [K, 3]).");
+}
+
+}  // namespace hairlod::python

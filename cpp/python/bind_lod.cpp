@@ -1,0 +1,165 @@
+// LodAsset, LodGeometry and Selection: copies out as numpy arrays, the GIL released in long calls.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <string>
+
+#include "bindings.h"
+#include "hairlod/core/error.h"
+#include "hairlod/lod/lod_asset.h"
+#include "hairlod/lod/selection.h"
+
+namespace py = pybind11;
+
+namespace hairlod::python {
+
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+// A numpy copy of `values` reshaped to `shape` (the element type's components form the last axes).
+template <typename Scalar, typename T>
+py::array_t<Scalar> to_numpy(const std::vector<T>& values, std::vector<py::ssize_t> shape) {
+    py::array_t<Scalar> result(shape);
+    std::memcpy(result.mutable_data(), values.data(), values.size() * sizeof(T));
+    return result;
+}
+
+py::ssize_t as_size(size_t n) { return static_cast<py::ssize_t>(n); }
+
+glm::mat4 matrix_from(const FloatArray& m, const char* what) {
+    if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw Error(std::string(what) + " must be a 4x4 matrix");
+    // numpy rows are matrix rows; glm stores columns.
+    glm::mat4 result;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) result[c][r] = m.at(r, c);
+    return result;
+}
+
+py::dict level_dict(const LodAsset& asset, const ThickHairLevel& level, const ThickHairGeometry& rest) {
+    const auto hairs = as_size(level.hair_count()), nc = static_cast<py::ssize_t>(asset.control_points);
+    py::dict d;
+    d["centres"] = to_numpy<float>(rest.centre, {hairs, nc, 3});
+    d["major_axis"] = to_numpy<float>(level.major_axis, {hairs, nc, 3});
+    d["minor_axis"] = to_numpy<float>(level.minor_axis, {hairs, nc, 3});
+    d["radii"] = to_numpy<float>(level.radii, {hairs, nc, 2});
+    d["density"] = to_numpy<float>(level.density, {hairs, nc});
+    d["corner_strands"] = to_numpy<int32_t>(level.corner_strands, {hairs, nc, 4});
+    d["n_total"] = to_numpy<int32_t>(level.n_total, {hairs});
+    d["parent"] = to_numpy<int32_t>(level.parent, {hairs});
+    d["membership"] = to_numpy<int32_t>(level.strand_hair, {as_size(level.strand_hair.size())});
+    d["cluster_first"] = to_numpy<int32_t>(level.cluster_first, {as_size(level.cluster_first.size())});
+    d["coverage"] = level.coverage;
+    d["mean_area"] = level.mean_area;
+    return d;
+}
+
+py::dict geometry_dict(const LodAsset& asset, LodGeometry geometry) {
+    const auto nc = static_cast<py::ssize_t>(asset.control_points);
+    py::dict d;
+    py::list levels;
+    for (const ThickHairGeometry& g : geometry.levels) {
+        const auto hairs = as_size(g.centre.size()) / nc;
+        py::dict level;
+        level["centres"] = to_numpy<float>(g.centre, {hairs, nc, 3});
+        level["tangents"] = to_numpy<float>(g.tangent, {hairs, nc, 3});
+        level["major"] = to_numpy<float>(g.major, {hairs, nc, 3});
+        level["minor"] = to_numpy<float>(g.minor, {hairs, nc, 3});
+        level["corners"] = to_numpy<float>(g.corners, {hairs, nc, 4, 3});
+        levels.append(level);
+    }
+    d["levels"] = levels;
+    d["cluster_bounds"] = to_numpy<float>(geometry.cluster_bounds, {as_size(geometry.cluster_bounds.size()), 4});
+    d["strands"] = py::cast(std::move(geometry.strands));
+    return d;
+}
+
+std::vector<glm::vec3> guides_from(const FloatArray& guides, const LodAsset& asset) {
+    if (guides.ndim() != 3 || static_cast<size_t>(guides.shape(0)) != asset.guide_count() ||
+        guides.shape(1) != asset.control_points || guides.shape(2) != 3)
+        throw Error("deformed guides must have shape [" + std::to_string(asset.guide_count()) + ", " +
+                    std::to_string(asset.control_points) + ", 3]");
+    std::vector<glm::vec3> points(asset.rest_guides.size());
+    std::memcpy(points.data(), guides.data(), points.size() * sizeof(glm::vec3));
+    return points;
+}
+
+}  // namespace
+
+void bind_lod(py::module_& m) {
+    py::class_<Selection>(m, "Selection", "LoD level per L0 cluster and segment, visibility and draw ranges.")
+        .def_property_readonly("levels",
+                               [](const Selection& s) {
+                                   return to_numpy<uint8_t>(s.level, {as_size(s.visible.size()), static_cast<py::ssize_t>(s.segments)});
+                               })
+        .def_property_readonly("visible", [](const Selection& s) { return to_numpy<uint8_t>(s.visible, {as_size(s.visible.size())}).attr("astype")("bool"); })
+        .def_property_readonly("draws", [](const Selection& s) {
+            // Columns: level, cluster, first, count, first_segment, segment_count.
+            return to_numpy<int32_t>(s.draws, {as_size(s.draws.size()), 6});
+        });
+
+    py::class_<LodAsset>(m, "LodAsset", "Guides, L0 clusters, thick-hair levels and skinning coordinates.")
+        .def_readonly("control_points", &LodAsset::control_points)
+        .def_property_readonly("guide_count", &LodAsset::guide_count)
+        .def_property_readonly("cluster_count", &LodAsset::cluster_count)
+        .def_property_readonly("strand_count", &LodAsset::strand_count)
+        .def_property_readonly("level_count", &LodAsset::level_count)
+        .def_property_readonly("memory_bytes", &LodAsset::memory_bytes)
+        .def_property_readonly("guide_strands", [](const LodAsset& a) { return to_numpy<int64_t>(a.guide_strands, {as_size(a.guide_strands.size())}); })
+        .def_property_readonly("rest_guides", [](const LodAsset& a) {
+            return to_numpy<float>(a.rest_guides, {as_size(a.guide_count()), static_cast<py::ssize_t>(a.control_points), 3});
+        })
+        .def_property_readonly("cluster_guides", [](const LodAsset& a) { return to_numpy<int32_t>(a.cluster_guides, {as_size(a.cluster_count()), 3}); })
+        .def_property_readonly("timings", [](const LodAsset& a) {
+            const LodBuildTimings& t = a.timings;
+            py::dict d;
+            d["resample"] = t.resample;
+            d["kmeans"] = t.kmeans;
+            d["clusters"] = t.clusters;
+            d["levels"] = t.levels;
+            d["fitting"] = t.fitting;
+            d["weights"] = t.weights;
+            return d;
+        })
+        .def("thick_levels", [](const LodAsset& a) {
+            LodGeometry rest;
+            {
+                py::gil_scoped_release release;
+                rest = a.rest_geometry();
+            }
+            py::list levels;
+            for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, a.thick_levels[l], rest.levels[l]));
+            return levels;
+        }, "Per thick level: rest centres, axes, radii, density, corners, n_total, parent, membership, coverage.")
+        .def("skin", [](const LodAsset& a, const FloatArray& guides) {
+            const std::vector<glm::vec3> points = guides_from(guides, a);
+            LodGeometry geometry;
+            {
+                py::gil_scoped_release release;
+                geometry = a.skin(points);
+            }
+            return geometry_dict(a, std::move(geometry));
+        }, py::arg("deformed_guides"), "Skinned strands and thick hairs for guides [G, n_c, 3].")
+        .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,
+                          std::pair<float, float> viewport, float width_px, const Selection* previous) {
+            const std::vector<glm::vec3> points = guides_from(guides, a);
+            const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
+            py::gil_scoped_release release;
+            const LodGeometry geometry = a.skin(points);
+            return previous ? select_deferred(a, geometry, camera, width_px, *previous)
+                            : select_initial(a, geometry, camera, width_px);
+        }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f,
+           py::arg("previous") = py::none(),
+           "Initial selection (Sec. 5.1 step 5), or Eq. 16 from `previous`, for guides [G, n_c, 3].");
+
+    m.def("build_lod", [](const StrandSet& strands, int guides, int levels, int control_points, uint64_t seed,
+                          float ellipse_coverage) {
+        py::gil_scoped_release release;
+        return build_lod(strands, {.guides = guides, .levels = levels, .control_points = control_points, .seed = seed,
+                                   .ellipse_coverage = ellipse_coverage});
+    }, py::arg("strands"), py::arg("guides") = 256, py::arg("levels") = 6, py::arg("control_points") = 16,
+       py::arg("seed") = 0, py::arg("ellipse_coverage") = 0.95f);
+}
+
+}  // namespace hairlod::python

@@ -1,0 +1,162 @@
+#include "hairlod/bcsdf/aggregated.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <glm/exponential.hpp>
+#include <tbb/parallel_for.h>
+
+#include "hairlod/bcsdf/fiber_frame.h"
+#include "hairlod/bcsdf/furnace.h"
+#include "hairlod/bcsdf/longitudinal.h"
+#include "hairlod/core/error.h"
+
+namespace hairlod::bcsdf {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+void require_positive(const char* name, double value) {
+    if (!(std::isfinite(value) && value > 0.0))
+        throw Error(std::string(name) + " must be finite and > 0, got " + std::to_string(value));
+}
+
+// Linear interpolation of a table sampled uniformly over theta_d in [-pi/2, pi/2].
+template <typename Table, typename Get>
+auto interpolate(const Table& table, double theta_d, Get&& get) {
+    const int count = static_cast<int>(table.size());
+    const double x = (std::clamp(theta_d, -0.5 * kPi, 0.5 * kPi) + 0.5 * kPi) / kPi * (count - 1);
+    const int k = std::min(static_cast<int>(x), count - 2);
+    const double t = x - k;
+    return (1.0 - t) * get(table[k]) + t * get(table[k + 1]);
+}
+
+}  // namespace
+
+double cluster_density(double hair_total, double hair_radius, double major_axis, double minor_axis) {
+    require_positive("hair_total", hair_total);
+    require_positive("hair_radius", hair_radius);
+    require_positive("major_axis", major_axis);
+    require_positive("minor_axis", minor_axis);
+    return std::min(1.0, hair_total * hair_radius * hair_radius / (major_axis * minor_axis));
+}
+
+double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
+    require_positive("density", density);
+    require_positive("hair_total", hair_total);
+    require_positive("major_axis", major_axis);
+    require_positive("minor_axis", minor_axis);
+    if (!(std::isfinite(ray_length) && ray_length >= 0.0))
+        throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
+    return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
+}
+
+DualScatteringSample AggregatedTable::sample(double theta_d) const {
+    DualScatteringSample s;
+    s.theta_d = theta_d;
+    for (glm::dvec3 DualScatteringSample::*field :
+         {&DualScatteringSample::a_f, &DualScatteringSample::a_b, &DualScatteringSample::alpha_f,
+          &DualScatteringSample::alpha_b, &DualScatteringSample::beta_f, &DualScatteringSample::beta_b,
+          &DualScatteringSample::A_1, &DualScatteringSample::A_3, &DualScatteringSample::A_b,
+          &DualScatteringSample::delta_b, &DualScatteringSample::sigma_b})
+        s.*field = interpolate(samples, theta_d, [&](const DualScatteringSample& t) { return t.*field; });
+    return s;
+}
+
+glm::dvec3 AggregatedTable::azimuthal_variance(double theta_d) const {
+    return interpolate(forward_azimuthal_variance, theta_d, [](const glm::dvec3& v) { return v; });
+}
+
+AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples, double backscatter_density) {
+    if (samples < 3) throw Error("an aggregated table needs at least 3 samples, got " + std::to_string(samples));
+    AggregatedTable table;
+    table.samples.resize(samples);
+    table.forward_azimuthal_variance.resize(samples);
+    const QuadratureTolerance tolerance{1e-5, 1e-4, 24};
+    tbb::parallel_for(0, samples, [&](int k) {
+        const double theta_d = -0.5 * kPi + kPi * k / (samples - 1);
+        table.samples[k] = dual_scattering(fiber, theta_d, backscatter_density, tolerance);
+        // Eq. 9's sigma_f^2: the forward-scattered energy's variance of phi around pi.
+        const glm::dvec3 wo = fiber_frame_direction(theta_d, 0.0);
+        const glm::dvec3 moment = integrate_directions(
+            [&](const glm::dvec3& wi) {
+                const double offset = wrap_angle(fiber_direction(wo).phi - fiber_direction(wi).phi - kPi);
+                return offset * offset * fiber.eval(wi, wo);
+            },
+            0.5 * kPi, 1.5 * kPi, tolerance);
+        const glm::dvec3 a_f = table.samples[k].a_f;
+        for (int c = 0; c < 3; ++c) table.forward_azimuthal_variance[k][c] = a_f[c] > 0.0 ? moment[c] / a_f[c] : 0.0;
+    });
+    return table;
+}
+
+AggregatedBcsdf::AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
+                                 std::shared_ptr<const AggregatedTable> table)
+    : fiber_(params), cluster_(cluster), table_(std::move(table)) {
+    if (!(std::isfinite(cluster_.hair_count) && cluster_.hair_count >= 1.0))
+        throw Error("hair_count must be finite and >= 1, got " + std::to_string(cluster_.hair_count));
+    if (!(cluster_.density > 0.0 && cluster_.density <= 1.0))
+        throw Error("density must be in (0, 1], got " + std::to_string(cluster_.density));
+    if (!table_) table_ = std::make_shared<const AggregatedTable>(aggregated_table(fiber_));
+    const auto shapes = fiber_.lobe_shapes();
+    // B^ varies with theta_d; its shape at theta_d = 0 (channel mean) stands for it in lobe_shapes().
+    const DualScatteringSample normal = table_->sample(0.0);
+    const double delta_b = (normal.delta_b.x + normal.delta_b.y + normal.delta_b.z) / 3.0;
+    const double sigma_b = (normal.sigma_b.x + normal.sigma_b.y + normal.sigma_b.z) / 3.0;
+    lobes_ = {shapes[0], shapes[1], shapes[2], LongitudinalLobe{delta_b, 4.0 * sigma_b * sigma_b}};
+}
+
+glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f) const {
+    if (std::abs(phi) >= 0.5 * kPi) return glm::dvec3(1.0);
+    const double open = 1.0 - cluster_.density;
+    const double p_m = open * kMultipleShadowing;                                  // Eq. 13
+    const double p_s = std::clamp(open * (1.0 - std::cos(phi)), 0.0, 1.0 - p_m);  // Eq. 12
+    const double p_n = 1.0 - p_m - p_s;                                            // Eq. 14
+    return p_s * a_f + glm::dvec3(p_n);                                            // Eq. 15
+}
+
+LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
+    const FiberDirection di = fiber_direction(wi);
+    const FiberDirection dout = fiber_direction(wo);
+    const HalfAngles angles = half_angles(di, dout);
+    const DualScatteringSample hair = table_->sample(angles.theta_d);
+    const double crossed = cluster_.hair_count - 1.0;
+
+    // Eq. 7 and 9: R^, TT^, D^ after n - 1 forward scatterings (variances in theta_h, x4 in theta_i).
+    RtdSpread spread;
+    spread.attenuation = glm::pow(hair.a_f, glm::dvec3(crossed));
+    const glm::dvec3 sigma_f2 = table_->azimuthal_variance(angles.theta_d);
+    const double sigma_f2_mean = (sigma_f2.x + sigma_f2.y + sigma_f2.z) / 3.0;
+    spread.longitudinal_variance = 4.0 * crossed * sigma_f2_mean;
+    spread.azimuthal_variance = crossed * sigma_f2_mean;
+    LobeValues out = fiber_.eval_lobes(wi, wo, spread);
+    out.count = 4;
+
+    // Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with
+    // A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) = d_1+ a_B a_F (1 - a_F^(2n)) / (1 - a_F^2).
+    if (std::abs(angles.phi) < 0.5 * kPi) {
+        glm::dvec3 a_1_plus;
+        for (int c = 0; c < 3; ++c) {
+            const double a_f = hair.a_f[c];
+            const double series = a_f < 1.0 ? a_f * (1.0 - std::pow(a_f, 2.0 * cluster_.hair_count)) / (1.0 - a_f * a_f)
+                                            : cluster_.hair_count;
+            a_1_plus[c] = kSideScatterWeight * hair.a_b[c] * series;
+        }
+        const glm::dvec3 a_b = a_1_plus + hair.A_1 + hair.A_3;
+        const glm::dvec3 sigma_b2 = hair.sigma_b * hair.sigma_b;
+        for (int c = 0; c < 3; ++c) {
+            const double m = gaussian_longitudinal(di.theta, dout.theta, hair.delta_b[c],
+                                                   std::max(4.0 * sigma_b2[c], 1e-12));
+            out.value[3][c] = a_b[c] * m / kPi;
+        }
+    }
+
+    const glm::dvec3 shadowing = shadowing_masking(angles.phi, hair.a_f);
+    for (int p = 0; p < out.count; ++p) out.value[p] *= shadowing;
+    return out;
+}
+
+}  // namespace hairlod::bcsdf

@@ -1,0 +1,431 @@
+#include "hairlod/lod/lod_asset.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <tbb/parallel_for.h>
+
+#include "hairlod/core/error.h"
+#include "hairlod/curves/resample.h"
+#include "hairlod/lod/cross_section.h"
+#include "hairlod/lod/kmeans.h"
+
+namespace hairlod {
+
+namespace {
+
+// Children per split: a quarter of the strands gives about a quarter of the cross-section area
+// (Sec. 5.1 step 2: the area shrinks about 4x per level).
+constexpr size_t kSplitFactor = 4;
+// Only groups whose children would average at least 2 strands are split: a thick hair of one
+// strand is the strand itself, which the finest level draws anyway.
+constexpr size_t kMinSplitMembers = 2 * kSplitFactor;
+
+class Stopwatch {
+public:
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double seconds = std::chrono::duration<double>(now - start_).count();
+        start_ = now;
+        return seconds;
+    }
+
+private:
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Flattened control points, centred on the hair's mean point so that squared distances keep
+// their precision for hair far from the origin.
+std::vector<float> centred_features(const StrandSet& resampled) {
+    glm::dvec3 mean(0.0);
+    for (const glm::vec3& p : resampled.points) mean += glm::dvec3(p);
+    mean /= static_cast<double>(resampled.points.size());
+    std::vector<float> features(resampled.points.size() * 3);
+    tbb::parallel_for(size_t{0}, resampled.points.size(), [&](size_t i) {
+        const glm::vec3 p(glm::dvec3(resampled.points[i]) - mean);
+        features[3 * i] = p.x;
+        features[3 * i + 1] = p.y;
+        features[3 * i + 2] = p.z;
+    });
+    return features;
+}
+
+// Sec. 5.1 step 1: k-means guides, each the exact medoid of its (non-empty) cluster.
+std::vector<int64_t> select_guides(const FeatureRows& rows, const LodOptions& options) {
+    std::vector<float> seeds = kmeans_plus_plus_seeds(rows, static_cast<size_t>(options.guides), options.seed);
+    const KMeansResult clusters = kmeans(rows, std::move(seeds), options.max_kmeans_iterations);
+    std::vector<int64_t> guides;
+    for (int64_t medoid : cluster_medoids(rows, group_by_cluster(clusters.assignment, clusters.centres.size() / rows.dim)))
+        if (medoid >= 0) guides.push_back(medoid);
+    return guides;
+}
+
+// Sec. 5.1 step 2: each strand's (up to) 3 nearest guides as a sorted set, -1 padded.
+std::vector<std::array<int32_t, 3>> nearest_guide_sets(const FeatureRows& rows, std::span<const int64_t> guides) {
+    std::vector<std::array<int32_t, 3>> sets(rows.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rows.size()), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            std::array<float, 3> best{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                                      std::numeric_limits<float>::infinity()};
+            std::array<int32_t, 3> ids{-1, -1, -1};
+            for (size_t g = 0; g < guides.size(); ++g) {
+                float d = squared_distance(rows.row(i), rows.row(static_cast<size_t>(guides[g])), rows.dim);
+                if (d >= best[2]) continue;
+                auto id = static_cast<int32_t>(g);
+                for (int slot = 0; slot < 3; ++slot)
+                    if (d < best[slot]) {
+                        std::swap(d, best[slot]);
+                        std::swap(id, ids[slot]);
+                    }
+            }
+            // Sorted with the -1 padding last, so the set is a key independent of distance order.
+            std::sort(ids.begin(), ids.end(), [](int32_t a, int32_t b) { return static_cast<uint32_t>(a) < static_cast<uint32_t>(b); });
+            sets[i] = ids;
+        }
+    });
+    return sets;
+}
+
+GuideSet guide_set(const std::array<int32_t, 3>& guides, const glm::vec3* guide_points, int control_points) {
+    GuideSet set;
+    set.control_points = control_points;
+    for (int32_t g : guides)
+        if (g >= 0) set.curves[set.count++] = guide_points + static_cast<size_t>(g) * control_points;
+    return set;
+}
+
+// One group of strands per thick hair of a level, in hair order.
+using Groups = std::vector<std::vector<int32_t>>;
+
+// Splits every group into up to kSplitFactor children by k-means on the members' control points.
+Groups split_groups(const Groups& parents, const FeatureRows& rows, uint64_t seed, std::vector<int32_t>& parent_of) {
+    std::vector<Groups> children(parents.size());
+    tbb::parallel_for(size_t{0}, parents.size(), [&](size_t h) {
+        const std::vector<int32_t>& members = parents[h];
+        if (members.size() < kMinSplitMembers) {
+            children[h] = {members};
+            return;
+        }
+        std::vector<float> local(members.size() * rows.dim);
+        for (size_t m = 0; m < members.size(); ++m)
+            std::copy_n(rows.row(static_cast<size_t>(members[m])), rows.dim, local.begin() + static_cast<std::ptrdiff_t>(m * rows.dim));
+        const FeatureRows local_rows{local, rows.dim};
+        // A seed per group makes the result independent of scheduling.
+        std::vector<float> seeds = kmeans_plus_plus_seeds(local_rows, kSplitFactor, seed ^ (0x9E3779B97F4A7C15ull * (h + 1)));
+        const KMeansResult split = kmeans(local_rows, std::move(seeds), 100);
+        const size_t k = split.centres.size() / rows.dim;
+        Groups result(k);
+        for (size_t m = 0; m < members.size(); ++m) result[static_cast<size_t>(split.assignment[m])].push_back(members[m]);
+        std::erase_if(result, [](const std::vector<int32_t>& g) { return g.empty(); });
+        children[h] = std::move(result);
+    });
+    Groups flat;
+    parent_of.clear();
+    for (size_t h = 0; h < children.size(); ++h)
+        for (std::vector<int32_t>& child : children[h]) {
+            flat.push_back(std::move(child));
+            parent_of.push_back(static_cast<int32_t>(h));
+        }
+    return flat;
+}
+
+std::vector<glm::vec3> unit_tangents(const StrandSet& resampled, int control_points) {
+    std::vector<glm::vec3> tangents(resampled.points.size());
+    const auto nc = static_cast<size_t>(control_points);
+    tbb::parallel_for(size_t{0}, resampled.curve_count(), [&](size_t s) {
+        const glm::vec3* p = resampled.points.data() + s * nc;
+        for (size_t k = 0; k < nc; ++k) {
+            const glm::vec3 step = p[std::min(k + 1, nc - 1)] - p[k == 0 ? 0 : k - 1];
+            const float length = glm::length(step);
+            tangents[s * nc + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
+        }
+    });
+    return tangents;
+}
+
+// Sec. 5.1 step 3 for every hair of a level; centres are returned in world space.
+std::vector<glm::vec3> fit_level(ThickHairLevel& level, const Groups& groups, const StrandSet& resampled,
+                                 const std::vector<glm::vec3>& tangents, int control_points, float coverage) {
+    const auto nc = static_cast<size_t>(control_points);
+    const size_t hairs = groups.size();
+    std::vector<glm::vec3> centres(hairs * nc);
+    level.major_axis.resize(hairs * nc);
+    level.minor_axis.resize(hairs * nc);
+    level.radii.resize(hairs * nc);
+    level.density.resize(hairs * nc);
+    level.corner_strands.resize(hairs * nc);
+    std::vector<int64_t> covered(hairs, 0);
+    std::vector<double> area(hairs, 0.0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, hairs), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<glm::vec3> points, point_tangents;
+        std::vector<float> scratch;
+        for (size_t h = range.begin(); h != range.end(); ++h) {
+            const std::vector<int32_t>& members = groups[h];
+            for (size_t k = 0; k < nc; ++k) {
+                points.clear();
+                point_tangents.clear();
+                double radius = 0.0;
+                for (int32_t s : members) {
+                    const size_t i = static_cast<size_t>(s) * nc + k;
+                    points.push_back(resampled.points[i]);
+                    point_tangents.push_back(tangents[i]);
+                    radius += resampled.radius[i];
+                }
+                radius /= static_cast<double>(members.size());
+                const CrossSection section =
+                    fit_cross_section(points, point_tangents, static_cast<float>(radius), coverage, scratch);
+                const size_t at = h * nc + k;
+                centres[at] = section.centre;
+                level.major_axis[at] = section.major_axis;
+                level.minor_axis[at] = section.minor_axis;
+                level.radii[at] = {section.major_radius, section.minor_radius};
+                // hair-lod-aggregated-bcsdf.txt Sec. 4: rho = n_total r^2 / (|r_A| |r_B|).
+                const double axes_product = static_cast<double>(section.major_radius) * section.minor_radius;
+                level.density[at] = axes_product > 0.0
+                                        ? static_cast<float>(static_cast<double>(members.size()) * radius * radius / axes_product)
+                                        : 0.0f;
+                for (int c = 0; c < 4; ++c) level.corner_strands[at][c] = members[static_cast<size_t>(section.corners[c])];
+                covered[h] += section.covered;
+                area[h] += section.area();
+            }
+        }
+    });
+    int64_t covered_total = 0, points_total = 0;
+    double area_total = 0.0;
+    for (size_t h = 0; h < hairs; ++h) {
+        covered_total += covered[h];
+        points_total += static_cast<int64_t>(groups[h].size() * nc);
+        area_total += area[h];
+    }
+    level.coverage = static_cast<double>(covered_total) / static_cast<double>(points_total);
+    level.mean_area = area_total / static_cast<double>(hairs * nc);
+    return centres;
+}
+
+void check_options(const LodOptions& options) {
+    if (options.guides < 1) throw Error("build_lod: guides must be >= 1, got " + std::to_string(options.guides));
+    if (options.levels < 2 || options.levels > 16)
+        throw Error("build_lod: levels must be in [2, 16] (thick levels plus the strands), got " + std::to_string(options.levels));
+    if (options.control_points < 2) throw Error("build_lod: control_points must be >= 2, got " + std::to_string(options.control_points));
+    if (options.max_kmeans_iterations < 0) throw Error("build_lod: max_kmeans_iterations must be >= 0");
+    if (!(options.ellipse_coverage > 0.0f && options.ellipse_coverage <= 1.0f))
+        throw Error("build_lod: ellipse_coverage must be in (0, 1]");
+}
+
+}  // namespace
+
+LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
+    check_options(options);
+    if (strands.curve_count() == 0) throw Error("build_lod: no strands");
+    if (strands.curve_count() > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
+        throw Error("build_lod: too many strands");
+    Stopwatch watch;
+    LodAsset asset;
+    asset.control_points = options.control_points;
+    const auto nc = static_cast<size_t>(options.control_points);
+
+    const StrandSet resampled = resample_strands(strands, {.points_per_curve = options.control_points});
+    asset.timings.resample = watch.lap();
+
+    const std::vector<float> features = centred_features(resampled);
+    const FeatureRows rows{features, 3 * nc};
+    asset.guide_strands = select_guides(rows, options);
+    for (int64_t g : asset.guide_strands)
+        asset.rest_guides.insert(asset.rest_guides.end(), resampled.curve_points(static_cast<size_t>(g)).begin(),
+                                 resampled.curve_points(static_cast<size_t>(g)).end());
+    asset.timings.kmeans = watch.lap();
+
+    // L0: strands sharing a guide set; clusters numbered in the sets' lexicographic order.
+    const std::vector<std::array<int32_t, 3>> sets = nearest_guide_sets(rows, asset.guide_strands);
+    std::map<std::array<int32_t, 3>, int32_t> cluster_of_set;
+    for (const auto& set : sets) cluster_of_set.emplace(set, 0);
+    for (auto& [set, cluster] : cluster_of_set) {
+        cluster = static_cast<int32_t>(asset.cluster_guides.size());
+        asset.cluster_guides.push_back(set);
+    }
+    const size_t strand_count = resampled.curve_count(), cluster_count = asset.cluster_guides.size();
+    std::vector<int32_t> strand_cluster(strand_count);
+    for (size_t s = 0; s < strand_count; ++s) strand_cluster[s] = cluster_of_set[sets[s]];
+    const ClusterMembers l0 = group_by_cluster(strand_cluster, cluster_count);
+    asset.strand_order.assign(l0.members.begin(), l0.members.end());
+    asset.cluster_strand_first.assign(l0.first.begin(), l0.first.end());
+    asset.timings.clusters = watch.lap();
+
+    // Finer levels by splitting L0, until the requested count or until nothing can split.
+    std::vector<Groups> level_groups(1);
+    std::vector<std::vector<int32_t>> level_parents(1, std::vector<int32_t>(cluster_count, -1));
+    for (size_t c = 0; c < cluster_count; ++c)
+        level_groups[0].emplace_back(asset.strand_order.begin() + l0.first[c], asset.strand_order.begin() + l0.first[c + 1]);
+    // A level is added only while most strands can still split: otherwise it would mostly copy
+    // the previous one.
+    auto splittable_strands = [](const Groups& groups) {
+        size_t count = 0;
+        for (const auto& g : groups) count += g.size() >= kMinSplitMembers ? g.size() : 0;
+        return count;
+    };
+    while (level_groups.size() + 1 < static_cast<size_t>(options.levels) &&
+           2 * splittable_strands(level_groups.back()) >= strand_count) {
+        std::vector<int32_t> parents;
+        level_groups.push_back(split_groups(level_groups.back(), rows, options.seed + level_groups.size(), parents));
+        level_parents.push_back(std::move(parents));
+    }
+    asset.timings.levels = watch.lap();
+
+    const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
+    std::vector<std::vector<glm::vec3>> level_centres;
+    for (size_t l = 0; l < level_groups.size(); ++l) {
+        ThickHairLevel& level = asset.thick_levels.emplace_back();
+        const Groups& groups = level_groups[l];
+        level.parent = std::move(level_parents[l]);
+        level.strand_hair.resize(strand_count);
+        level.n_total.resize(groups.size());
+        level.cluster_first.assign(cluster_count + 1, 0);
+        for (size_t h = 0; h < groups.size(); ++h) {
+            level.n_total[h] = static_cast<int32_t>(groups[h].size());
+            for (int32_t s : groups[h]) level.strand_hair[static_cast<size_t>(s)] = static_cast<int32_t>(h);
+            ++level.cluster_first[static_cast<size_t>(strand_cluster[static_cast<size_t>(groups[h][0])]) + 1];
+        }
+        for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
+        level_centres.push_back(fit_level(level, groups, resampled, tangents, options.control_points, options.ellipse_coverage));
+        level.widest_hair.resize(cluster_count * nc);
+        for (size_t c = 0; c < cluster_count; ++c)
+            for (size_t k = 0; k < nc; ++k) {
+                int32_t widest = level.cluster_first[c];
+                for (int32_t h = widest + 1; h < level.cluster_first[c + 1]; ++h)
+                    if (level.radii[static_cast<size_t>(h) * nc + k].x > level.radii[static_cast<size_t>(widest) * nc + k].x) widest = h;
+                level.widest_hair[c * nc + k] = widest;
+            }
+    }
+    asset.timings.fitting = watch.lap();
+
+    // Sec. 5.1 step 4: local coordinates of every strand control point and thick-hair centre in
+    // the frame of its L0 cluster's guides (corners are strand control points already).
+    asset.frame_kinds.resize(cluster_count * nc);
+    std::vector<GuideFrame> frames(cluster_count * nc);
+    tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
+        const GuideSet guides = guide_set(asset.cluster_guides[c], asset.rest_guides.data(), options.control_points);
+        for (size_t k = 0; k < nc; ++k) {
+            asset.frame_kinds[c * nc + k] = choose_frame_kind(guides, static_cast<int>(k));
+            frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
+        }
+    });
+    asset.strand_local.resize(strand_count * nc);
+    asset.strand_radius = resampled.radius;
+    tbb::parallel_for(size_t{0}, strand_count, [&](size_t s) {
+        const size_t c = static_cast<size_t>(strand_cluster[s]);
+        for (size_t k = 0; k < nc; ++k)
+            asset.strand_local[s * nc + k] = to_local(frames[c * nc + k], resampled.points[s * nc + k]);
+    });
+    for (size_t l = 0; l < asset.thick_levels.size(); ++l) {
+        ThickHairLevel& level = asset.thick_levels[l];
+        level.centre_local.resize(level.hair_count() * nc);
+        tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
+            for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h)
+                for (size_t k = 0; k < nc; ++k) {
+                    const size_t at = static_cast<size_t>(h) * nc + k;
+                    level.centre_local[at] = to_local(frames[c * nc + k], level_centres[l][at]);
+                }
+        });
+    }
+    asset.timings.weights = watch.lap();
+    return asset;
+}
+
+size_t LodAsset::memory_bytes() const {
+    auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+    size_t total = bytes(guide_strands) + bytes(rest_guides) + bytes(cluster_guides) + bytes(frame_kinds) +
+                   bytes(strand_local) + bytes(strand_radius) + bytes(strand_order) + bytes(cluster_strand_first);
+    for (const ThickHairLevel& level : thick_levels)
+        total += bytes(level.cluster_first) + bytes(level.parent) + bytes(level.n_total) + bytes(level.strand_hair) +
+                 bytes(level.centre_local) + bytes(level.major_axis) + bytes(level.minor_axis) + bytes(level.radii) +
+                 bytes(level.density) + bytes(level.corner_strands) + bytes(level.widest_hair);
+    return total;
+}
+
+LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
+    const auto nc = static_cast<size_t>(control_points);
+    if (deformed_guides.size() != rest_guides.size())
+        throw Error("skin: expected " + std::to_string(guide_count()) + " guides x " + std::to_string(nc) +
+                    " points, got " + std::to_string(deformed_guides.size()) + " points");
+    for (const glm::vec3& p : deformed_guides)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw Error("skin: deformed guides contain NaN or infinite coordinates");
+
+    const size_t clusters = cluster_count(), strands = strand_count();
+    // Per L0 cluster and control point: the deformed frame, and the linear map taking rest
+    // vectors (cross-section axes) to deformed ones.
+    std::vector<GuideFrame> frames(clusters * nc);
+    std::vector<glm::mat3> vector_maps(clusters * nc);
+    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+        const GuideSet deformed = guide_set(cluster_guides[c], deformed_guides.data(), control_points);
+        const GuideSet rest = guide_set(cluster_guides[c], rest_guides.data(), control_points);
+        for (size_t k = 0; k < nc; ++k) {
+            const FrameKind kind = frame_kinds[c * nc + k];
+            frames[c * nc + k] = guide_frame(kind, deformed, static_cast<int>(k));
+            const glm::dmat3 rest_axes(guide_frame(kind, rest, static_cast<int>(k)).axes);
+            const double det = glm::determinant(rest_axes);
+            vector_maps[c * nc + k] =
+                det != 0.0 ? glm::mat3(glm::dmat3(frames[c * nc + k].axes) * glm::inverse(rest_axes)) : glm::mat3(1.0f);
+        }
+    });
+
+    LodGeometry geometry;
+    StrandSet& out = geometry.strands;
+    out.points.resize(strands * nc);
+    out.radius = strand_radius;
+    out.offsets.resize(strands + 1);
+    for (size_t s = 0; s <= strands; ++s) out.offsets[s] = static_cast<int64_t>(s * nc);
+    geometry.cluster_bounds.resize(clusters);
+    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+        glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
+        float widest = 0.0f;
+        for (int32_t i = cluster_strand_first[c]; i < cluster_strand_first[c + 1]; ++i) {
+            const size_t s = static_cast<size_t>(strand_order[static_cast<size_t>(i)]);
+            for (size_t k = 0; k < nc; ++k) {
+                const glm::vec3 p = frames[c * nc + k].to_world(strand_local[s * nc + k]);
+                out.points[s * nc + k] = p;
+                lower = glm::min(lower, p);
+                upper = glm::max(upper, p);
+                widest = std::max(widest, strand_radius[s * nc + k]);
+            }
+        }
+        geometry.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest);
+    });
+
+    for (const ThickHairLevel& level : thick_levels) {
+        ThickHairGeometry& g = geometry.levels.emplace_back();
+        const size_t count = level.hair_count() * nc;
+        g.centre.resize(count);
+        g.tangent.resize(count);
+        g.major.resize(count);
+        g.minor.resize(count);
+        g.corners.resize(count);
+        tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+            for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
+                const size_t first = static_cast<size_t>(h) * nc;
+                for (size_t k = 0; k < nc; ++k) {
+                    const size_t at = first + k;
+                    g.centre[at] = frames[c * nc + k].to_world(level.centre_local[at]);
+                    g.major[at] = vector_maps[c * nc + k] * (level.major_axis[at] * level.radii[at].x);
+                    g.minor[at] = vector_maps[c * nc + k] * (level.minor_axis[at] * level.radii[at].y);
+                    for (int corner = 0; corner < 4; ++corner)
+                        g.corners[at][corner] = out.points[static_cast<size_t>(level.corner_strands[at][corner]) * nc + k];
+                }
+                for (size_t k = 0; k < nc; ++k) {
+                    const glm::vec3 step = g.centre[first + std::min(k + 1, nc - 1)] - g.centre[first + (k == 0 ? 0 : k - 1)];
+                    const float length = glm::length(step);
+                    g.tangent[first + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
+                }
+            }
+        });
+    }
+    return geometry;
+}
+
+}  // namespace hairlod

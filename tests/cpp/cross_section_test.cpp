@@ -1,0 +1,77 @@
+#include "hairlod/lod/cross_section.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <glm/geometric.hpp>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod {
+namespace {
+
+const glm::vec3 kAlongZ(0, 0, 1);
+
+CrossSection fit(const std::vector<glm::vec3>& points, float radius, float coverage = 0.95f) {
+    std::vector<float> scratch;
+    return fit_cross_section(points, std::vector<glm::vec3>(points.size(), kAlongZ), radius, coverage, scratch);
+}
+
+TEST(CrossSection, AnisotropicSpreadCoversTheRequestedFraction) {
+    std::mt19937 rng(1);
+    std::normal_distribution<float> normal(0.0f, 1.0f);
+    std::vector<glm::vec3> points;
+    for (int i = 0; i < 400; ++i) points.push_back({3.0f * normal(rng), 0.5f * normal(rng), 0.1f * normal(rng)});
+    const CrossSection s = fit(points, 0.0f);
+    EXPECT_NEAR(std::abs(s.major_axis.x), 1.0f, 0.02f);
+    EXPECT_NEAR(std::abs(s.minor_axis.y), 1.0f, 0.02f);
+    EXPECT_GT(s.major_radius / s.minor_radius, 4.0f);
+    int inside = 0;
+    for (const auto& p : points) inside += inside_ellipse(s, p);
+    EXPECT_EQ(inside, s.covered);
+    EXPECT_GE(inside, 380);  // 95% of 400
+    EXPECT_LE(inside, 385);  // the quantile, not everything
+    // Corners are the members closest to the axis endpoints.
+    const glm::vec3 end = s.centre + s.major_radius * s.major_axis;
+    for (const auto& p : points) EXPECT_GE(glm::distance(p, end) + 1e-6f, glm::distance(points[static_cast<size_t>(s.corners[0])], end));
+}
+
+TEST(CrossSection, SingleMemberHasTheStrandRadius) {
+    const CrossSection s = fit({glm::vec3(1, 2, 3)}, 0.01f);
+    EXPECT_NEAR(s.major_radius, 0.01f, 1e-6f);
+    EXPECT_NEAR(s.minor_radius, 0.01f, 1e-6f);
+    EXPECT_EQ(s.covered, 1);
+    EXPECT_NEAR(glm::dot(s.major_axis, kAlongZ), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(s.minor_axis, kAlongZ), 0.0f, 1e-6f);
+}
+
+TEST(CrossSection, CoincidentAndCollinearMembersAreCovered) {
+    const CrossSection coincident = fit(std::vector<glm::vec3>(10, glm::vec3(5, 5, 5)), 0.0f);
+    EXPECT_EQ(coincident.covered, 10);
+    EXPECT_TRUE(std::isfinite(coincident.major_radius));
+    std::vector<glm::vec3> line;
+    for (int i = 0; i < 20; ++i) line.push_back({0.1f * i, 0.1f * i, 0});
+    const CrossSection collinear = fit(line, 0.001f, 1.0f);
+    EXPECT_EQ(collinear.covered, 20);
+    EXPECT_NEAR(std::abs(glm::dot(collinear.major_axis, glm::normalize(glm::vec3(1, 1, 0)))), 1.0f, 1e-5f);
+    // The minor radius is the strand radius scaled like the major axis to cover every point.
+    EXPECT_GE(collinear.minor_radius, 0.001f);
+    EXPECT_LT(collinear.minor_radius, 0.002f);
+}
+
+TEST(CrossSection, HugeCoordinatesStayFinite) {
+    std::vector<glm::vec3> points;
+    for (int i = 0; i < 30; ++i) points.push_back(glm::vec3(1e5f, -1e5f, 1e5f) + glm::vec3(i % 5, i / 5, 0));
+    const CrossSection s = fit(points, 0.0f);
+    EXPECT_TRUE(std::isfinite(s.major_radius) && std::isfinite(s.minor_radius));
+    EXPECT_GE(s.covered, 29);
+}
+
+TEST(CrossSection, RejectsMismatchedInput) {
+    std::vector<float> scratch;
+    EXPECT_THROW(fit_cross_section({}, {}, 0.0f, 0.95f, scratch), Error);
+}
+
+}  // namespace
+}  // namespace hairlod

@@ -1,0 +1,221 @@
+#include "hairlod/lod/lod_asset.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <tbb/global_control.h>
+
+#include "hairlod/core/error.h"
+#include "hairlod/curves/resample.h"
+
+namespace hairlod {
+namespace {
+
+// Wavy strands hanging from the upper half of a unit sphere, shifted by `offset`.
+StrandSet test_hair(size_t curves, size_t points, uint32_t seed, glm::vec3 offset = glm::vec3(0.0f)) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    StrandSet strands;
+    std::vector<glm::vec3> curve(points);
+    std::vector<float> radius(points, 0.002f);
+    for (size_t c = 0; c < curves; ++c) {
+        const float azimuth = 6.2831853f * unit(rng), polar = 1.4f * unit(rng);
+        const glm::vec3 root(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
+        for (size_t i = 0; i < points; ++i) {
+            const float t = static_cast<float>(i) / static_cast<float>(points - 1);
+            curve[i] = offset + root * (1.0f + 0.2f * t) + glm::vec3(0.05f * std::sin(9.0f * t + azimuth), 0.0f, -t);
+        }
+        strands.add_curve(curve, radius);
+    }
+    return strands;
+}
+
+float max_relative_error(std::span<const glm::vec3> got, std::span<const glm::vec3> expected) {
+    float scale = 1e-30f, error = 0.0f;
+    for (const glm::vec3& p : expected) scale = std::max(scale, glm::length(p));
+    for (size_t i = 0; i < got.size(); ++i) error = std::max(error, glm::distance(got[i], expected[i]));
+    return error / scale;
+}
+
+class LodAssetTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        strands_ = new StrandSet(test_hair(3000, 12, 1));
+        asset_ = new LodAsset(build_lod(*strands_, {.guides = 24, .levels = 6, .control_points = 8, .seed = 3}));
+    }
+    static void TearDownTestSuite() {
+        delete asset_;
+        delete strands_;
+    }
+    static StrandSet* strands_;
+    static LodAsset* asset_;
+};
+StrandSet* LodAssetTest::strands_ = nullptr;
+LodAsset* LodAssetTest::asset_ = nullptr;
+
+TEST_F(LodAssetTest, LevelsPartitionTheStrands) {
+    const LodAsset& a = *asset_;
+    ASSERT_GE(a.thick_levels.size(), 2u);
+    EXPECT_EQ(a.guide_count(), 24u);
+    for (size_t l = 0; l < a.thick_levels.size(); ++l) {
+        const ThickHairLevel& level = a.thick_levels[l];
+        int64_t total = 0;
+        std::vector<int32_t> counted(level.hair_count(), 0);
+        for (int32_t n : level.n_total) total += n;
+        EXPECT_EQ(total, 3000) << "level " << l;
+        for (int32_t h : level.strand_hair) ++counted[static_cast<size_t>(h)];
+        EXPECT_EQ(counted, level.n_total);
+        EXPECT_EQ(level.cluster_first.back(), static_cast<int32_t>(level.hair_count()));
+        // Every strand's hair lies inside the hair of the level above that holds the strand.
+        for (size_t s = 0; l > 0 && s < 3000; ++s)
+            EXPECT_EQ(level.parent[static_cast<size_t>(level.strand_hair[s])], a.thick_levels[l - 1].strand_hair[s]);
+    }
+    EXPECT_EQ(a.thick_levels[0].hair_count(), a.cluster_count());
+}
+
+TEST_F(LodAssetTest, L0ClustersShareTheirThreeNearestGuides) {
+    const LodAsset& a = *asset_;
+    const StrandSet resampled = resample_strands(*strands_, {.points_per_curve = 8});
+    for (size_t s = 0; s < 3000; s += 97) {
+        std::vector<std::pair<double, int32_t>> distances;
+        for (size_t g = 0; g < a.guide_count(); ++g) {
+            double d = 0.0;
+            for (size_t k = 0; k < 8; ++k) {
+                const glm::dvec3 e = glm::dvec3(resampled.points[s * 8 + k]) - glm::dvec3(a.rest_guides[g * 8 + k]);
+                d += glm::dot(e, e);
+            }
+            distances.emplace_back(d, static_cast<int32_t>(g));
+        }
+        std::sort(distances.begin(), distances.end());
+        std::array<int32_t, 3> expected{distances[0].second, distances[1].second, distances[2].second};
+        std::sort(expected.begin(), expected.end());
+        EXPECT_EQ(a.cluster_guides[static_cast<size_t>(a.thick_levels[0].strand_hair[s])], expected) << "strand " << s;
+    }
+}
+
+TEST_F(LodAssetTest, CoverageAndAreaRatioPerLevel) {
+    const LodAsset& a = *asset_;
+    for (size_t l = 0; l < a.thick_levels.size(); ++l) {
+        EXPECT_GE(a.thick_levels[l].coverage, 0.95) << "level " << l;
+        if (l == 0) continue;
+        const double ratio = a.thick_levels[l - 1].mean_area / a.thick_levels[l].mean_area;
+        RecordProperty("area_ratio_L" + std::to_string(l), std::to_string(ratio));
+        EXPECT_GT(ratio, 2.0) << "level " << l;
+        EXPECT_LT(ratio, 8.0) << "level " << l;
+    }
+    // Independent recount on L0 from the rest geometry: member points inside their ellipse.
+    const LodGeometry rest = a.rest_geometry();
+    const ThickHairLevel& level = a.thick_levels[0];
+    int64_t inside = 0;
+    for (size_t s = 0; s < 3000; ++s)
+        for (size_t k = 0; k < 8; ++k) {
+            const size_t at = static_cast<size_t>(level.strand_hair[s]) * 8 + k;
+            const glm::vec3 d = rest.strands.points[s * 8 + k] - rest.levels[0].centre[at];
+            const float u = glm::dot(d, rest.levels[0].major[at]) / glm::dot(rest.levels[0].major[at], rest.levels[0].major[at]);
+            const float v = glm::dot(d, rest.levels[0].minor[at]) / glm::dot(rest.levels[0].minor[at], rest.levels[0].minor[at]);
+            inside += u * u + v * v <= 1.0f + 1e-4f;
+        }
+    EXPECT_GE(static_cast<double>(inside) / (3000.0 * 8.0), 0.95);
+}
+
+TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
+    const LodAsset& a = *asset_;
+    const StrandSet resampled = resample_strands(*strands_, {.points_per_curve = 8});
+    const LodGeometry rest = a.rest_geometry();
+    EXPECT_LT(max_relative_error(rest.strands.points, resampled.points), 1e-5f);
+
+    const glm::mat4 motion = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -2.0f, 3.0f)), 0.7f,
+                                         glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f)));
+    auto move = [&](std::vector<glm::vec3> points) {
+        for (glm::vec3& p : points) p = glm::vec3(motion * glm::vec4(p, 1.0f));
+        return points;
+    };
+    const LodGeometry moved = a.skin(move(a.rest_guides));
+    EXPECT_LT(max_relative_error(moved.strands.points, move(resampled.points)), 1e-5f);
+    for (size_t l = 0; l < a.thick_levels.size(); ++l) {
+        EXPECT_LT(max_relative_error(moved.levels[l].centre, move(rest.levels[l].centre)), 1e-5f) << "level " << l;
+        for (size_t i = 0; i < moved.levels[l].major.size(); ++i) {
+            const glm::vec3 expected = glm::mat3(motion) * rest.levels[l].major[i];
+            ASSERT_LT(glm::distance(moved.levels[l].major[i], expected), 1e-4f * glm::length(expected) + 1e-7f);
+        }
+    }
+}
+
+TEST_F(LodAssetTest, DeterministicForASeedAndAnyThreadCount) {
+    LodAsset single;
+    {
+        tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+        single = build_lod(*strands_, {.guides = 24, .levels = 6, .control_points = 8, .seed = 3});
+    }
+    EXPECT_EQ(single.guide_strands, asset_->guide_strands);
+    ASSERT_EQ(single.thick_levels.size(), asset_->thick_levels.size());
+    for (size_t l = 0; l < single.thick_levels.size(); ++l)
+        EXPECT_EQ(single.thick_levels[l].strand_hair, asset_->thick_levels[l].strand_hair);
+    const LodAsset other = build_lod(*strands_, {.guides = 24, .levels = 6, .control_points = 8, .seed = 4});
+    EXPECT_NE(other.guide_strands, asset_->guide_strands);
+}
+
+TEST(LodAssetHardCases, OneStrandAndFewerStrandsThanGuides) {
+    const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 256});
+    EXPECT_EQ(one.guide_count(), 1u);
+    EXPECT_EQ(one.cluster_count(), 1u);
+    EXPECT_EQ(one.thick_levels[0].n_total[0], 1);
+    const LodAsset few = build_lod(test_hair(10, 5, 2), {.guides = 256});
+    EXPECT_EQ(few.guide_count(), 10u);
+    EXPECT_LT(max_relative_error(few.rest_geometry().strands.points,
+                                 resample_strands(test_hair(10, 5, 2), {.points_per_curve = 16}).points),
+              1e-5f);
+}
+
+TEST(LodAssetHardCases, IdenticalStrands) {
+    StrandSet strands;
+    const StrandSet one = test_hair(1, 6, 5);
+    for (int i = 0; i < 50; ++i) strands.add_curve(one.curve_points(0), one.radius);
+    const LodAsset asset = build_lod(strands, {.guides = 8});
+    EXPECT_EQ(asset.guide_count(), 1u);
+    EXPECT_EQ(asset.thick_levels[0].n_total[0], 50);
+    for (const glm::vec3& p : asset.rest_geometry().strands.points) EXPECT_TRUE(std::isfinite(p.x));
+}
+
+TEST(LodAssetHardCases, TwoPointAndCollinearStrands) {
+    StrandSet strands;
+    for (int i = 0; i < 40; ++i) {
+        const std::vector<glm::vec3> line{{0.01f * i, 0, 0}, {0.01f * i, 0, -1}};  // all in one plane
+        strands.add_curve(line);
+    }
+    const LodAsset asset = build_lod(strands, {.guides = 5, .levels = 3, .control_points = 4});
+    const LodGeometry rest = asset.rest_geometry();
+    EXPECT_LT(max_relative_error(rest.strands.points, resample_strands(strands, {.points_per_curve = 4}).points), 1e-5f);
+    for (const ThickHairLevel& level : asset.thick_levels) EXPECT_GE(level.coverage, 0.95);
+}
+
+TEST(LodAssetHardCases, HugeCoordinates) {
+    const StrandSet strands = test_hair(300, 8, 6, glm::vec3(1e6f, -1e6f, 1e6f));
+    const LodAsset asset = build_lod(strands, {.guides = 8, .control_points = 6});
+    const LodGeometry rest = asset.rest_geometry();
+    EXPECT_LT(max_relative_error(rest.strands.points, resample_strands(strands, {.points_per_curve = 6}).points), 1e-5f);
+    for (const ThickHairLevel& level : asset.thick_levels)
+        for (const glm::vec2& r : level.radii) ASSERT_TRUE(std::isfinite(r.x) && std::isfinite(r.y));
+}
+
+TEST(LodAssetHardCases, ClearErrors) {
+    StrandSet nan_strands = test_hair(5, 4, 1);
+    nan_strands.points[6].y = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(build_lod(nan_strands), Error);
+    EXPECT_THROW(build_lod(StrandSet{}), Error);
+    EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.guides = 0}), Error);
+    EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.levels = 1}), Error);
+    const LodAsset asset = build_lod(test_hair(5, 4, 1), {.guides = 2});
+    EXPECT_THROW(asset.skin(std::vector<glm::vec3>(3)), Error);
+    std::vector<glm::vec3> guides = asset.rest_guides;
+    guides[0].x = std::numeric_limits<float>::infinity();
+    EXPECT_THROW(asset.skin(guides), Error);
+}
+
+}  // namespace
+}  // namespace hairlod

@@ -1,0 +1,91 @@
+#include "hairlod/bcsdf/principled_hair.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod::bcsdf {
+namespace {
+
+TEST(PrincipledHair, AbsorptionCoefficientIsPassedThrough) {
+    PrincipledHairInputs in;
+    in.parametrization = PrincipledParametrization::AbsorptionCoefficient;
+    in.absorption_coefficient = {0.1, 0.2, 0.3};
+    in.roughness = 0.4;
+    in.radial_roughness = 0.6;
+    in.coat = 0.25;
+    in.ior = 1.6;
+    in.offset = 0.03;
+    const HairParams p = params_from_principled_hair(in);
+    EXPECT_EQ(p.sigma_a, glm::dvec3(0.1, 0.2, 0.3));
+    EXPECT_DOUBLE_EQ(p.beta_m, 0.4);
+    EXPECT_DOUBLE_EQ(p.beta_n, 0.6);
+    EXPECT_DOUBLE_EQ(p.coat, 0.25);
+    EXPECT_DOUBLE_EQ(p.eta, 1.6);
+    EXPECT_DOUBLE_EQ(p.alpha, 0.03);
+    EXPECT_DOUBLE_EQ(primary_roughness(p), 0.3);
+}
+
+TEST(PrincipledHair, MelaninConcentration) {
+    PrincipledHairInputs in;
+    in.parametrization = PrincipledParametrization::MelaninConcentration;
+    in.melanin = 0.5;  // concentration -log(1 - 0.5) = log 2
+    in.melanin_redness = 0.25;
+    in.tint = {1.0, 1.0, 1.0};  // a white tint absorbs nothing
+    const HairParams p = params_from_principled_hair(in);
+    const glm::dvec3 expected = sigma_a_from_melanin(0.75 * std::log(2.0), 0.25 * std::log(2.0));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(p.sigma_a[c], expected[c], 1e-12);
+    // A coloured tint adds its Eq. 9 absorption.
+    in.tint = {1.0, 0.5, 0.5};
+    const HairParams tinted = params_from_principled_hair(in);
+    EXPECT_NEAR(tinted.sigma_a.x, expected.x, 1e-12);
+    EXPECT_GT(tinted.sigma_a.y, expected.y);
+    // Melanin 1 is clamped to a finite concentration -log(1e-4).
+    in.melanin = 1.0;
+    in.tint = {1.0, 1.0, 1.0};
+    EXPECT_NEAR(params_from_principled_hair(in).sigma_a.x,
+                sigma_a_from_melanin(0.75 * std::log(1e4), 0.25 * std::log(1e4)).x, 1e-9);
+}
+
+TEST(PrincipledHair, DirectColoringUsesRadialRoughness) {
+    PrincipledHairInputs in;
+    in.color = {0.5, 0.4, 0.3};
+    in.radial_roughness = 0.7;
+    const HairParams p = params_from_principled_hair(in);
+    EXPECT_EQ(p.sigma_a, sigma_a_from_color(in.color, 0.7));
+}
+
+TEST(PrincipledHair, DefaultsAreBrownHairAndValid) {
+    const HairParams p = params_from_principled_hair({});
+    EXPECT_NEAR(p.alpha, 2.0 * 3.14159265358979 / 180.0, 1e-12);
+    EXPECT_GT(p.sigma_a.z, p.sigma_a.x);
+}
+
+TEST(PrincipledHair, BadInputsNameTheSocketOrParameter) {
+    PrincipledHairInputs in;
+    in.coat = 2.0;
+    try {
+        params_from_principled_hair(in);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("coat"), std::string::npos);
+    }
+    in = {};
+    in.ior = 0.9;
+    try {
+        params_from_principled_hair(in);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("eta"), std::string::npos);
+    }
+    in = {};
+    in.parametrization = PrincipledParametrization::MelaninConcentration;
+    in.melanin = -0.5;
+    EXPECT_THROW(params_from_principled_hair(in), Error);
+}
+
+}  // namespace
+}  // namespace hairlod::bcsdf

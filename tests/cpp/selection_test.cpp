@@ -1,0 +1,132 @@
+#include "hairlod/lod/selection.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod {
+namespace {
+
+StrandSet hanging_hair(size_t curves) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    StrandSet strands;
+    std::vector<glm::vec3> curve(10);
+    std::vector<float> radius(10, 0.002f);
+    for (size_t c = 0; c < curves; ++c) {
+        const float azimuth = 6.2831853f * unit(rng), polar = 1.4f * unit(rng);
+        const glm::vec3 root(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
+        for (size_t i = 0; i < curve.size(); ++i) curve[i] = root * (1.0f + 0.02f * i) + glm::vec3(0, 0, -0.1f * i);
+        strands.add_curve(curve, radius);
+    }
+    return strands;
+}
+
+// Dollies along a fixed ray towards `target`.
+Camera camera_at(float distance, glm::vec3 target = glm::vec3(0, 0, -0.3f)) {
+    Camera camera;
+    camera.view = glm::lookAt(target + distance * glm::normalize(glm::vec3(1.0f, 0.3f, 0.2f)), target, glm::vec3(0, 0, 1));
+    camera.projection = glm::perspective(glm::radians(45.0f), 4.0f / 3.0f, 0.01f, 1000.0f);
+    camera.viewport = {800.0f, 600.0f};
+    return camera;
+}
+
+class SelectionTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        asset_ = new LodAsset(build_lod(hanging_hair(2000), {.guides = 16, .levels = 5, .control_points = 6, .seed = 1}));
+        rest_ = new LodGeometry(asset_->rest_geometry());
+    }
+    static void TearDownTestSuite() {
+        delete rest_;
+        delete asset_;
+    }
+    static LodAsset* asset_;
+    static LodGeometry* rest_;
+};
+LodAsset* SelectionTest::asset_ = nullptr;
+LodGeometry* SelectionTest::rest_ = nullptr;
+
+TEST(ProjectedWidth, OrthographicCorners) {
+    // Identity matrices: NDC = world; a viewport of 100 px maps NDC 0.1 to 5 px.
+    const std::array<glm::vec3, 4> corners{glm::vec3(0.1f, 0, 0.5f), glm::vec3(-0.1f, 0, -0.3f), glm::vec3(0, 0.05f, 0),
+                                           glm::vec3(0, -0.05f, 0)};
+    // The tangent is z: corners move onto the plane z = 0 before projection.
+    EXPECT_NEAR(projected_width(glm::mat4(1.0f), {100.0f, 100.0f}, glm::vec3(0), {0, 0, 1}, corners), 10.0f, 1e-5f);
+    const glm::mat4 behind = glm::perspective(1.0f, 1.0f, 0.1f, 10.0f);  // camera looks down -z
+    EXPECT_TRUE(std::isinf(projected_width(behind, {100.0f, 100.0f}, glm::vec3(0, 0, 1), {1, 0, 0}, corners)));
+}
+
+TEST_F(SelectionTest, FartherCamerasNeverSelectFinerLevels) {
+    Selection nearer = select_initial(*asset_, *rest_, camera_at(2.5f), 2.0f);
+    int finest_seen = 0, coarsest_seen = 255;
+    for (float distance : {4.0f, 8.0f, 16.0f, 40.0f, 120.0f}) {
+        const Selection farther = select_initial(*asset_, *rest_, camera_at(distance), 2.0f);
+        for (size_t i = 0; i < farther.level.size(); ++i) {
+            const size_t cluster = i / static_cast<size_t>(farther.segments);
+            if (!farther.visible[cluster] || !nearer.visible[cluster]) continue;
+            ASSERT_LE(farther.level[i], nearer.level[i]) << "distance " << distance << " segment " << i;
+            finest_seen = std::max<int>(finest_seen, nearer.level[i]);
+            coarsest_seen = std::min<int>(coarsest_seen, farther.level[i]);
+        }
+        nearer = farther;
+    }
+    // The sweep exercises the hierarchy: fine levels near, L0 far.
+    EXPECT_GE(finest_seen, 2);
+    EXPECT_EQ(coarsest_seen, 0);
+}
+
+TEST_F(SelectionTest, Eq16ConvergesToTheInitialSelectionForAStaticCamera) {
+    const int finest = static_cast<int>(asset_->thick_levels.size());
+    for (float distance : {3.0f, 10.0f, 30.0f}) {
+        const Camera camera = camera_at(distance);
+        const Selection initial = select_initial(*asset_, *rest_, camera, 2.0f);
+        EXPECT_EQ(select_deferred(*asset_, *rest_, camera, 2.0f, initial).level, initial.level) << distance;
+        Selection from_coarsest = initial;
+        std::fill(from_coarsest.level.begin(), from_coarsest.level.end(), 0);
+        for (int frame = 0; frame <= finest; ++frame) from_coarsest = select_deferred(*asset_, *rest_, camera, 2.0f, from_coarsest);
+        for (size_t i = 0; i < initial.level.size(); ++i)
+            if (initial.visible[i / static_cast<size_t>(initial.segments)]) {
+                ASSERT_EQ(from_coarsest.level[i], initial.level[i]) << distance;
+            }
+    }
+}
+
+TEST_F(SelectionTest, DrawsCoverEveryVisibleSegmentOnce) {
+    const Selection selection = select_initial(*asset_, *rest_, camera_at(6.0f), 2.0f);
+    std::vector<int> drawn(selection.level.size(), 0);
+    for (const DrawRange& draw : selection.draws) {
+        ASSERT_GT(draw.count, 0);
+        for (int s = draw.first_segment; s < draw.first_segment + draw.segment_count; ++s) {
+            const size_t at = static_cast<size_t>(draw.cluster * selection.segments + s);
+            ++drawn[at];
+            EXPECT_EQ(selection.level[at], draw.level);
+        }
+    }
+    for (size_t i = 0; i < drawn.size(); ++i)
+        EXPECT_EQ(drawn[i], selection.visible[i / static_cast<size_t>(selection.segments)] ? 1 : 0);
+}
+
+TEST_F(SelectionTest, CullsClustersOutsideTheFrustum) {
+    Camera away = camera_at(5.0f);
+    away.view = glm::lookAt(glm::vec3(5.0f, 0, 0), glm::vec3(10.0f, 0, 0), glm::vec3(0, 0, 1));  // facing away
+    const Selection selection = select_initial(*asset_, *rest_, away, 2.0f);
+    EXPECT_TRUE(selection.draws.empty());
+    for (uint8_t v : selection.visible) EXPECT_EQ(v, 0);
+    const Selection front = select_initial(*asset_, *rest_, camera_at(5.0f), 2.0f);
+    EXPECT_GT(std::count(front.visible.begin(), front.visible.end(), 1), 0);
+}
+
+TEST_F(SelectionTest, RejectsBadArguments) {
+    EXPECT_THROW(select_initial(*asset_, *rest_, camera_at(5.0f), 0.0f), Error);
+    Selection wrong;
+    EXPECT_THROW(select_deferred(*asset_, *rest_, camera_at(5.0f), 2.0f, wrong), Error);
+}
+
+}  // namespace
+}  // namespace hairlod

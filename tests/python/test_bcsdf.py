@@ -1,0 +1,141 @@
+"""hairlod.bcsdf: parameters, Principled Hair conversion, batched evaluation, furnace, dual scattering."""
+
+import math
+
+import numpy as np
+import pytest
+
+from hairlod import bcsdf
+
+
+def random_directions(n, seed):
+    rng = np.random.default_rng(seed)
+    return rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+
+
+def test_params_accept_object_or_dict_and_round_trip():
+    params = bcsdf.as_params({"eta": 1.6, "sigma_a": [0.1, 0.2, 0.3], "beta_m": 0.25})
+    assert isinstance(params, bcsdf.HairParams)
+    fields = bcsdf.params_to_dict(params)
+    assert fields["eta"] == 1.6 and fields["sigma_a"] == pytest.approx([0.1, 0.2, 0.3])
+    assert set(fields) == set(bcsdf.FIELDS)
+    again = bcsdf.as_params(fields)
+    assert bcsdf.params_to_dict(again) == fields
+    assert bcsdf.as_params(params) is params
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("eta", 1.0), ("eta", float("nan")), ("sigma_a", [0.1, -0.2, 0.3]), ("beta_m", 0.0), ("beta_n", 1.5),
+     ("beta_m", float("nan")), ("eccentricity", 2.0), ("coat", -0.1)],
+)
+def test_bad_parameters_name_the_parameter(field, value):
+    with pytest.raises(ValueError, match=field):
+        bcsdf.as_params({field: value})
+    wi, wo = random_directions(4, 0)
+    with pytest.raises(ValueError, match=field):
+        bcsdf.evaluate("chiang", {field: value}, wi, wo)
+
+
+def test_unknown_fields_models_and_inputs_are_rejected():
+    wi, wo = random_directions(4, 0)
+    with pytest.raises(ValueError, match="roughness"):
+        bcsdf.as_params({"roughness": 0.3})
+    with pytest.raises(ValueError, match="kajiya"):
+        bcsdf.evaluate("kajiya", {}, wi, wo)
+    with pytest.raises(ValueError, match="tt"):
+        bcsdf.evaluate("chiang", {}, wi, wo, tt="karis")
+    with pytest.raises(ValueError, match="shape"):
+        bcsdf.evaluate("realtime", {}, wi[:, :2], wo)
+    with pytest.raises(ValueError, match="h needs"):
+        bcsdf.evaluate("chiang", {}, wi, wo, h=np.zeros(3))
+
+
+def test_principled_hair_modes():
+    absorption = bcsdf.from_principled_hair(parametrization="ABSORPTION", absorption_coefficient=(0.1, 0.2, 0.3),
+                                            roughness=0.4, radial_roughness=0.5, coat=0.2, ior=1.5, offset=0.05)
+    assert list(absorption.sigma_a) == pytest.approx([0.1, 0.2, 0.3])
+    assert (absorption.beta_m, absorption.beta_n, absorption.coat, absorption.eta, absorption.alpha) == pytest.approx(
+        (0.4, 0.5, 0.2, 1.5, 0.05))
+    melanin = bcsdf.from_principled_hair(parametrization="MELANIN", melanin=0.5, melanin_redness=0.0)
+    assert list(melanin.sigma_a) == pytest.approx(list(bcsdf.sigma_a_from_melanin(math.log(2.0))))
+    color = bcsdf.from_principled_hair(color=(0.5, 0.4, 0.3), radial_roughness=0.6, random_color=0.3)
+    assert list(color.sigma_a) == pytest.approx(list(bcsdf.sigma_a_from_color((0.5, 0.4, 0.3), 0.6)))
+    default = bcsdf.from_principled_hair()
+    assert default.alpha == pytest.approx(math.radians(2.0))
+    with pytest.raises(ValueError, match="parametrization"):
+        bcsdf.from_principled_hair(parametrization="Direct")
+    with pytest.raises(ValueError, match="wavelength"):
+        bcsdf.from_principled_hair(wavelength=3)
+    with pytest.raises(ValueError, match="CHIANG"):
+        bcsdf.from_principled_hair(model="HUANG")
+
+
+@pytest.mark.parametrize("model", bcsdf.MODELS)
+def test_evaluate_returns_finite_rgb(model):
+    wi, wo = random_directions(2000 if model != "chiang" else 200, 1)
+    values = bcsdf.evaluate(model, {"sigma_a": [0.2, 0.6, 1.5]}, wi, wo)
+    assert values.dtype == np.float32 and values.shape == (len(wi), 3)
+    assert np.all(np.isfinite(values)) and np.all(values >= 0.0)
+    assert values.max() > 0.0
+
+
+def test_model_inputs_change_the_value():
+    wi, wo = random_directions(500, 2)
+    tafuri = bcsdf.evaluate("realtime", {}, wi, wo, tt="tafuri")
+    karis = bcsdf.evaluate("realtime", {}, wi, wo, tt="karis")
+    assert not np.allclose(tafuri, karis)
+    near = bcsdf.evaluate("chiang", {}, wi, wo, h=np.linspace(-1.0, 1.0, len(wi)))
+    far = bcsdf.evaluate("chiang", {}, wi, wo)
+    assert not np.allclose(near, far)
+    wide = bcsdf.evaluate("marschner", {}, wi, wo, caustic_width=0.4)
+    assert np.all(np.isfinite(wide))
+
+
+def test_reciprocity_of_reciprocal_models():
+    wi, wo = random_directions(1000, 3)
+    for model in ("marschner", "fiber_rtd", "realtime"):
+        forward = bcsdf.evaluate(model, {"eccentricity": 0.9}, wi, wo)
+        backward = bcsdf.evaluate(model, {"eccentricity": 0.9}, wo, wi)
+        np.testing.assert_allclose(forward, backward, rtol=1e-4, atol=1e-7)
+
+
+def test_white_furnace():
+    lossless = {"sigma_a": 0.0, "beta_m": 0.3, "beta_n": 0.5}
+    assert bcsdf.white_furnace("chiang", lossless, wo=(0.4, 1.0, 0.2), h=-0.6) == pytest.approx([1.0] * 3, abs=1e-3)
+    absorbing = bcsdf.white_furnace("chiang", {"sigma_a": [0.0, 1.0, 5.0]}, wo=(0.0, 1.0, 0.0), h=0.1)
+    assert absorbing[0] == pytest.approx(1.0, abs=1e-3) and absorbing[2] < absorbing[1] < absorbing[0]
+    marschner = bcsdf.white_furnace("marschner", {"sigma_a": 0.0, "alpha": 0.0}, wo=(0.2, 1.0, 0.0), tolerance=1e-4)
+    assert 0.5 < marschner[0] <= 1.0 + 1e-3
+    with pytest.raises(ValueError, match="near field"):
+        bcsdf.white_furnace("marschner", {}, h=0.3)
+
+
+def test_dual_scattering_table():
+    table = bcsdf.dual_scattering({"sigma_a": [0.1, 0.5, 2.0]}, [0.0, 0.6], model="marschner", tolerance=1e-5)
+    assert table["theta_d"].tolist() == [0.0, 0.6]
+    for key in ("a_f", "a_b", "alpha_f", "alpha_b", "beta_f", "beta_b", "A_1", "A_3", "A_b", "delta_b", "sigma_b"):
+        assert table[key].shape == (2, 3) and np.all(np.isfinite(table[key]))
+    assert np.all(table["a_f"][:, 0] > table["a_f"][:, 2])
+    np.testing.assert_allclose(table["A_b"], table["A_1"] + table["A_3"], rtol=1e-12)
+    with pytest.raises(ValueError, match="theta_d"):
+        bcsdf.dual_scattering({}, [2.0], model="realtime")
+
+
+def test_aggregated_model_and_cluster_geometry():
+    wi, wo = random_directions(300, 4)
+    single = bcsdf.evaluate("fiber_rtd", {"sigma_a": [0.2, 0.5, 1.2]}, wi, wo)
+    one = bcsdf.evaluate("aggregated", {"sigma_a": [0.2, 0.5, 1.2]}, wi, wo, hair_count=1.0, density=0.3)
+    many = bcsdf.evaluate("aggregated", {"sigma_a": [0.2, 0.5, 1.2]}, wi, wo, hair_count=20.0, density=0.3)
+    # Through the back (|phi| > pi/2) with n = 1 the aggregate is the single fibre (Huang et al. 2025, Sec. 4).
+    phi = np.arctan2(wo[:, 2], wo[:, 1]) - np.arctan2(wi[:, 2], wi[:, 1])
+    back = np.abs(np.angle(np.exp(1j * phi))) > math.pi / 2
+    np.testing.assert_allclose(one[back], single[back], rtol=1e-5, atol=1e-9)
+    assert many.sum() < one.sum()
+    rho = bcsdf.cluster_density(100, 0.01, 0.2, 0.1)
+    assert rho == pytest.approx(0.5)
+    assert bcsdf.hairs_crossed(rho, 0.4, 100, 0.2, 0.1) == pytest.approx(0.5 * 0.4 * math.sqrt(100 / (math.pi * 0.02)))
+    with pytest.raises(ValueError, match="hair_count"):
+        bcsdf.evaluate("aggregated", {}, wi, wo, hair_count=0.5)
+    with pytest.raises(ValueError, match="hair_radius"):
+        bcsdf.cluster_density(100, -1.0, 0.2, 0.1)
