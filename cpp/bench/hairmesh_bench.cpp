@@ -1,7 +1,9 @@
 // Strand generation from a hair mesh: 100k strands x 33 vertices with every styling operation
 // (issue 4 target: under 50 ms on a 2-core machine). Counters: vertices per second, the ratio of the
 // generation time to a plain copy of an output-sized array timed in the same run, and storage bytes
-// of the hair mesh + styling parameters against the generated strands.
+// of the hair mesh + styling parameters against the generated strands. BM_VertexLod reports speed
+// against error for vertex LoD: vertices and time per level against the distance from the full
+// strands.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -11,6 +13,9 @@
 #include <numbers>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
+#include "hairlod/core/strand_metrics.h"
 #include "hairlod/hairmesh/generate.h"
 
 namespace hairlod {
@@ -103,6 +108,48 @@ void BM_GenerateStrands(benchmark::State& state) {
     state.counters["mesh_KB"] = static_cast<double>(hair_mesh_bytes(mesh, options)) / 1e3;
 }
 BENCHMARK(BM_GenerateStrands)->ArgName("styling")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+// Mean and largest distance of each LoD strand, read as a polyline over its curve parameter, from
+// the full strand at the full strand's vertices, relative to the bounding-box diagonal.
+std::pair<double, double> vertex_lod_error(const StrandSet& full, const StrandSet& reduced) {
+    double sum = 0.0, largest = 0.0;
+    for (size_t c = 0; c < full.curve_count(); ++c) {
+        const auto exact = full.curve_points(c), coarse = reduced.curve_points(c);
+        const double step = static_cast<double>(coarse.size() - 1) / static_cast<double>(exact.size() - 1);
+        for (size_t k = 0; k < exact.size(); ++k) {
+            const double x = step * static_cast<double>(k);
+            const size_t i = std::min(static_cast<size_t>(x), coarse.size() - 2);
+            const glm::vec3 p = glm::mix(coarse[i], coarse[i + 1], static_cast<float>(x - static_cast<double>(i)));
+            const double d = glm::distance(p, exact[k]);
+            sum += d;
+            largest = std::max(largest, d);
+        }
+    }
+    const double diagonal = bounding_box(full.points).diagonal();
+    return {sum / static_cast<double>(full.point_count()) / diagonal, largest / diagonal};
+}
+
+void BM_VertexLod(benchmark::State& state) {
+    const HairMesh mesh = scalp_hair_mesh();
+    GenerateOptions options = full_options();
+    options.count = 10'000;
+    const StylingFrames frames = compute_styling_frames(mesh);
+    const RootSampleSets samples = root_sample_sets_for(mesh, options);
+    StrandSet full, strands;
+    generate_strands(mesh, frames, samples, options, full);
+    options.vertex_lod = static_cast<float>(state.range(0)) / 64.0f;
+    for (auto _ : state) {
+        generate_strands(mesh, frames, samples, options, strands);
+        benchmark::DoNotOptimize(strands.points.data());
+    }
+    const auto [mean_error, max_error] = vertex_lod_error(full, strands);
+    state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(strands.point_count()));
+    state.counters["vertices"] = static_cast<double>(strands.curve_size(0));
+    state.counters["mean_error"] = mean_error;
+    state.counters["max_error"] = max_error;
+}
+// L = 64/64, 40/64 (a morph under way), 32/64, 16/64, 8/64, 2/64.
+BENCHMARK(BM_VertexLod)->ArgName("L64")->Arg(64)->Arg(40)->Arg(32)->Arg(16)->Arg(8)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_RootSampleSets(benchmark::State& state) {
     const HairMesh mesh = scalp_hair_mesh();
