@@ -64,17 +64,6 @@ TEST(Generate, RootsLieOnTheRootLayer) {
     }
 }
 
-double mean_nearest_neighbour(const std::vector<glm::vec2>& points) {
-    double sum = 0.0;
-    for (size_t i = 0; i < points.size(); ++i) {
-        float nearest = std::numeric_limits<float>::max();
-        for (size_t j = 0; j < points.size(); ++j)
-            if (j != i) nearest = std::min(nearest, glm::distance(points[i], points[j]));
-        sum += nearest;
-    }
-    return sum / static_cast<double>(points.size());
-}
-
 // Sec. 3.3: within a face, roots are blue noise: their mean nearest-neighbour distance is at least
 // 1.5x that of uniform random points of the same count in the same face (averaged over 16 sets;
 // measured 1.60-1.65).
@@ -96,9 +85,9 @@ TEST(Generate, RootsAreBlueNoiseWithinAFace) {
                     // The first triangle of the grid is (0, 0), (1, 0), (1, 1): below the diagonal.
                     if (triangle && p.y > p.x) p = {p.y, p.x};
                 }
-                white += mean_nearest_neighbour(uniform) / 16.0;
+                white += test::mean_nearest_neighbour(uniform) / 16.0;
             }
-            EXPECT_GE(mean_nearest_neighbour(roots), 1.5 * white) << (triangle ? "triangle " : "quad ") << count;
+            EXPECT_GE(test::mean_nearest_neighbour(roots), 1.5 * white) << (triangle ? "triangle " : "quad ") << count;
         }
     }
 }

@@ -1,8 +1,12 @@
 #pragma once
 // Small hair meshes shared by the hairmesh tests.
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "hairlod/hairmesh/hair_mesh.h"
@@ -32,6 +36,18 @@ inline HairMesh grid_hair_mesh(int nx, int ny, int layers, bool triangles = fals
             }
         }
     return make_hair_mesh(std::move(positions), static_cast<size_t>(columns * (ny + 1)), sizes, indices);
+}
+
+// Mean distance from each point to its nearest other point (brute force).
+inline double mean_nearest_neighbour(const std::vector<glm::vec2>& points) {
+    double sum = 0.0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        float nearest = std::numeric_limits<float>::max();
+        for (size_t j = 0; j < points.size(); ++j)
+            if (j != i) nearest = std::min(nearest, glm::distance(points[i], points[j]));
+        sum += nearest;
+    }
+    return sum / static_cast<double>(points.size());
 }
 
 }  // namespace hairlod::test

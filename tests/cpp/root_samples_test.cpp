@@ -10,20 +10,10 @@
 
 #include "hairlod/hairmesh/hair_mesh.h"
 #include "hairlod/hairmesh/hash_random.h"
+#include "hairmesh_fixtures.h"
 
 namespace hairlod {
 namespace {
-
-double mean_nearest_neighbour(const std::vector<glm::vec2>& points) {
-    double sum = 0.0;
-    for (size_t i = 0; i < points.size(); ++i) {
-        float nearest = std::numeric_limits<float>::max();
-        for (size_t j = 0; j < points.size(); ++j)
-            if (j != i) nearest = std::min(nearest, glm::distance(points[i], points[j]));
-        sum += nearest;
-    }
-    return sum / static_cast<double>(points.size());
-}
 
 std::vector<glm::vec2> white_noise(size_t count, uint64_t seed, bool triangle) {
     RandomStream random(seed);
@@ -44,10 +34,10 @@ TEST(RootSamples, EveryPrefixIsBlueNoise) {
         const bool triangle = domain == SampleDomain::UnitTriangle;
         for (size_t count : {32u, 100u, 256u, 700u, 1024u}) {
             const std::vector<glm::vec2> prefix(samples.begin(), samples.begin() + count);
-            const double blue = mean_nearest_neighbour(prefix);
+            const double blue = test::mean_nearest_neighbour(prefix);
             // The expected white-noise distance, averaged over 16 realisations.
             double white = 0.0;
-            for (uint64_t seed = 0; seed < 16; ++seed) white += mean_nearest_neighbour(white_noise(count, 100 * seed + count, triangle)) / 16.0;
+            for (uint64_t seed = 0; seed < 16; ++seed) white += test::mean_nearest_neighbour(white_noise(count, 100 * seed + count, triangle)) / 16.0;
             EXPECT_GE(blue, 1.5 * white) << "count " << count << (triangle ? " triangle" : " square");
         }
     }

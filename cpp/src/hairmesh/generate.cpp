@@ -24,11 +24,6 @@ constexpr int kMaxVertexExponent = 12;
 constexpr int kSampleSetCount = 4;
 constexpr uint64_t kStrandLodKey = 0x6c6f64;
 
-glm::vec3 unit_or_zero(const glm::vec3& d) {
-    const float length_squared = glm::dot(d, d);
-    return length_squared > 0.0f ? d * (1.0f / std::sqrt(length_squared)) : glm::vec3(0.0f);
-}
-
 // A bundle's interpolated layer data at one root: control points of the strand curve and the
 // styling frame and w on every layer (hair-meshes-realtime.txt Sec. 2.2 and 3.4). The frame is made
 // unit on each layer (w_axis by Eq. 4) and interpolated linearly between layers without

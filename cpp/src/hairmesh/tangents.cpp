@@ -6,13 +6,13 @@
 
 namespace hairlod {
 
-namespace {
-
 glm::vec3 unit_or_zero(const glm::vec3& d) {
     const float length_squared = glm::dot(d, d);
     return length_squared > 0.0f && std::isfinite(length_squared) ? d * (1.0f / std::sqrt(length_squared))
                                                                    : glm::vec3(0.0f);
 }
+
+namespace {
 
 // Eq. 5 / 6: reflect the neighbour tangent t about the end segment direction q.
 glm::vec3 mirrored_end(const glm::vec3& q, const glm::vec3& t) {

@@ -6,6 +6,9 @@
 
 namespace hairlod {
 
+// d / |d|, or the zero vector where d has no (finite) length.
+glm::vec3 unit_or_zero(const glm::vec3& d);
+
 // Unit tangents of a polyline of at least 2 points: central differences p_{k+1} - p_{k-1} inside;
 // the end tangents mirror their neighbour's tangent about the end segment (Eq. 5 and 6), so the
 // ends shade consistently when vertex LoD changes the vertex count. With 2 points both tangents are
