@@ -12,25 +12,28 @@
 namespace hairlod {
 namespace {
 
-StylingVertex vertex_at(float w, float t) {
-    StylingVertex vertex;
-    vertex.position = glm::vec3(0.3f, 0.0f, w);
-    vertex.u = {1, 0, 0};
-    vertex.v = {0, 1, 0};
-    vertex.w = {0, 0, 1};
-    vertex.centre = glm::vec3(0.0f, 0.0f, w);
-    vertex.w_from_root = w;
-    vertex.t = t;
+// One vertex at height w above the centre curve point (0, 0, w), offset 0.3 along x, with the
+// frame u = x, v = y, w = z.
+StrandVertices vertex_at(float w, float t) {
+    StrandVertices vertex;
+    vertex.resize(1);
+    vertex.set_vec3(StrandVertices::X, 0, {0.3f, 0.0f, w});
+    vertex.set_vec3(StrandVertices::UX, 0, {1, 0, 0});
+    vertex.set_vec3(StrandVertices::VX, 0, {0, 1, 0});
+    vertex.set_vec3(StrandVertices::WX, 0, {0, 0, 1});
+    vertex.set_vec3(StrandVertices::CX, 0, {0, 0, w});
+    vertex[StrandVertices::W_FROM_ROOT][0] = w;
+    vertex[StrandVertices::T][0] = t;
     return vertex;
 }
 
 glm::vec3 offset(const std::vector<StylingOperation>& ops, uint64_t strand, float w, float t) {
     StrandStyling styling;
     draw_strand_styling(ops, 5, strand, styling);
-    StylingVertex vertex = vertex_at(w, t);
-    const glm::vec3 before = vertex.position;
-    apply_styling(ops, styling, {&vertex, 1});
-    return vertex.position - before;
+    StrandVertices vertex = vertex_at(w, t);
+    const glm::vec3 before = vertex.vec3(StrandVertices::X, 0);
+    apply_styling(ops, styling, vertex, 0);
+    return vertex.vec3(StrandVertices::X, 0) - before;
 }
 
 const std::vector<StylingOperation> kAll{Curl{0.2f, 3.0f, 0.5f}, Wave{0.3f, 1.5f, 1.0f}, Twist{0.5f},
@@ -69,7 +72,7 @@ TEST(Styling, ClumpPullsTowardsTheCentreWithItsProfile) {
 }
 
 TEST(Styling, TwistRotatesAboutTheCentre) {
-    const glm::vec3 moved = offset({Twist{0.25f}}, 0, 1.0f, 1.0f) + vertex_at(1.0f, 1.0f).position;
+    const glm::vec3 moved = offset({Twist{0.25f}}, 0, 1.0f, 1.0f) + vertex_at(1.0f, 1.0f).vec3(StrandVertices::X, 0);
     EXPECT_LT(glm::distance(moved, glm::vec3(0.0f, 0.3f, 1.0f)), 1e-6f);  // a quarter turn
 }
 

@@ -186,7 +186,8 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
         LayerSamples at_root(layers);
         std::vector<glm::vec3> coarse(points_per_strand);
         std::vector<CatmullRomSegment> curve;
-        std::vector<StylingVertex> vertices(points_per_strand);
+        StrandVertices vertices;
+        vertices.resize(points_per_strand);
         StrandStyling styling;
         for (size_t c = range.begin(); c != range.end(); ++c) {
             const auto bundle = static_cast<size_t>(strand_bundle[c]);
@@ -201,6 +202,7 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
             glm::vec3* points = strands.points.data() + c * points_per_strand;
             auto* tangents = reinterpret_cast<glm::vec3*>(tangent_values.data()) + c * points_per_strand;
             auto* uvw = reinterpret_cast<glm::vec3*>(uvw_values.data()) + c * points_per_strand;
+            using V = StrandVertices;
             for (size_t k = 0; k < points_per_strand; ++k) {
                 const float t = static_cast<float>(k) / static_cast<float>(segments);
                 const float x = t * x_end;
@@ -209,20 +211,20 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
                 // The frame and w vary linearly between layers, like the paper's u-, v- and w-textures.
                 const float w = glm::mix(at_root.w[segment], at_root.w[segment + 1], a);
                 uvw[k] = glm::vec3(at_root.uv, w);
-                StylingVertex& vertex = vertices[k];
-                vertex.position = curve[segment].evaluate(a);
+                const glm::vec3 position = curve[segment].evaluate(a);
+                vertices.set_vec3(V::X, k, position);
                 if (styled) {
-                    vertex.u = glm::mix(at_root.u[segment], at_root.u[segment + 1], a);
-                    vertex.v = glm::mix(at_root.v[segment], at_root.v[segment + 1], a);
-                    vertex.w = glm::mix(at_root.w_axis[segment], at_root.w_axis[segment + 1], a);
-                    vertex.centre = with_centre ? centre_segments[bundle][segment].evaluate(a) : vertex.position;
-                    vertex.w_from_root = w - at_root.w[0];
-                    vertex.t = t;
+                    vertices.set_vec3(V::UX, k, glm::mix(at_root.u[segment], at_root.u[segment + 1], a));
+                    vertices.set_vec3(V::VX, k, glm::mix(at_root.v[segment], at_root.v[segment + 1], a));
+                    vertices.set_vec3(V::WX, k, glm::mix(at_root.w_axis[segment], at_root.w_axis[segment + 1], a));
+                    vertices.set_vec3(V::CX, k, with_centre ? centre_segments[bundle][segment].evaluate(a) : position);
+                    vertices[V::W_FROM_ROOT][k] = w - at_root.w[0];
+                    vertices[V::T][k] = t;
                 }
             }
             // Sec. 3.2: styling is not applied to the root vertex.
-            if (styled) apply_styling(options.styling, styling, std::span(vertices).subspan(1));
-            for (size_t k = 0; k < points_per_strand; ++k) points[k] = vertices[k].position;
+            if (styled) apply_styling(options.styling, styling, vertices, 1);
+            for (size_t k = 0; k < points_per_strand; ++k) points[k] = vertices.vec3(V::X, k);
             const std::span<glm::vec3> strand_points(points, points_per_strand), strand_tangents_out(tangents, points_per_strand);
             strand_tangents(strand_points, strand_tangents_out);
             morph_vertex_lod(strand_points, strand_tangents_out, coarse, lod.gamma);

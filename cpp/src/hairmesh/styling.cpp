@@ -36,22 +36,24 @@ struct SinCos {
     float sin, cos;
 };
 
-// sin and cos to about 1e-7 absolute for |x| up to 1e4: reduction to [-pi/4, pi/4] around the
-// nearest multiple of pi/2, then Taylor polynomials; 3-4x faster than sinf + cosf, and styling
-// phases need no more accuracy.
+// sin and cos to about 1e-7 absolute beyond the rounding of x itself: Cody-Waite reduction to
+// [-pi/4, pi/4] around the nearest multiple of pi/2 (pi/2 split into three floats whose products
+// with the quadrant are exact), then Taylor polynomials. Branch-free float and int32 arithmetic,
+// so the styling loops vectorise; styling phases need no more accuracy.
 [[gnu::always_inline]] inline SinCos sin_cos(float x) {
-    constexpr double kHalfPi = std::numbers::pi / 2.0, kInverseHalfPi = 2.0 / std::numbers::pi;
-    // Round to nearest by truncation (inlined, unlike nearbyint without SSE4.1).
-    const double y = static_cast<double>(x) * kInverseHalfPi;
-    const auto quadrant = static_cast<int64_t>(y + (y >= 0.0 ? 0.5 : -0.5));
-    const auto f = static_cast<float>(static_cast<double>(x) - static_cast<double>(quadrant) * kHalfPi);
+    constexpr float kInverseHalfPi = 0.63661977236758134f;
+    constexpr float kHalfPiHigh = 1.5703125f, kHalfPiMid = 4.837512969970703125e-4f, kHalfPiLow = 7.54978995489188216e-8f;
+    const float y = x * kInverseHalfPi;
+    const auto quadrant = static_cast<int32_t>(y + std::copysign(0.5f, y));
+    const auto q = static_cast<float>(quadrant);
+    const float f = ((x - q * kHalfPiHigh) - q * kHalfPiMid) - q * kHalfPiLow;
     const float f2 = f * f;
     const float s = f * (1.0f + f2 * (-1.0f / 6.0f + f2 * (1.0f / 120.0f + f2 * (-1.0f / 5040.0f + f2 * (1.0f / 362880.0f)))));
     const float c = 1.0f + f2 * (-0.5f + f2 * (1.0f / 24.0f + f2 * (-1.0f / 720.0f + f2 * (1.0f / 40320.0f))));
-    // Quadrant q: odd q swaps sin and cos; sin is negative for q = 2, 3, cos for q = 1, 2.
-    const int64_t q = quadrant & 3;
-    const float sin_sign = (q & 2) ? -1.0f : 1.0f, cos_sign = ((q + 1) & 2) ? -1.0f : 1.0f;
-    return (q & 1) ? SinCos{sin_sign * c, cos_sign * s} : SinCos{sin_sign * s, cos_sign * c};
+    // Odd quadrants swap sin and cos; sin is negative in quadrants 2, 3 and cos in 1, 2.
+    const auto swap = static_cast<float>(quadrant & 1);
+    const auto sin_sign = static_cast<float>(1 - (quadrant & 2)), cos_sign = static_cast<float>(1 - ((quadrant + 1) & 2));
+    return {sin_sign * (s + swap * (c - s)), cos_sign * (c + swap * (s - c))};
 }
 
 void require(bool ok, size_t index, const char* operation, const char* message) {
@@ -118,43 +120,92 @@ void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t 
     }
 }
 
+namespace {
+
+// One function per operation over restrict-qualified component arrays: kept out of line so the
+// compiler keeps the no-aliasing facts and vectorises the loops.
+[[gnu::noinline]] void apply_curl(float* __restrict x, float* __restrict y, float* __restrict z,
+                                  const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
+                                  const float* __restrict vx, const float* __restrict vy, const float* __restrict vz,
+                                  const float* __restrict w, size_t first, size_t n, const OperationConstants c) {
+    for (size_t k = first; k < n; ++k) {
+        const SinCos phi = sin_cos(c.phase + c.angular_rate * w[k]);
+        const float a = c.amplitude * phi.cos - c.at_root.x, b = c.amplitude * phi.sin - c.at_root.y;
+        x[k] += a * ux[k] + b * vx[k];
+        y[k] += a * uy[k] + b * vy[k];
+        z[k] += a * uz[k] + b * vz[k];
+    }
+}
+
+[[gnu::noinline]] void apply_wave(float* __restrict x, float* __restrict y, float* __restrict z,
+                                  const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
+                                  const float* __restrict w, size_t first, size_t n, const OperationConstants c) {
+    for (size_t k = first; k < n; ++k) {
+        const float a = c.amplitude * sin_cos(c.angular_rate * w[k] + c.phase).sin - c.at_root.x;
+        x[k] += a * ux[k];
+        y[k] += a * uy[k];
+        z[k] += a * uz[k];
+    }
+}
+
+// Rodrigues' rotation of the offset r from the centre curve about the unit axis w.
+[[gnu::noinline]] void apply_twist(float* __restrict x, float* __restrict y, float* __restrict z,
+                                   const float* __restrict ax, const float* __restrict ay, const float* __restrict az,
+                                   const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
+                                   const float* __restrict w, size_t first, size_t n, float angular_rate) {
+    for (size_t k = first; k < n; ++k) {
+        const SinCos angle = sin_cos(angular_rate * w[k]);
+        const float rx = x[k] - cx[k], ry = y[k] - cy[k], rz = z[k] - cz[k];
+        const float along = (ax[k] * rx + ay[k] * ry + az[k] * rz) * (1.0f - angle.cos);
+        x[k] = cx[k] + rx * angle.cos + (ay[k] * rz - az[k] * ry) * angle.sin + ax[k] * along;
+        y[k] = cy[k] + ry * angle.cos + (az[k] * rx - ax[k] * rz) * angle.sin + ay[k] * along;
+        z[k] = cz[k] + rz * angle.cos + (ax[k] * ry - ay[k] * rx) * angle.sin + az[k] * along;
+    }
+}
+
+[[gnu::noinline]] void apply_clump(float* __restrict x, float* __restrict y, float* __restrict z,
+                                   const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
+                                   const float* __restrict t, size_t first, size_t n, float amount, float profile) {
+    for (size_t k = first; k < n; ++k) {
+        // t^profile through exp2 / log2: half the cost of powf; t = 0 gives exp2(-inf) = 0.
+        const float pull = amount * std::exp2(profile * std::log2(t[k]));
+        x[k] += pull * (cx[k] - x[k]);
+        y[k] += pull * (cy[k] - y[k]);
+        z[k] += pull * (cz[k] - z[k]);
+    }
+}
+
+void apply_frizz(StrandVertices& v, size_t first, const Frizz& frizz, const OperationConstants& c) {
+    using V = StrandVertices;
+    for (size_t k = first; k < v.size(); ++k) {
+        const glm::vec3 n = frizz.amplitude * value_noise(c.noise_key, frizz.frequency * v[V::W_FROM_ROOT][k]) - c.at_root;
+        v.set_vec3(V::X, k, v.vec3(V::X, k) + n.x * v.vec3(V::UX, k) + n.y * v.vec3(V::VX, k) + n.z * v.vec3(V::WX, k));
+    }
+}
+
+}  // namespace
+
 void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand,
-                   std::span<StylingVertex> vertices) {
+                   StrandVertices& vertices, size_t first) {
+    using V = StrandVertices;
+    V& v = vertices;
+    const size_t n = v.size();
     for (size_t i = 0; i < operations.size(); ++i) {
         const StylingOperation& op = operations[i];
-        const OperationConstants& constants = strand.operations[i];
-        if (std::holds_alternative<Curl>(op)) {
-            for (StylingVertex& vertex : vertices) {
-                const SinCos phi = sin_cos(constants.phase + constants.angular_rate * vertex.w_from_root);
-                vertex.position += (constants.amplitude * phi.cos - constants.at_root.x) * vertex.u +
-                                   (constants.amplitude * phi.sin - constants.at_root.y) * vertex.v;
-            }
-        } else if (std::holds_alternative<Wave>(op)) {
-            for (StylingVertex& vertex : vertices) {
-                const float wave = constants.amplitude * sin_cos(constants.angular_rate * vertex.w_from_root + constants.phase).sin;
-                vertex.position += (wave - constants.at_root.x) * vertex.u;
-            }
-        } else if (const auto* twist = std::get_if<Twist>(&op)) {
-            for (StylingVertex& vertex : vertices) {
-                // Rodrigues' rotation of the offset from the centre curve about the unit axis w.
-                const SinCos angle = sin_cos(kTwoPi * twist->rate * vertex.w_from_root);
-                const glm::vec3 r = vertex.position - vertex.centre;
-                vertex.position = vertex.centre + r * angle.cos + glm::cross(vertex.w, r) * angle.sin +
-                                  vertex.w * (glm::dot(vertex.w, r) * (1.0f - angle.cos));
-            }
-        } else if (const auto* clump = std::get_if<Clump>(&op)) {
-            for (StylingVertex& vertex : vertices) {
-                // t^profile through exp2 / log2: half the cost of powf; t = 0 gives exp2(-inf) = 0.
-                const float pull = clump->amount * std::exp2(clump->profile * std::log2(vertex.t));
-                vertex.position += pull * (vertex.centre - vertex.position);
-            }
-        } else if (const auto* frizz = std::get_if<Frizz>(&op)) {
-            for (StylingVertex& vertex : vertices) {
-                const glm::vec3 n = frizz->amplitude * value_noise(constants.noise_key, frizz->frequency * vertex.w_from_root) -
-                                    constants.at_root;
-                vertex.position += n.x * vertex.u + n.y * vertex.v + n.z * vertex.w;
-            }
-        }
+        const OperationConstants& c = strand.operations[i];
+        if (std::holds_alternative<Curl>(op))
+            apply_curl(v[V::X], v[V::Y], v[V::Z], v[V::UX], v[V::UY], v[V::UZ], v[V::VX], v[V::VY], v[V::VZ],
+                       v[V::W_FROM_ROOT], first, n, c);
+        else if (std::holds_alternative<Wave>(op))
+            apply_wave(v[V::X], v[V::Y], v[V::Z], v[V::UX], v[V::UY], v[V::UZ], v[V::W_FROM_ROOT], first, n, c);
+        else if (const auto* twist = std::get_if<Twist>(&op))
+            apply_twist(v[V::X], v[V::Y], v[V::Z], v[V::WX], v[V::WY], v[V::WZ], v[V::CX], v[V::CY], v[V::CZ],
+                        v[V::W_FROM_ROOT], first, n, kTwoPi * twist->rate);
+        else if (const auto* clump = std::get_if<Clump>(&op))
+            apply_clump(v[V::X], v[V::Y], v[V::Z], v[V::CX], v[V::CY], v[V::CZ], v[V::T], first, n, clump->amount,
+                        clump->profile);
+        else if (const auto* frizz = std::get_if<Frizz>(&op))
+            apply_frizz(v, first, *frizz, c);
     }
 }
 

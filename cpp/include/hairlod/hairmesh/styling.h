@@ -58,13 +58,41 @@ using StylingOperation = std::variant<Curl, Wave, Twist, Clump, Frizz, Trim>;
 // Throws Error naming the operation (by list index) and parameter that is out of range or not finite.
 void validate_styling(std::span<const StylingOperation> operations);
 
-// The state of one strand vertex the operations read and move.
-struct StylingVertex {
-    glm::vec3 position;
-    glm::vec3 u, v, w;      // styling frame (Eq. 1, 4), unit on the layers, interpolated between
-    glm::vec3 centre;       // the bundle's centre curve at the same curve parameter
-    float w_from_root;      // styling w minus the root's w
-    float t;                // position along the strand in [0, 1]
+// The vertices of one strand that the operations read and move, stored component by component
+// (structure of arrays) so that each operation's loop over the vertices vectorises.
+class StrandVertices {
+public:
+    enum Component {
+        X, Y, Z,     // position
+        UX, UY, UZ,  // styling frame u, v, w (Eq. 1, 4): unit on the layers, interpolated between them
+        VX, VY, VZ,
+        WX, WY, WZ,
+        CX, CY, CZ,   // the bundle's centre curve at the same curve parameter
+        W_FROM_ROOT,  // styling w minus the root's w
+        T,            // position along the strand in [0, 1]
+        kComponentCount
+    };
+
+    void resize(size_t count) {
+        count_ = count;
+        values_.resize(count * kComponentCount);
+    }
+    size_t size() const { return count_; }
+    float* operator[](Component c) { return values_.data() + c * count_; }
+    const float* operator[](Component c) const { return values_.data() + c * count_; }
+    // Three consecutive components starting at X, UX, VX, WX or CX, as a vector.
+    glm::vec3 vec3(Component first, size_t k) const {
+        return {(*this)[first][k], (*this)[Component(first + 1)][k], (*this)[Component(first + 2)][k]};
+    }
+    void set_vec3(Component first, size_t k, const glm::vec3& value) {
+        (*this)[first][k] = value.x;
+        (*this)[Component(first + 1)][k] = value.y;
+        (*this)[Component(first + 2)][k] = value.z;
+    }
+
+private:
+    size_t count_ = 0;
+    std::vector<float> values_;
 };
 
 // Per-strand constants of one operation, drawn once per strand.
@@ -85,9 +113,10 @@ struct StrandStyling {
 void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t seed, uint64_t strand_key,
                          StrandStyling& strand);
 
-// Applies the operations in list order to the positions of one strand's vertices (operation by
-// operation, so each inner loop is one operation's arithmetic). The root is not passed in.
+// Applies the operations in list order to the positions of vertices [first, size) of one strand,
+// operation by operation (each loop is one operation's arithmetic over the strand). Generation
+// passes first = 1: styling is not applied to the root (hair-meshes-realtime.txt Sec. 3.2).
 void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand,
-                   std::span<StylingVertex> vertices);
+                   StrandVertices& vertices, size_t first);
 
 }  // namespace hairlod
