@@ -17,6 +17,7 @@ TEST(LevelOfDetail, DetailLevelEq7) {
     EXPECT_FLOAT_EQ(detail_level(0.1f, 1000.0f, 1000.0f, 0.5f, 1.0f), 0.1f * 1000.0f / (1000.0f * std::tan(0.5f)));
     EXPECT_EQ(detail_level(1.0f, 1000.0f, 1.0f, 0.5f, 1.0f), 1.0f);
     EXPECT_THROW(detail_level(1.0f, 1000.0f, 0.0f, 0.5f, 1.0f), Error);
+    EXPECT_THROW(detail_level(1.0f, 1000.0f, 10.0f, 2.0f, 1.0f), Error);
 }
 
 TEST(LevelOfDetail, StrandCountEq8) {

@@ -22,8 +22,9 @@ void check_level(float level) {
 }  // namespace
 
 float detail_level(float model_size, float resolution_px, float distance, float field_of_view, float alpha) {
-    if (!(distance > 0.0f) || !(field_of_view > 0.0f && field_of_view < 3.14159265f))
-        throw Error("detail_level needs a positive distance and a field of view in (0, pi)");
+    // tan(theta) must be positive: theta in (0, pi/2).
+    if (!(distance > 0.0f) || !(field_of_view > 0.0f && field_of_view < 1.5707963f))
+        throw Error("detail_level needs a positive distance and a field of view in (0, pi/2)");
     return std::min(1.0f, model_size * resolution_px / (distance * std::tan(field_of_view)) * alpha);
 }
 

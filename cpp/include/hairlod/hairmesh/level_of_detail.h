@@ -8,7 +8,7 @@
 namespace hairlod {
 
 // Eq. 7: L = min(1, alpha h R / (d tan(theta))) for a model of size h at distance d seen with a
-// vertical resolution of R pixels and field of view theta (radians).
+// vertical resolution of R pixels and field of view theta in (0, pi/2) radians.
 float detail_level(float model_size, float resolution_px, float distance, float field_of_view, float alpha);
 
 // Eq. 8: ceil(L (N + delta)) strands of a bundle of N at level L in (0, 1], delta in [0, 1) its
