@@ -84,6 +84,16 @@ private:
     RootSampleSets samples_;
 };
 
+// "Name(key=value, ...)" with values printed like Python's %g.
+std::string operation_repr(const char* name, std::initializer_list<std::pair<const char*, float>> parameters) {
+    std::string text = std::string(name) + "(";
+    for (const auto& [key, value] : parameters) {
+        if (text.back() != '(') text += ", ";
+        text += std::string(key) + "=" + py::str(py::float_(value).attr("__format__")("g")).cast<std::string>();
+    }
+    return text + ")";
+}
+
 template <typename T>
 py::array_t<T> copy_array(const T* data, std::vector<py::ssize_t> shape) {
     py::array_t<T> result(shape);
@@ -158,29 +168,35 @@ polygon corner and optional w float32 [L, V]; validated (ValueError naming the p
              py::kw_only(), py::arg("radius") = 0.0f, py::arg("frequency") = 0.0f, py::arg("randomness") = 0.0f)
         .def_readwrite("radius", &Curl::radius)
         .def_readwrite("frequency", &Curl::frequency)
-        .def_readwrite("randomness", &Curl::randomness);
+        .def_readwrite("randomness", &Curl::randomness)
+        .def("__repr__", [](const Curl& o) { return operation_repr("Curl", {{"radius", o.radius}, {"frequency", o.frequency}, {"randomness", o.randomness}}); });
     py::class_<Wave>(m, "Wave", "Planar wave along u: amplitude (object units), frequency (periods per unit w), randomness [0, 1].")
         .def(py::init([](float amplitude, float frequency, float randomness) { return Wave{amplitude, frequency, randomness}; }),
              py::kw_only(), py::arg("amplitude") = 0.0f, py::arg("frequency") = 0.0f, py::arg("randomness") = 0.0f)
         .def_readwrite("amplitude", &Wave::amplitude)
         .def_readwrite("frequency", &Wave::frequency)
-        .def_readwrite("randomness", &Wave::randomness);
+        .def_readwrite("randomness", &Wave::randomness)
+        .def("__repr__", [](const Wave& o) { return operation_repr("Wave", {{"amplitude", o.amplitude}, {"frequency", o.frequency}, {"randomness", o.randomness}}); });
     py::class_<Twist>(m, "Twist", "Rotation about the bundle's centre curve: rate (turns per unit w).")
         .def(py::init([](float rate) { return Twist{rate}; }), py::kw_only(), py::arg("rate") = 0.0f)
-        .def_readwrite("rate", &Twist::rate);
+        .def_readwrite("rate", &Twist::rate)
+        .def("__repr__", [](const Twist& o) { return operation_repr("Twist", {{"rate", o.rate}}); });
     py::class_<Clump>(m, "Clump", "Pull towards the bundle's centre curve: amount [0, 1] at the tip, profile exponent > 0.")
         .def(py::init([](float amount, float profile) { return Clump{amount, profile}; }), py::kw_only(),
              py::arg("amount") = 0.0f, py::arg("profile") = 1.0f)
         .def_readwrite("amount", &Clump::amount)
-        .def_readwrite("profile", &Clump::profile);
+        .def_readwrite("profile", &Clump::profile)
+        .def("__repr__", [](const Clump& o) { return operation_repr("Clump", {{"amount", o.amount}, {"profile", o.profile}}); });
     py::class_<Frizz>(m, "Frizz", "Smooth per-strand noise: amplitude (object units), frequency (cells per unit w).")
         .def(py::init([](float amplitude, float frequency) { return Frizz{amplitude, frequency}; }), py::kw_only(),
              py::arg("amplitude") = 0.0f, py::arg("frequency") = 0.0f)
         .def_readwrite("amplitude", &Frizz::amplitude)
-        .def_readwrite("frequency", &Frizz::frequency);
+        .def_readwrite("frequency", &Frizz::frequency)
+        .def("__repr__", [](const Frizz& o) { return operation_repr("Frizz", {{"amplitude", o.amplitude}, {"frequency", o.frequency}}); });
     py::class_<Trim>(m, "Trim", "Length randomisation: each strand keeps a random fraction in [1 - amount, 1].")
         .def(py::init([](float amount) { return Trim{amount}; }), py::kw_only(), py::arg("amount") = 0.0f)
-        .def_readwrite("amount", &Trim::amount);
+        .def_readwrite("amount", &Trim::amount)
+        .def("__repr__", [](const Trim& o) { return operation_repr("Trim", {{"amount", o.amount}}); });
 
     py::class_<StrandGenerator>(m, "StrandGenerator", R"doc(
 Generates strands from a hair mesh. Keeps the styling frames and the blue-noise root sample sets

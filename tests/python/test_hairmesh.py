@@ -95,6 +95,7 @@ def test_subdivision_refines_the_bundles():
 def test_styling_dicts_round_trip_and_errors():
     operations = hairmesh.styling_from_dicts(ALL_STYLING)
     assert [type(op).__name__ for op in operations] == ["Curl", "Wave", "Twist", "Clump", "Frizz", "Trim"]
+    assert repr(operations[0]) == "Curl(radius=0.1, frequency=1, randomness=0.5)"
     again = hairmesh.styling_to_dicts(operations)
     assert again[0] == {"op": "curl", "radius": 0.1, "frequency": 1.0, "randomness": 0.5}
     with pytest.raises(ValueError, match=r"styling\[0\]: unknown operation 'perm'"):
