@@ -17,8 +17,9 @@ bl_info = {
 __version__ = ".".join(str(part) for part in bl_info["version"])
 
 from ._core import HairlodError, Strands  # noqa: E402
+from .hairmesh import HairMesh, generate_strands  # noqa: E402
 
-__all__ = ["HairlodError", "Strands", "__version__", "register", "unregister"]
+__all__ = ["HairMesh", "HairlodError", "Strands", "__version__", "generate_strands", "register", "unregister"]
 
 
 def register():

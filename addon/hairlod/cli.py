@@ -109,6 +109,59 @@ def command_convert(args):
     return 0
 
 
+def command_generate(args):
+    from . import hairmesh
+
+    if args.out is not None:
+        from . import io
+
+        extension = os.path.splitext(args.out)[1].lower()
+        if extension not in io.WRITE_FORMATS:
+            supported = ", ".join(io.WRITE_FORMATS)
+            raise UsageError(f"{args.out}: cannot write '{extension or 'no extension'}' files (supported: {supported})")
+    if args.count < 1 or args.seed < 0:
+        raise UsageError(f"--count must be >= 1 and --seed >= 0, got {args.count} and {args.seed}")
+    start = time.perf_counter()
+    source = hairmesh.read(args.hairmesh)
+    read_seconds = time.perf_counter() - start
+    try:
+        mesh, styling, radius = hairmesh.resolve_inputs(source, radius=args.radius)
+        start = time.perf_counter()
+        generator = hairmesh.strand_generator(mesh, args.count, args.seed, args.subdivision)
+        prepare_seconds = time.perf_counter() - start
+        start = time.perf_counter()
+        strands = generator.generate(vertices=args.vertices, styling=styling, strand_lod=args.lod,
+                                     vertex_lod=args.lod, radius=radius)
+        generate_seconds = time.perf_counter() - start
+    except ValueError as error:
+        raise ValueError(f"{args.hairmesh}: {error}") from None
+    write_seconds = None
+    if args.out is not None:
+        start = time.perf_counter()
+        io.write(args.out, strands)
+        write_seconds = time.perf_counter() - start
+    result = {
+        "input": args.hairmesh,
+        "output": args.out,
+        "bundles": source.mesh.face_count,
+        "strands": len(strands),
+        "points": strands.point_count,
+        "points_per_strand": int(strands.counts()[0]) if len(strands) else 0,
+        "styling": hairmesh.styling_to_dicts(source.styling),
+        "read_seconds": read_seconds,
+        "prepare_seconds": prepare_seconds,
+        "generate_seconds": generate_seconds,
+        "write_seconds": write_seconds,
+    }
+    if args.json:
+        print(json.dumps(result))
+    else:
+        target = f" -> {args.out}" if args.out else ""
+        print(f"{args.hairmesh}{target}: {result['strands']} strands of {result['points_per_strand']} points "
+              f"generated in {generate_seconds:.3f} s (+ {prepare_seconds:.3f} s subdivision, frames, root samples)")
+    return 0
+
+
 def build_parser():
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -125,6 +178,18 @@ def build_parser():
     convert.add_argument("output", help="hair file to write (.hair .data)")
     convert.add_argument("--json", action="store_true", help="print one JSON object")
     convert.set_defaults(run=command_convert)
+
+    generate = commands.add_parser("generate", help="generate strands from a hair mesh (.json)")
+    generate.add_argument("hairmesh", help="hair mesh file (JSON, docs/hairmesh-format.md)")
+    generate.add_argument("--count", type=int, default=10000, help="strands at full LoD (default 10000)")
+    generate.add_argument("--vertices", type=int, default=17, help="vertices per strand, 2^e + 1 (default 17)")
+    generate.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    generate.add_argument("--lod", type=float, default=1.0, help="level of detail in (0, 1] (default 1)")
+    generate.add_argument("--subdivision", type=int, default=0, help="OpenSubdiv level 0-3 (default 0)")
+    generate.add_argument("--radius", type=float, default=None, help="strand radius (default: the file's)")
+    generate.add_argument("--out", default=None, help="hair file to write (.hair .data); omitted: generate only")
+    generate.add_argument("--json", action="store_true", help="print one JSON object")
+    generate.set_defaults(run=command_generate)
     return parser
 
 

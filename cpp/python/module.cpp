@@ -11,4 +11,5 @@ PYBIND11_MODULE(_core, m) {
     hairlod::python::bind_io(m);
     hairlod::python::bind_lod(m);
     hairlod::python::bind_bcsdf(m);
+    hairlod::python::bind_hairmesh(m);
 }

@@ -1,0 +1,271 @@
+"""Hair meshes: strands generated from a low-poly cage of layers (hair-meshes-realtime.txt).
+
+A hair mesh is a root layer of polygons (the scalp faces) extruded into layers that share its
+topology; each root face and its extrusions form a bundle. ``generate_strands`` grows strands in
+the bundles (blue-noise roots, centripetal Catmull-Rom curves through the layers), styles them in
+seam-free styling frames, and applies strand and vertex level of detail.
+
+Files are JSON (``docs/hairmesh-format.md``); ``read`` / ``write`` handle them, strictly: a bad file
+raises ValueError naming the file, the key and the problem.
+"""
+
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from ._core import Clump, Curl, Frizz, HairMesh, StrandGenerator, Trim, Twist, Wave, detail_level
+
+FORMAT_NAME = "hairlod.hairmesh"
+FORMAT_VERSION = 1
+
+# Styling operation name in files and dicts -> class and its parameters (all floats).
+STYLING_OPERATIONS = {
+    "curl": (Curl, ("radius", "frequency", "randomness")),
+    "wave": (Wave, ("amplitude", "frequency", "randomness")),
+    "twist": (Twist, ("rate",)),
+    "clump": (Clump, ("amount", "profile")),
+    "frizz": (Frizz, ("amplitude", "frequency")),
+    "trim": (Trim, ("amount",)),
+}
+
+# Strand radius when neither the caller nor the file gives one, as a fraction of the bounding-box
+# diagonal of the hair mesh.
+DEFAULT_RADIUS_FRACTION = 5e-4
+
+__all__ = [
+    "Clump", "Curl", "Frizz", "HairMesh", "HairMeshFile", "StrandGenerator", "Trim", "Twist", "Wave",
+    "default_radius", "detail_level", "generate_strands", "hair_mesh_from_dict", "hair_mesh_to_dict", "read",
+    "resolve_inputs", "strand_generator", "styling_from_dicts", "styling_to_dicts", "write",
+]
+
+
+@dataclass
+class HairMeshFile:
+    """A hair mesh with the styling and strand radius stored next to it."""
+
+    mesh: HairMesh
+    styling: list = field(default_factory=list)
+    strand_radius: float | None = None
+
+
+def styling_from_dicts(items, where="styling"):
+    """Styling operation objects from dicts like ``{"op": "curl", "radius": 0.2, "frequency": 3}``.
+
+    Operation objects (``hairlod.hairmesh.Curl(...)``) pass through unchanged. Unknown operations
+    or parameters raise ValueError naming ``where`` and the list index.
+    """
+    if items is None:
+        return []
+    if not isinstance(items, (list, tuple)):
+        raise ValueError(f"{where}: must be a list of operations")
+    operations = []
+    for index, item in enumerate(items):
+        if isinstance(item, tuple(kind for kind, _ in STYLING_OPERATIONS.values())):
+            operations.append(item)
+            continue
+        if not isinstance(item, dict) or "op" not in item:
+            raise ValueError(f"{where}[{index}]: must be an object with an 'op' key")
+        name = item["op"]
+        if name not in STYLING_OPERATIONS:
+            raise ValueError(f"{where}[{index}]: unknown operation {name!r} (known: {', '.join(STYLING_OPERATIONS)})")
+        kind, parameters = STYLING_OPERATIONS[name]
+        values = {}
+        for key, value in item.items():
+            if key == "op":
+                continue
+            if key not in parameters:
+                raise ValueError(f"{where}[{index}] ({name}): unknown parameter {key!r} (known: {', '.join(parameters)})")
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"{where}[{index}] ({name}): {key} must be a finite number")
+            values[key] = float(value)
+        operations.append(kind(**values))
+    return operations
+
+
+def styling_to_dicts(operations):
+    """The inverse of ``styling_from_dicts``."""
+    result = []
+    for operation in operations:
+        for name, (kind, parameters) in STYLING_OPERATIONS.items():
+            if isinstance(operation, kind):
+                result.append({"op": name, **{key: _shortest(getattr(operation, key)) for key in parameters}})
+                break
+        else:
+            raise ValueError(f"not a styling operation: {operation!r}")
+    return result
+
+
+def _number_array(value, where, dtype, shape_rank):
+    try:
+        array = np.asarray(value, dtype=dtype)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: must be a {'nested ' if shape_rank > 1 else ''}list of numbers") from None
+    if array.ndim != shape_rank:
+        raise ValueError(f"{where}: expected {shape_rank} levels of nesting, got {array.ndim}")
+    return array
+
+
+def hair_mesh_from_dict(data, where="hair mesh"):
+    """HairMeshFile from the JSON object of the file format (strict: unknown keys are errors)."""
+    if not isinstance(data, dict):
+        raise ValueError(f"{where}: must be a JSON object")
+    known = {"format", "version", "layers", "faces", "uv", "w", "styling", "strand_radius"}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise ValueError(f"{where}: unknown key {unknown[0]!r}")
+    if data.get("format") != FORMAT_NAME:
+        raise ValueError(f"{where}: 'format' must be {FORMAT_NAME!r}")
+    if data.get("version") != FORMAT_VERSION:
+        raise ValueError(f"{where}: unsupported version {data.get('version')!r} (this reader knows {FORMAT_VERSION})")
+    for key in ("layers", "faces"):
+        if key not in data:
+            raise ValueError(f"{where}: missing {key!r}")
+    layers = _number_array(data["layers"], f"{where}: layers", np.float32, 3)
+    if layers.shape[2] != 3:
+        raise ValueError(f"{where}: layers must hold [x, y, z] points")
+    faces = data["faces"]
+    if not isinstance(faces, list) or not all(isinstance(face, list) for face in faces):
+        raise ValueError(f"{where}: faces must be a list of vertex index lists")
+    sizes = np.array([len(face) for face in faces], dtype=np.int32)
+    flat = [index for face in faces for index in face]
+    if not all(isinstance(index, int) and not isinstance(index, bool) for index in flat):
+        raise ValueError(f"{where}: faces must hold integer vertex indices")
+    uv = None
+    if data.get("uv") is not None:
+        corners = data["uv"]
+        if not isinstance(corners, list) or [len(face) for face in corners if isinstance(face, list)] != list(sizes):
+            raise ValueError(f"{where}: uv must hold one [u, v] per face corner, shaped like faces")
+        uv = _number_array([pair for face in corners for pair in face], f"{where}: uv", np.float32, 2)
+        if uv.shape[1] != 2:
+            raise ValueError(f"{where}: uv must hold [u, v] pairs")
+    w = None
+    if data.get("w") is not None:
+        w = _number_array(data["w"], f"{where}: w", np.float32, 2)
+    radius = data.get("strand_radius")
+    if radius is not None and (isinstance(radius, bool) or not isinstance(radius, (int, float)) or not radius >= 0):
+        raise ValueError(f"{where}: strand_radius must be a number >= 0")
+    try:
+        mesh = HairMesh(layers, sizes, np.array(flat, dtype=np.int32), uv, w)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+    styling = styling_from_dicts(data.get("styling"), f"{where}: styling")
+    return HairMeshFile(mesh, styling, None if radius is None else float(radius))
+
+
+def _shortest(array):
+    """Nested lists of the shortest decimals that read back as the same float32 values."""
+    values = np.asarray(array, dtype=np.float32)
+    if values.ndim == 0:
+        return float(str(values))
+    return [_shortest(item) for item in values]
+
+
+def hair_mesh_to_dict(mesh, styling=(), strand_radius=None):
+    """The JSON object of the file format. Faces are written after splitting (triangles and quads)."""
+    sizes = mesh.face_sizes
+    starts = np.concatenate([[0], np.cumsum(sizes)])
+    vertices = mesh.face_vertices.tolist()
+    data = {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "layers": _shortest(mesh.layers),
+        "faces": [vertices[starts[f]:starts[f + 1]] for f in range(len(sizes))],
+    }
+    if mesh.uv is not None:
+        uv = _shortest(mesh.uv)
+        data["uv"] = [uv[starts[f]:starts[f + 1]] for f in range(len(sizes))]
+    if mesh.w is not None:
+        data["w"] = _shortest(mesh.w)
+    if styling:
+        data["styling"] = styling_to_dicts(styling_from_dicts(list(styling)))
+    if strand_radius is not None:
+        data["strand_radius"] = float(strand_radius)
+    return data
+
+
+def read(path) -> HairMeshFile:
+    """Reads a hair mesh JSON file."""
+    path = os.fspath(path)
+    try:
+        with open(path, encoding="utf-8") as stream:
+            data = json.load(stream)
+    except json.JSONDecodeError as error:
+        raise ValueError(f"{path}: not valid JSON ({error})") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a UTF-8 text file") from None
+    return hair_mesh_from_dict(data, where=path)
+
+
+def write(path, mesh, styling=(), strand_radius=None):
+    """Writes a hair mesh JSON file atomically (temporary file renamed when complete)."""
+    path = os.fspath(path)
+    text = json.dumps(hair_mesh_to_dict(mesh, styling, strand_radius), separators=(",", ":"))
+    folder = os.path.dirname(os.path.abspath(path))
+    handle, temporary = tempfile.mkstemp(dir=folder, prefix=".hairmesh-", suffix=".tmp")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(temporary, path)
+    except BaseException:
+        os.unlink(temporary)
+        raise
+
+
+def default_radius(mesh):
+    """DEFAULT_RADIUS_FRACTION of the bounding-box diagonal of the hair mesh."""
+    points = mesh.layers.reshape(-1, 3)
+    return float(DEFAULT_RADIUS_FRACTION * np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+
+
+def resolve_inputs(hair_mesh, styling=(), radius=None):
+    """(HairMesh, styling operations, radius): a HairMeshFile's styling and strand radius are the
+    defaults for those not given; the radius falls back to default_radius."""
+    if isinstance(hair_mesh, HairMeshFile):
+        if not styling:
+            styling = hair_mesh.styling
+        if radius is None:
+            radius = hair_mesh.strand_radius
+        hair_mesh = hair_mesh.mesh
+    if not isinstance(hair_mesh, HairMesh):
+        raise ValueError("hair_mesh must be a HairMesh or a HairMeshFile")
+    if radius is None:
+        radius = default_radius(hair_mesh)
+    return hair_mesh, styling_from_dicts(list(styling)), float(radius)
+
+
+def strand_generator(hair_mesh, count=10000, seed=0, subdivision=0):
+    """A StrandGenerator for the (optionally subdivided) mesh: it holds the styling frames and the
+    blue-noise root sample sets, the part of the work that styling and LoD changes do not redo."""
+    if int(seed) < 0 or int(count) < 0:
+        raise ValueError(f"seed and count must be >= 0, got seed {seed} and count {count}")
+    mesh = hair_mesh.subdivided(int(subdivision)) if subdivision else hair_mesh
+    return StrandGenerator(mesh, int(count), int(seed))
+
+
+def generate_strands(hair_mesh, count=10000, vertices=17, styling=(), seed=0, lod=1.0, subdivision=0, radius=None,
+                     lod_transition=0.5):
+    """Strands grown from a hair mesh.
+
+    hair_mesh       HairMesh or HairMeshFile (whose styling and strand radius are the defaults)
+    count           strands at full LoD, distributed over the bundles by root face area
+    vertices        vertices per strand at full LoD: 2^e + 1 (2, 3, 5, 9, 17, 33, 65, ...)
+    styling         list of operations (Curl(...), ... or dicts {"op": "curl", ...}), applied in order
+    seed            every random choice (roots, per-strand styling, LoD increments) follows from it
+    lod             level of detail L in (0, 1] (Eq. 7), or a pair (strand L, vertex L)
+    subdivision     OpenSubdiv refinement level 0-3 of the hair mesh before generating
+    radius          strand radius at full LoD (default: the file's, else 5e-4 of the mesh diagonal)
+    lod_transition  vertex LoD morphing window lambda in (0, 1] (Eq. 10)
+
+    Returns Strands with point attributes 'tangent' [N, 3] and 'uvw' [N, 3] and the curve attribute
+    'bundle' (index of the root face of the, possibly subdivided, hair mesh).
+    """
+    mesh, operations, radius = resolve_inputs(hair_mesh, styling, radius)
+    strand_lod, vertex_lod = (lod, lod) if np.isscalar(lod) else lod
+    generator = strand_generator(mesh, count, seed, subdivision)
+    return generator.generate(vertices=int(vertices), styling=operations, strand_lod=float(strand_lod),
+                              vertex_lod=float(vertex_lod), lod_transition=float(lod_transition), radius=radius)
