@@ -17,9 +17,10 @@ bl_info = {
 __version__ = ".".join(str(part) for part in bl_info["version"])
 
 from ._core import HairlodError, Strands  # noqa: E402
+from . import io  # noqa: E402
 from .hairmesh import HairMesh, generate_strands  # noqa: E402
 
-__all__ = ["HairMesh", "HairlodError", "Strands", "__version__", "generate_strands", "register", "unregister"]
+__all__ = ["HairMesh", "HairlodError", "Strands", "__version__", "generate_strands", "io", "register", "unregister"]
 
 
 def register():
