@@ -2,12 +2,14 @@
 
 import bpy
 
+from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair, menu_func_export, menu_func_import
 from .panels import VIEW3D_PT_hairlod
 
 classes = (
     HAIRLOD_OT_import_hair,
     HAIRLOD_OT_export_hair,
+    HAIRLOD_OT_build_lod,
     VIEW3D_PT_hairlod,
 )
 

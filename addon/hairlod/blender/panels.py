@@ -2,6 +2,7 @@
 
 import bpy
 
+from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair
 
 
@@ -27,3 +28,4 @@ class VIEW3D_PT_hairlod(bpy.types.Panel):
         column = box.column(align=True)
         column.label(text=f"Strands: {len(obj.data.curves):,}")
         column.label(text=f"Points: {len(obj.data.points):,}")
+        box.operator(HAIRLOD_OT_build_lod.bl_idname, icon='MOD_PARTICLES')
