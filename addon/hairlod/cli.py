@@ -247,31 +247,11 @@ def synthetic_hair(strands, points, seed=7):
     return Strands.from_counts(positions, np.full(strands, points), np.full(strands * points, 0.001, np.float32))
 
 
-def _look_at(eye, target, up=(0.0, 0.0, 1.0)):
-    import numpy as np
-
-    eye, target, up = (np.asarray(v, float) for v in (eye, target, up))
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    side = np.cross(forward, up)
-    side /= np.linalg.norm(side)
-    m = np.eye(4)
-    m[0, :3], m[1, :3], m[2, :3] = side, np.cross(side, forward), -forward
-    m[:3, 3] = -m[:3, :3] @ eye
-    return m
-
-
-def _perspective(fov_y, aspect, near, far):
-    import numpy as np
-
-    f = 1 / np.tan(fov_y / 2)
-    return np.array([[f / aspect, 0, 0, 0], [0, f, 0, 0],
-                     [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)], [0, 0, -1, 0]])
-
-
 def command_bench(args):
     import numpy as np
 
     from . import lod
+    from .camera import look_at, perspective
 
     _positive("strands", args.strands)
     _positive("points", args.points, 2)
@@ -280,10 +260,10 @@ def command_bench(args):
     start = time.perf_counter()
     asset = lod.build_lod(strands, guides=args.guides, levels=args.levels, control_points=args.control_points)
     build_seconds = time.perf_counter() - start
-    projection = _perspective(np.radians(40), 16 / 9, 0.05, 100)
+    projection = perspective(np.radians(40), 16 / 9, 0.05, 100)
     selection = {}
     for distance in (3.0, 6.0, 30.0):
-        view = _look_at((distance, 0, 0), (0, 0, -0.5))
+        view = look_at((distance, 0, 0), (0, 0, -0.5))
         seconds = asset._core.time_selection(view.astype(np.float32), projection.astype(np.float32), (1920.0, 1080.0),
                                              args.width_px, args.frames)
         levels = asset.select(view, projection, (1920, 1080), args.width_px).levels
