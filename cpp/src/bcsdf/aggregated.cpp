@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include <glm/common.hpp>
 #include <glm/exponential.hpp>
 #include <tbb/parallel_for.h>
 
@@ -145,7 +146,15 @@ LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& w
                                             : cluster_.hair_count;
             a_1_plus[c] = kSideScatterWeight * hair.a_b[c] * series;
         }
-        const glm::dvec3 a_b = a_1_plus + hair.A_1 + hair.A_3;
+        // Energy bound (decision; Sec. 4 leaves it open): B^ returns light that the cluster's hairs
+        // scattered, so it carries at most what the direct lobes leave of the unit budget seen from
+        // wo, 1 - a_F^(n-1) (a_f + a_b) at theta_o (a_f + a_b is the fibre's furnace there, and B^'s
+        // lobe integrates to at most its attenuation). A lone lossless hair (n = 1) thus gets almost
+        // no B^; without the cap the lossless aggregate reached 1.10 at n = 1, theta_o = 0.
+        const DualScatteringSample seen = table_->sample(dout.theta);
+        const glm::dvec3 direct = glm::pow(seen.a_f, glm::dvec3(crossed)) * (seen.a_f + seen.a_b);
+        const glm::dvec3 budget = glm::max(glm::dvec3(0.0), 1.0 - direct);
+        const glm::dvec3 a_b = glm::min(a_1_plus + hair.A_1 + hair.A_3, budget);
         const glm::dvec3 sigma_b2 = hair.sigma_b * hair.sigma_b;
         for (int c = 0; c < 3; ++c) {
             const double m = gaussian_longitudinal(di.theta, dout.theta, hair.delta_b[c],

@@ -52,7 +52,9 @@ public:
     AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
                     std::shared_ptr<const AggregatedTable> table = nullptr);
 
-    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Eq. 15.
+    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Eq. 15; B^'s
+    // attenuation is capped by the energy budget 1 - a_F^(n-1) (a_f + a_b) at theta_o, so the lossless model's
+    // white furnace stays <= 1 + 1e-3 for every n >= 1 and rho.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "aggregated"; }
