@@ -14,6 +14,7 @@
 #include "hairlod/bcsdf/furnace.h"
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/bcsdf/principled_hair.h"
+#include "hairlod/bcsdf/srbf.h"
 #include "hairlod/core/error.h"
 
 namespace py = pybind11;
@@ -58,6 +59,12 @@ std::array<double, 3> white_furnace_of(const std::string& model, const HairParam
         return to_array(white_furnace_near_field(ChiangBcsdf(params), to_dvec3(wo), *h, tol));
     }
     return to_array(white_furnace(*make_bcsdf(kind, params), to_dvec3(wo), tol));
+}
+
+// Xu et al. 2011's global tables, computed once per process (about 0.3 s) on first use.
+std::shared_ptr<const CircularGaussianTables> circular_gaussian_tables_once() {
+    static const auto tables = std::make_shared<const CircularGaussianTables>(circular_gaussian_tables());
+    return tables;
 }
 
 }  // namespace
@@ -164,6 +171,45 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
     m.def("bcsdf_white_furnace", &white_furnace_of, py::arg("model"), py::arg("params"), py::arg("wo"),
           py::arg("h") = py::none(), py::arg("tolerance") = 1e-6,
           "Integral of S(wi, wo) cos(theta_i) dw_i by adaptive quadrature (RGB).");
+
+    m.def(
+        "bcsdf_srbf_single_scattering",
+        [](const HairParams& params, const DoubleArray& directions, const DoubleArray& lambdas,
+           const DoubleArray& coefficients, const DoubleArray& wo, double caustic_width, double caustic_fade_range,
+           double caustic_max_window, int m) {
+            if (directions.ndim() != 2 || directions.shape(1) != 3) throw Error("light directions must have shape [N, 3]");
+            const py::ssize_t count = directions.shape(0);
+            if (lambdas.ndim() != 1 || lambdas.shape(0) != count) throw Error("lambdas must have shape [N]");
+            if (coefficients.ndim() != 2 || coefficients.shape(0) != count || coefficients.shape(1) != 3)
+                throw Error("coefficients must have shape [N, 3]");
+            if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [M, 3]");
+            std::vector<SrbfLight> lights(static_cast<size_t>(count));
+            for (py::ssize_t j = 0; j < count; ++j)
+                lights[j] = {{directions.at(j, 0), directions.at(j, 1), directions.at(j, 2)}, lambdas.at(j),
+                             {coefficients.at(j, 0), coefficients.at(j, 1), coefficients.at(j, 2)}};
+            const py::ssize_t views = wo.shape(0);
+            py::array_t<double> result({views, py::ssize_t(3)});
+            double* out = result.mutable_data();
+            const double* view = wo.data();
+            {
+                py::gil_scoped_release release;
+                const CircularGaussianMarschner model(
+                    MarschnerBcsdf(params, {caustic_width, caustic_fade_range, caustic_max_window}),
+                    circular_gaussian_tables_once(), m);
+                for (py::ssize_t k = 0; k < views; ++k) {
+                    glm::dvec3 sum(0.0);
+                    const glm::dvec3 w{view[3 * k], view[3 * k + 1], view[3 * k + 2]};
+                    for (const SrbfLight& light : lights) sum += model.single_scattering(light, w);
+                    for (int c = 0; c < 3; ++c) out[3 * k + c] = sum[c];
+                }
+            }
+            return result;
+        },
+        py::arg("params"), py::arg("directions"), py::arg("lambdas"), py::arg("coefficients"), py::arg("wo"),
+        py::arg("caustic_width") = MarschnerCaustic{}.width, py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
+        py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("m") = 4,
+        "Xu et al. 2011, Eq. 2 and 11: sum over SRBF lights of L_j integral G_j S cos(theta_i) dw_i (Marschner, "
+        "circular Gaussian representation) per view direction, [M, 3].");
 
     m.def(
         "bcsdf_dual_scattering",
