@@ -271,13 +271,88 @@ def srbf_single_scattering(params, lights, wo, m=4, **marschner_inputs):
         np.ascontiguousarray(lights["coefficients"], dtype=np.float64), wo, m=int(m), **marschner_inputs)
 
 
+def bake(params, out_dir, theta_samples=64, hair_count_samples=64, max_hair_count=64.0):
+    """Bake the aggregated BCSDF's lookup tables into ``out_dir``: one float32 OpenEXR per table and
+    manifest.json. The folder appears complete or not at all (written under a temporary name, then
+    renamed; an existing folder is replaced). Returns the manifest (a dict).
+
+    Manifest: {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": {...},
+    "tables": [{"name", "file", "equation", "axes": [{"name", "range": [lo, hi], "samples",
+    "image_axis": "x" | "y"}], "resolution": [width, height], "channels": [...], "bytes"}]}. Texel
+    centres sit on the axis nodes (node k at lo + (hi - lo) k / (samples - 1)); look up with linear
+    interpolation after mapping the coordinate to (k + 0.5) / samples. EXR files store channels sorted
+    by name: read them by name.
+    """
+    import json
+    import os
+    import shutil
+    import tempfile
+
+    params = as_params(params)
+    out_dir = os.path.abspath(os.fspath(out_dir))
+    tables = _core.bcsdf_bake(params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),
+                              max_hair_count=float(max_hair_count))
+    parent = os.path.dirname(out_dir)
+    if not os.path.isdir(parent):
+        raise ValueError(f"{out_dir}: parent folder does not exist")
+    staging = tempfile.mkdtemp(prefix=".bake-", dir=parent)
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(staging, 0o777 & ~umask)
+        manifest = {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": params_to_dict(params),
+                    "tables": []}
+        for table in tables:
+            file_name = table["name"] + ".exr"
+            values = table["values"]
+            _core.write_exr(os.path.join(staging, file_name), values, table["channels"])
+            axes = [{"name": axis["name"], "range": list(axis["range"]), "samples": axis["samples"],
+                     "image_axis": "xy"[k]} for k, axis in enumerate(table["axes"])]
+            manifest["tables"].append({"name": table["name"], "file": file_name, "equation": table["equation"],
+                                       "axes": axes, "resolution": [values.shape[1], values.shape[0]],
+                                       "channels": list(table["channels"]), "bytes": int(values.nbytes)})
+        with open(os.path.join(staging, "manifest.json"), "w") as f:
+            json.dump(manifest, f, indent=2)
+        if os.path.isdir(out_dir):
+            retired = tempfile.mkdtemp(prefix=".bake-old-", dir=parent)
+            os.rename(out_dir, os.path.join(retired, "old"))
+            os.rename(staging, out_dir)
+            shutil.rmtree(retired)
+        else:
+            os.rename(staging, out_dir)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return manifest
+
+
+def lut_lookup(values, axes, coordinates):
+    """Linear (1D) or bilinear (2D) lookup of a baked table ``values`` [H, W, C] whose ``axes`` are the
+    manifest's; ``coordinates`` [K, len(axes)] in axis units, clamped to the ranges. Returns [K, C]."""
+    values = np.asarray(values, dtype=np.float64)
+    coordinates = np.atleast_2d(np.asarray(coordinates, dtype=np.float64))
+    positions = []
+    for k, axis in enumerate(axes):
+        lo, hi = axis["range"]
+        x = np.clip((coordinates[:, k] - lo) / (hi - lo), 0.0, 1.0) * (axis["samples"] - 1)
+        i = np.minimum(x.astype(np.int64), axis["samples"] - 2)
+        positions.append((i, (x - i)[:, None]))
+    (ix, tx) = positions[0]
+    (iy, ty) = positions[1] if len(axes) > 1 else (np.zeros_like(ix), np.zeros_like(tx))
+    iy1 = np.minimum(iy + 1, values.shape[0] - 1)
+    return ((1 - ty) * ((1 - tx) * values[iy, ix] + tx * values[iy, ix + 1]) +
+            ty * ((1 - tx) * values[iy1, ix] + tx * values[iy1, ix + 1]))
+
+
 __all__ = [
     "FIELDS",
     "MODELS",
     "HairParams",
     "as_params",
+    "bake",
     "cluster_density",
     "hairs_crossed",
+    "lut_lookup",
     "dual_scattering",
     "equirectangular_directions",
     "evaluate",

@@ -109,6 +109,44 @@ def command_convert(args):
     return 0
 
 
+def _read_params(path):
+    if path is None:
+        return {}
+    try:
+        with open(path) as f:
+            params = json.load(f)
+    except json.JSONDecodeError as error:
+        raise UsageError(f"{path}: not valid JSON ({error.msg} at line {error.lineno})")
+    if not isinstance(params, dict):
+        raise UsageError(f"{path}: expected a JSON object of HairParams fields")
+    return params
+
+
+def command_bake(args):
+    from . import bcsdf
+
+    params = _read_params(args.params)
+    try:
+        params = bcsdf.as_params(params)
+    except ValueError as error:
+        raise UsageError(f"{args.params or 'params'}: {error}")
+    start = time.perf_counter()
+    manifest = bcsdf.bake(params, args.out, theta_samples=args.theta_samples,
+                          hair_count_samples=args.hair_count_samples, max_hair_count=args.max_hair_count)
+    seconds = time.perf_counter() - start
+    tables = [{"name": t["name"], "file": t["file"], "resolution": t["resolution"], "channels": len(t["channels"]),
+               "bytes": t["bytes"]} for t in manifest["tables"]]
+    if args.json:
+        print(json.dumps({"params": args.params, "out": args.out, "tables": tables,
+                          "bytes": sum(t["bytes"] for t in tables), "bake_seconds": seconds}))
+    else:
+        for t in tables:
+            print(f"{os.path.join(args.out, t['file'])}: {t['resolution'][0]} x {t['resolution'][1]}, "
+                  f"{t['channels']} channels")
+        print(f"baked {len(tables)} tables in {seconds:.3f} s")
+    return 0
+
+
 def build_parser():
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -125,6 +163,16 @@ def build_parser():
     convert.add_argument("output", help="hair file to write (.hair .data)")
     convert.add_argument("--json", action="store_true", help="print one JSON object")
     convert.set_defaults(run=command_convert)
+
+    bake = commands.add_parser("bake", help="bake the aggregated BCSDF's lookup tables (OpenEXR + manifest.json)")
+    bake.add_argument("--params", metavar="FILE.json", help="HairParams fields as a JSON object (default: defaults)")
+    bake.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced atomically)")
+    bake.add_argument("--theta-samples", type=int, default=64, help="theta_d resolution (default 64)")
+    bake.add_argument("--hair-count-samples", type=int, default=64, help="hair count n resolution (default 64)")
+    bake.add_argument("--max-hair-count", type=float, default=64.0,
+                      help="largest hair count n the tables cover (default 64; the densest cluster in use)")
+    bake.add_argument("--json", action="store_true", help="print one JSON object")
+    bake.set_defaults(run=command_bake)
     return parser
 
 

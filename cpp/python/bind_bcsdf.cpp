@@ -3,14 +3,17 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bindings.h"
+#include "hairlod/bcsdf/bake.h"
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/dual_scattering.h"
+#include "hairlod/bcsdf/exr_writer.h"
 #include "hairlod/bcsdf/furnace.h"
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/bcsdf/principled_hair.h"
@@ -210,6 +213,57 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("m") = 4,
         "Xu et al. 2011, Eq. 2 and 11: sum over SRBF lights of L_j integral G_j S cos(theta_i) dw_i (Marschner, "
         "circular Gaussian representation) per view direction, [M, 3].");
+
+    m.def(
+        "bcsdf_bake",
+        [](const HairParams& params, int theta_samples, int hair_count_samples, double max_hair_count) {
+            std::vector<BakedTable> tables;
+            {
+                py::gil_scoped_release release;
+                BakeOptions options;
+                options.theta_samples = theta_samples;
+                options.hair_count_samples = hair_count_samples;
+                options.max_hair_count = max_hair_count;
+                tables = bake_aggregated(params, options);
+            }
+            py::list result;
+            for (const BakedTable& table : tables) {
+                py::list axes;
+                for (const BakeAxis& axis : table.axes) {
+                    py::dict a;
+                    a["name"] = axis.name;
+                    a["range"] = py::make_tuple(axis.begin, axis.end);
+                    a["samples"] = axis.samples;
+                    axes.append(a);
+                }
+                py::dict entry;
+                entry["name"] = table.name;
+                entry["equation"] = table.equation;
+                entry["axes"] = axes;
+                entry["channels"] = table.channels;
+                py::array_t<float> values({py::ssize_t(table.height()), py::ssize_t(table.width()),
+                                           static_cast<py::ssize_t>(table.channels.size())});
+                std::copy(table.values.begin(), table.values.end(), values.mutable_data());
+                entry["values"] = values;
+                result.append(entry);
+            }
+            return result;
+        },
+        py::arg("params"), py::arg("theta_samples") = BakeOptions{}.theta_samples,
+        py::arg("hair_count_samples") = BakeOptions{}.hair_count_samples,
+        py::arg("max_hair_count") = BakeOptions{}.max_hair_count,
+        "Lookup tables of the aggregated BCSDF: a list of {name, equation, axes, channels, values [H, W, C] float32}.");
+
+    m.def(
+        "write_exr",
+        [](const std::string& path, const FloatArray& values, const std::vector<std::string>& channels) {
+            if (values.ndim() != 3 || values.shape(2) != static_cast<py::ssize_t>(channels.size()))
+                throw Error(path + ": values must have shape [H, W, len(channels)]");
+            const std::span<const float> data(values.data(), static_cast<size_t>(values.size()));
+            py::gil_scoped_release release;
+            write_exr(path, static_cast<int>(values.shape(1)), static_cast<int>(values.shape(0)), channels, data);
+        },
+        py::arg("path"), py::arg("values"), py::arg("channels"), "Writes float32 [H, W, C] as an OpenEXR image.");
 
     m.def(
         "bcsdf_dual_scattering",
