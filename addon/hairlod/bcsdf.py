@@ -20,12 +20,13 @@ from . import _core
 HairParams = _core.HairParams
 
 FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
-MODELS = ("chiang", "marschner", "fiber_rtd", "realtime", "aggregated")
+MODELS = ("chiang", "marschner", "marschner_cg", "fiber_rtd", "realtime", "aggregated")
 
 # Inputs each model takes besides the directions (see evaluate()).
 _MODEL_INPUTS = {
     "chiang": {"h"},
     "marschner": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
+    "marschner_cg": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
     "fiber_rtd": set(),
     "realtime": {"tt"},
     "aggregated": {"hair_count", "density"},

@@ -64,12 +64,6 @@ std::array<double, 3> white_furnace_of(const std::string& model, const HairParam
     return to_array(white_furnace(*make_bcsdf(kind, params), to_dvec3(wo), tol));
 }
 
-// Xu et al. 2011's global tables, computed once per process (about 0.3 s) on first use.
-std::shared_ptr<const CircularGaussianTables> circular_gaussian_tables_once() {
-    static const auto tables = std::make_shared<const CircularGaussianTables>(circular_gaussian_tables());
-    return tables;
-}
-
 }  // namespace
 
 void bind_bcsdf(py::module_& m) {
@@ -198,7 +192,7 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
                 py::gil_scoped_release release;
                 const CircularGaussianMarschner model(
                     MarschnerBcsdf(params, {caustic_width, caustic_fade_range, caustic_max_window}),
-                    circular_gaussian_tables_once(), m);
+                    default_circular_gaussian_tables(), m);
                 for (py::ssize_t k = 0; k < views; ++k) {
                     glm::dvec3 sum(0.0);
                     const glm::dvec3 w{view[3 * k], view[3 * k + 1], view[3 * k + 2]};

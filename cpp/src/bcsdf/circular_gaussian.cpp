@@ -203,6 +203,11 @@ CircularGaussianTables circular_gaussian_tables(int lambda_samples, int phi_samp
     return tables;
 }
 
+std::shared_ptr<const CircularGaussianTables> default_circular_gaussian_tables() {
+    static const auto tables = std::make_shared<const CircularGaussianTables>(circular_gaussian_tables());
+    return tables;
+}
+
 namespace {
 
 // Xu et al. 2011, Eq. 19 / 23: integral of N_t over phi = 1/2 sum_k taylor_k H_k(eta, theta_d).

@@ -136,7 +136,7 @@ glm::dvec3 CircularGaussianMarschner::azimuthal(int p, double phi, double theta_
     return lambda_prime <= 0.0 ? fit.eval(phi) : fit.convolve(phi, lambda_prime);
 }
 
-glm::dvec3 CircularGaussianMarschner::eval(const glm::dvec3& wi, const glm::dvec3& wo) const {
+LobeValues CircularGaussianMarschner::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
     const FiberDirection di = fiber_direction(wi);
     const FiberDirection dout = fiber_direction(wo);
     const HalfAngles angles = half_angles(di, dout);
@@ -145,13 +145,14 @@ glm::dvec3 CircularGaussianMarschner::eval(const glm::dvec3& wi, const glm::dvec
     const HairParams& params = marschner_.params();
     const std::array<double, 3> weight{params.weight_r, params.weight_tt, params.weight_trt};
     const auto lobes = marschner_.lobe_shapes();
-    glm::dvec3 sum(0.0);
+    LobeValues out;
+    out.count = 3;
     for (int p = 0; p < 3; ++p) {
         const double eta = p == 2 ? marschner_.eccentric_eta(angles.phi_h) : params.eta;
         const double m = gaussian_longitudinal(di.theta, dout.theta, lobes[p].shift, lobes[p].variance);
-        sum += (weight[p] * m) * inv_cos2 * azimuthal(p, angles.phi, angles.theta_d, eta, 0.0);
+        out.value[p] = (weight[p] * m) * inv_cos2 * azimuthal(p, angles.phi, angles.theta_d, eta, 0.0);
     }
-    return sum;
+    return out;
 }
 
 glm::dvec3 CircularGaussianMarschner::single_scattering(const SrbfLight& light, const glm::dvec3& wo) const {

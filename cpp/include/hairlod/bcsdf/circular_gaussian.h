@@ -3,6 +3,7 @@
 // circular-gaussian-hair-env-lighting.txt, Sec. 4.2 and 5): g^c, its exact integrals, the N_TT and
 // N_TRT fits of Eq. 16-23, the precomputed tables C_k (Eq. 14) and H_k^TT, H_k^TRT (Eq. 19, 23).
 #include <array>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -64,6 +65,9 @@ struct CircularGaussianTables {
 };
 CircularGaussianTables circular_gaussian_tables(int lambda_samples = 128, int phi_samples = 64,
                                                 int eta_samples = 128, int theta_samples = 64);
+
+// The tables at the paper's resolutions, computed once per process on first use (about 0.3 s).
+std::shared_ptr<const CircularGaussianTables> default_circular_gaussian_tables();
 
 // Xu et al. 2011, Eq. 14 integrand's definition, by adaptive quadrature (the tables' ground truth).
 double cosine_gaussian_integral(int k, double lambda, double phi);

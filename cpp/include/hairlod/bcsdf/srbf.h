@@ -32,8 +32,8 @@ std::vector<double> linear_quadrature_nodes(double mu, double variance, int m);
 glm::dvec3 linear_quadrature(std::span<const double> nodes, std::span<const glm::dvec3> values, double mu,
                              double variance);
 
-// The circular Gaussian (1D) representation of a MarschnerBcsdf.
-class CircularGaussianMarschner {
+// The circular Gaussian (1D) representation of a MarschnerBcsdf: the "circular Gaussian" tier.
+class CircularGaussianMarschner final : public FiberBcsdf {
 public:
     // m >= 2 is the linear quadrature's sample count minus one (4 in the paper).
     CircularGaussianMarschner(const MarschnerBcsdf& marschner, std::shared_ptr<const CircularGaussianTables> tables,
@@ -43,9 +43,11 @@ public:
     // cos^k(theta_d) / 4 with f_k the least-squares degree-5 fit of the Fresnel factor F(y, eta) on [0, 1].
     std::array<double, 7> r_coefficients(double theta_d) const;
 
-    // S of the representation at one pair: Marschner's M_t / cos^2(theta_d) with N_R of Eq. 13 and the
-    // N_TT, N_TRT fits of Eq. 16-23 (the circular Gaussian tier).
-    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo) const;
+    // S of the representation per lobe (R, TT, TRT): Marschner's M_t / cos^2(theta_d) (divided by
+    // max(1, E(theta_o)) like the model) with N_R of Eq. 13 and the N_TT, N_TRT fits of Eq. 16-23.
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    std::span<const LongitudinalLobe> lobe_shapes() const override { return marschner_.lobe_shapes(); }
+    std::string_view name() const override { return "marschner_cg"; }
 
     // Eq. 11-14: integral of G_j(w_i) S(w_i, w_o) cos(theta_i) dw_i (times L_j), with g^c(theta_i) ~ the
     // Gaussian exp(-(theta_i - theta_j)^2 / lambda^2) folded into M_t and the rest by linear quadrature.
