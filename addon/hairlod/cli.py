@@ -147,6 +147,37 @@ def command_bake(args):
     return 0
 
 
+def command_bench(args):
+    from . import bench
+
+    if args.plot and not args.plot.lower().endswith(".png"):
+        raise UsageError(f"{args.plot}: --plot writes a .png file")
+    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
+        raise UsageError(f"{args.plot}: folder does not exist")
+    if args.repeats < 1:
+        raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
+    result = bench.bench_bcsdf(repeats=args.repeats)
+    if args.plot:
+        staging = args.plot + ".tmp.png"
+        try:
+            bench.plot_bcsdf(result, staging)
+            os.replace(staging, args.plot)
+        finally:
+            if os.path.exists(staging):
+                os.remove(staging)
+        result["plot"] = args.plot
+    if args.json:
+        print(json.dumps({"component": args.component, **result}))
+    else:
+        print(f"{'model':<11} {'tier':<26} {'ns/eval':>9} {'max rel':>9} {'mean rel':>9} {'|E-1|':>8} {'bytes':>8}")
+        for r in result["rows"]:
+            def cell(value, spec):
+                return format(value, spec) if value is not None else format("-", spec.split(".")[0].rstrip("de"))
+            print(f"{r['model']:<11} {r['tier']:<26} {r['ns_per_eval']:>9.0f} {cell(r['max_rel_error'], '>9.2e')} "
+                  f"{cell(r['mean_rel_error'], '>9.2e')} {cell(r['energy_error'], '>8.3f')} {cell(r['bytes'], '>8')}")
+    return 0
+
+
 def build_parser():
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -173,6 +204,13 @@ def build_parser():
                       help="largest hair count n the tables cover (default 64; the densest cluster in use)")
     bake.add_argument("--json", action="store_true", help="print one JSON object")
     bake.set_defaults(run=command_bake)
+
+    bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
+    bench.add_argument("component", choices=["bcsdf"], help="what to benchmark")
+    bench.add_argument("--repeats", type=int, default=5, help="timing repeats (median; default 5)")
+    bench.add_argument("--plot", metavar="FILE.png", help="also plot ns per evaluation against error")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.set_defaults(run=command_bench)
     return parser
 
 

@@ -242,3 +242,22 @@ def test_bake_cli_bad_input_leaves_nothing(tmp_path):
     assert run.returncode == 0, run.stderr
     result = json.loads(run.stdout)
     assert [t["name"] for t in result["tables"]] == ["fiber_attenuation", "dual_scattering", "aggregated_attenuation"]
+
+
+def test_bench_bcsdf_reports_every_tier(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    plot = tmp_path / "bench.png"
+    run = subprocess.run([sys.executable, "-m", "hairlod", "bench", "bcsdf", "--json", "--repeats", "1", "--plot",
+                          str(plot)], capture_output=True, text=True, env={"PYTHONPATH": "addon"})
+    assert run.returncode == 0, run.stderr
+    result = json.loads(run.stdout)
+    tiers = {(r["model"], r["tier"]) for r in result["rows"]}
+    assert ("marschner", "circular gaussian") in tiers and ("aggregated", "lut 64") in tiers
+    assert all(r["ns_per_eval"] > 0 for r in result["rows"])
+    assert plot.stat().st_size > 0 and sorted(p.name for p in tmp_path.iterdir()) == ["bench.png"]
+    bad = subprocess.run([sys.executable, "-m", "hairlod", "bench", "bcsdf", "--plot", str(tmp_path / "no" / "x.png")],
+                         capture_output=True, text=True, env={"PYTHONPATH": "addon"})
+    assert bad.returncode == 2 and bad.stdout == "" and "folder" in bad.stderr
