@@ -38,7 +38,7 @@ struct CosinePowers {
         return a;
     }
 };
-[[maybe_unused]] double magnitude(const CosinePowers& p) {
+double magnitude(const CosinePowers& p) {
     double m = 0.0;
     for (double x : p.v) m = std::max(m, std::abs(x));
     return m;
