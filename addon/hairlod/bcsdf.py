@@ -20,12 +20,13 @@ from . import _core
 HairParams = _core.HairParams
 
 FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
-MODELS = ("chiang", "marschner", "fiber_rtd", "realtime", "aggregated")
+MODELS = ("chiang", "marschner", "marschner_cg", "fiber_rtd", "realtime", "aggregated")
 
 # Inputs each model takes besides the directions (see evaluate()).
 _MODEL_INPUTS = {
     "chiang": {"h"},
     "marschner": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
+    "marschner_cg": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
     "fiber_rtd": set(),
     "realtime": {"tt"},
     "aggregated": {"hair_count", "density"},
@@ -188,18 +189,181 @@ def dual_scattering(params, theta_d, model="chiang", backscatter_density=0.7, to
                                        tolerance=float(tolerance))
 
 
+def fibonacci_directions(count):
+    """count unit directions spread evenly over the sphere (golden-angle spiral), float64 [count, 3]."""
+    count = int(count)
+    if count < 1:
+        raise ValueError(f"count must be >= 1, got {count}")
+    k = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * k / count
+    r = np.sqrt(np.maximum(0.0, 1.0 - z * z))
+    phi = np.pi * (3.0 - np.sqrt(5.0)) * k
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
+def equirectangular_directions(height, width):
+    """Pixel-centre directions [H, W, 3] and solid angles [H, W] of an equirectangular map: row 0 looks
+    along +z (polar angle from +z), columns sweep the azimuth atan2(y, x) from -pi to pi."""
+    theta = (np.arange(height) + 0.5) / height * np.pi
+    phi = (np.arange(width) + 0.5) / width * 2.0 * np.pi - np.pi
+    sin_t = np.sin(theta)[:, None]
+    directions = np.stack(np.broadcast_arrays(sin_t * np.cos(phi)[None, :], sin_t * np.sin(phi)[None, :],
+                                              np.cos(theta)[:, None]), axis=-1)
+    solid_angle = np.broadcast_to(sin_t * (np.pi / height) * (2.0 * np.pi / width), (height, width))
+    return directions, solid_angle
+
+
+def srbf(w, centre, lam):
+    """Xu et al. 2011, Sec. 3: G(w; w_j, lambda) = exp(2 (w . w_j - 1) / lambda^2) for unit vectors."""
+    return np.exp(2.0 * (np.asarray(w) @ np.asarray(centre) - 1.0) / (lam * lam))
+
+
+def fit_environment(env, count, lam=None, ridge=1e-6):
+    """Least-squares fit of an equirectangular environment map (float [H, W, 3], layout of
+    equirectangular_directions) by ``count`` SRBF lights (Xu et al. 2011, Sec. 3) with centres on a
+    Fibonacci sphere and a shared bandwidth ``lam`` (default: the mean spacing sqrt(4 pi / count)).
+
+    Minimises the solid-angle-weighted squared error with a relative ridge ``ridge``. Returns a dict:
+    ``directions`` [N, 3], ``lambdas`` [N], ``coefficients`` [N, 3] (L_j, may be negative) and
+    ``relative_error`` (weighted RMS error over weighted RMS of the map).
+    """
+    env = np.asarray(env, dtype=np.float64)
+    if env.ndim != 3 or env.shape[2] != 3 or env.shape[0] < 2 or env.shape[1] < 2:
+        raise ValueError(f"env must have shape [H, W, 3] with H, W >= 2, got {env.shape}")
+    if not np.all(np.isfinite(env)):
+        raise ValueError("env must be finite")
+    centres = fibonacci_directions(count)
+    lam = float(np.sqrt(4.0 * np.pi / len(centres))) if lam is None else float(lam)
+    if not (np.isfinite(lam) and lam > 0.0):
+        raise ValueError(f"lam must be finite and > 0, got {lam}")
+    directions, solid_angle = equirectangular_directions(env.shape[0], env.shape[1])
+    basis = srbf(directions.reshape(-1, 3), centres.T, lam)  # [P, N]
+    weight = solid_angle.reshape(-1, 1)
+    normal = basis.T @ (basis * weight)
+    normal += ridge * np.trace(normal) / len(centres) * np.eye(len(centres))
+    target = env.reshape(-1, 3)
+    coefficients = np.linalg.solve(normal, basis.T @ (target * weight))
+    residual = basis @ coefficients - target
+    relative = float(np.sqrt(np.sum(weight * residual ** 2) / max(np.sum(weight * target ** 2), 1e-300)))
+    return {"directions": centres, "lambdas": np.full(len(centres), lam), "coefficients": coefficients,
+            "relative_error": relative}
+
+
+def srbf_single_scattering(params, lights, wo, m=4, **marschner_inputs):
+    """Single scattering of the Marschner fibre under SRBF lights (Xu et al. 2011, Eq. 2 and 11-14):
+    for each view direction, sum_j L_j * integral of G_j(wi) S(wi, wo) cos(theta_i) dw_i, float64 [M, 3].
+
+    ``lights``: a dict as fit_environment returns (``directions`` [N, 3], ``lambdas`` [N],
+    ``coefficients`` [N, 3]), with directions in the fibre frame like ``wo`` [M, 3]; ``m`` is the
+    linear quadrature's order (Sec. 4.2.2); marschner inputs as in evaluate().
+    """
+    unknown = sorted(set(marschner_inputs) - _MODEL_INPUTS["marschner"])
+    if unknown:
+        raise ValueError(f"srbf_single_scattering takes no input(s) {', '.join(unknown)}")
+    for key in ("directions", "lambdas", "coefficients"):
+        if key not in lights:
+            raise ValueError(f"lights needs {key!r}")
+    wo = np.ascontiguousarray(wo, dtype=np.float64)
+    if wo.ndim != 2 or wo.shape[1] != 3:
+        raise ValueError(f"wo must have shape [M, 3], got {wo.shape}")
+    return _core.bcsdf_srbf_single_scattering(
+        as_params(params), np.ascontiguousarray(lights["directions"], dtype=np.float64),
+        np.ascontiguousarray(lights["lambdas"], dtype=np.float64),
+        np.ascontiguousarray(lights["coefficients"], dtype=np.float64), wo, m=int(m), **marschner_inputs)
+
+
+def bake(params, out_dir, theta_samples=64, hair_count_samples=64, max_hair_count=64.0):
+    """Bake the aggregated BCSDF's lookup tables into ``out_dir``: one float32 OpenEXR per table and
+    manifest.json. The folder appears complete or not at all (written under a temporary name, then
+    renamed; an existing folder is replaced). Returns the manifest (a dict).
+
+    Manifest: {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": {...},
+    "tables": [{"name", "file", "equation", "axes": [{"name", "range": [lo, hi], "samples",
+    "image_axis": "x" | "y"}], "resolution": [width, height], "channels": [...], "bytes"}]}. Texel
+    centres sit on the axis nodes (node k at lo + (hi - lo) k / (samples - 1)); look up with linear
+    interpolation after mapping the coordinate to (k + 0.5) / samples. EXR files store channels sorted
+    by name: read them by name.
+    """
+    import json
+    import os
+    import shutil
+    import tempfile
+
+    params = as_params(params)
+    out_dir = os.path.abspath(os.fspath(out_dir))
+    tables = _core.bcsdf_bake(params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),
+                              max_hair_count=float(max_hair_count))
+    parent = os.path.dirname(out_dir)
+    if not os.path.isdir(parent):
+        raise ValueError(f"{out_dir}: parent folder does not exist")
+    staging = tempfile.mkdtemp(prefix=".bake-", dir=parent)
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(staging, 0o777 & ~umask)
+        manifest = {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": params_to_dict(params),
+                    "tables": []}
+        for table in tables:
+            file_name = table["name"] + ".exr"
+            values = table["values"]
+            _core.write_exr(os.path.join(staging, file_name), values, table["channels"])
+            axes = [{"name": axis["name"], "range": list(axis["range"]), "samples": axis["samples"],
+                     "image_axis": "xy"[k]} for k, axis in enumerate(table["axes"])]
+            manifest["tables"].append({"name": table["name"], "file": file_name, "equation": table["equation"],
+                                       "axes": axes, "resolution": [values.shape[1], values.shape[0]],
+                                       "channels": list(table["channels"]), "bytes": int(values.nbytes)})
+        with open(os.path.join(staging, "manifest.json"), "w") as f:
+            json.dump(manifest, f, indent=2)
+        if os.path.isdir(out_dir):
+            retired = tempfile.mkdtemp(prefix=".bake-old-", dir=parent)
+            os.rename(out_dir, os.path.join(retired, "old"))
+            os.rename(staging, out_dir)
+            shutil.rmtree(retired)
+        else:
+            os.rename(staging, out_dir)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return manifest
+
+
+def lut_lookup(values, axes, coordinates):
+    """Linear (1D) or bilinear (2D) lookup of a baked table ``values`` [H, W, C] whose ``axes`` are the
+    manifest's; ``coordinates`` [K, len(axes)] in axis units, clamped to the ranges. Returns [K, C]."""
+    values = np.asarray(values, dtype=np.float64)
+    coordinates = np.atleast_2d(np.asarray(coordinates, dtype=np.float64))
+    positions = []
+    for k, axis in enumerate(axes):
+        lo, hi = axis["range"]
+        x = np.clip((coordinates[:, k] - lo) / (hi - lo), 0.0, 1.0) * (axis["samples"] - 1)
+        i = np.minimum(x.astype(np.int64), axis["samples"] - 2)
+        positions.append((i, (x - i)[:, None]))
+    (ix, tx) = positions[0]
+    (iy, ty) = positions[1] if len(axes) > 1 else (np.zeros_like(ix), np.zeros_like(tx))
+    iy1 = np.minimum(iy + 1, values.shape[0] - 1)
+    return ((1 - ty) * ((1 - tx) * values[iy, ix] + tx * values[iy, ix + 1]) +
+            ty * ((1 - tx) * values[iy1, ix] + tx * values[iy1, ix + 1]))
+
+
 __all__ = [
     "FIELDS",
     "MODELS",
     "HairParams",
     "as_params",
+    "bake",
     "cluster_density",
     "hairs_crossed",
+    "lut_lookup",
     "dual_scattering",
+    "equirectangular_directions",
     "evaluate",
+    "fibonacci_directions",
+    "fit_environment",
     "from_principled_hair",
     "params_to_dict",
     "sigma_a_from_color",
     "sigma_a_from_melanin",
+    "srbf",
+    "srbf_single_scattering",
     "white_furnace",
 ]

@@ -162,16 +162,6 @@ def command_generate(args):
     return 0
 
 
-def _strand_bytes(strands):
-    """Bytes of the strand data the LoD asset is compared with: points, radius, offsets."""
-    return strands.points.nbytes + strands.radius.nbytes + strands.offsets.nbytes
-
-
-def _level_report(asset):
-    return [{"level": level_id, "hairs": int(len(level.n_total)), "coverage": level.coverage, "mean_area": level.mean_area}
-            for level_id, level in zip(asset.level_ids, asset.levels)]
-
-
 def _positive(name, value, lowest=1):
     if value < lowest:
         raise UsageError(f"--{name} must be >= {lowest}, got {value}")
@@ -215,9 +205,9 @@ def command_lod(args):
         "clusters": asset.cluster_count,
         "built_levels": finest + 1,
         "selected_levels": selected,
-        "levels": _level_report(asset),
+        "levels": lod.level_report(asset),
         "area_ratios": manifest["area_ratios"],
-        "memory_ratio": asset.memory_bytes / _strand_bytes(strands),
+        "memory_ratio": asset.memory_bytes / lod.strand_bytes(strands),
         "timings": asset.timings,
         "read_seconds": read_seconds,
         "build_seconds": build_seconds,
@@ -231,63 +221,91 @@ def command_lod(args):
     return 0
 
 
-def synthetic_hair(strands, points, seed=7):
-    """Wavy strands hanging from a unit cylinder-capped head (the C++ benchmark's shape)."""
-    import numpy as np
-
-    from . import Strands
-
-    rng = np.random.default_rng(seed)
-    azimuth, height = rng.uniform(0, 2 * np.pi, strands), rng.uniform(0, 1, strands)
-    roots = np.stack([np.cos(azimuth), np.sin(azimuth), height], axis=1)
-    t = np.linspace(0, 1, points)
-    wave = np.stack([0.05 * np.sin(12 * t[None, :] + azimuth[:, None]), np.zeros((strands, points)),
-                     -np.broadcast_to(t, (strands, points))], axis=2)
-    positions = (roots[:, None, :] * (1 + 0.3 * t[None, :, None]) + wave).astype(np.float32).reshape(-1, 3)
-    return Strands.from_counts(positions, np.full(strands, points), np.full(strands * points, 0.001, np.float32))
+def _read_params(path):
+    if path is None:
+        return {}
+    try:
+        with open(path) as f:
+            params = json.load(f)
+    except json.JSONDecodeError as error:
+        raise UsageError(f"{path}: not valid JSON ({error.msg} at line {error.lineno})")
+    if not isinstance(params, dict):
+        raise UsageError(f"{path}: expected a JSON object of HairParams fields")
+    return params
 
 
-def command_bench(args):
-    import numpy as np
+def command_bake(args):
+    from . import bcsdf
 
-    from . import lod
-    from .camera import look_at, perspective
+    params = _read_params(args.params)
+    try:
+        params = bcsdf.as_params(params)
+    except ValueError as error:
+        raise UsageError(f"{args.params or 'params'}: {error}")
+    start = time.perf_counter()
+    manifest = bcsdf.bake(params, args.out, theta_samples=args.theta_samples,
+                          hair_count_samples=args.hair_count_samples, max_hair_count=args.max_hair_count)
+    seconds = time.perf_counter() - start
+    tables = [{"name": t["name"], "file": t["file"], "resolution": t["resolution"], "channels": len(t["channels"]),
+               "bytes": t["bytes"]} for t in manifest["tables"]]
+    if args.json:
+        print(json.dumps({"params": args.params, "out": args.out, "tables": tables,
+                          "bytes": sum(t["bytes"] for t in tables), "bake_seconds": seconds}))
+    else:
+        for t in tables:
+            print(f"{os.path.join(args.out, t['file'])}: {t['resolution'][0]} x {t['resolution'][1]}, "
+                  f"{t['channels']} channels")
+        print(f"baked {len(tables)} tables in {seconds:.3f} s")
+    return 0
+
+
+def _bench_bcsdf(args):
+    from . import bench
+
+    if args.plot and not args.plot.lower().endswith(".png"):
+        raise UsageError(f"{args.plot}: --plot writes a .png file")
+    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
+        raise UsageError(f"{args.plot}: folder does not exist")
+    if args.repeats < 1:
+        raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
+    result = bench.bench_bcsdf(repeats=args.repeats)
+    if args.plot:
+        staging = args.plot + ".tmp.png"
+        try:
+            bench.plot_bcsdf(result, staging)
+            os.replace(staging, args.plot)
+        finally:
+            if os.path.exists(staging):
+                os.remove(staging)
+        result["plot"] = args.plot
+    if args.json:
+        print(json.dumps({"component": args.component, **result}))
+    else:
+        print(f"{'model':<11} {'tier':<26} {'ns/eval':>9} {'max rel':>9} {'mean rel':>9} {'|E-1|':>8} {'bytes':>8}")
+        for r in result["rows"]:
+            def cell(value, spec):
+                return format(value, spec) if value is not None else format("-", spec.split(".")[0].rstrip("de"))
+            print(f"{r['model']:<11} {r['tier']:<26} {r['ns_per_eval']:>9.0f} {cell(r['max_rel_error'], '>9.2e')} "
+                  f"{cell(r['mean_rel_error'], '>9.2e')} {cell(r['energy_error'], '>8.3f')} {cell(r['bytes'], '>8')}")
+    return 0
+
+
+def _bench_lod(args):
+    from . import bench
 
     _positive("strands", args.strands)
     _positive("points", args.points, 2)
     _positive("frames", args.frames)
-    strands = synthetic_hair(args.strands, args.points)
-    start = time.perf_counter()
-    asset = lod.build_lod(strands, guides=args.guides, levels=args.levels, control_points=args.control_points)
-    build_seconds = time.perf_counter() - start
-    projection = perspective(np.radians(40), 16 / 9, 0.05, 100)
-    selection = {}
-    for distance in (3.0, 6.0, 30.0):
-        view = look_at((distance, 0, 0), (0, 0, -0.5))
-        seconds = asset._core.time_selection(view.astype(np.float32), projection.astype(np.float32), (1920.0, 1080.0),
-                                             args.width_px, args.frames)
-        levels = asset.select(view, projection, (1920, 1080), args.width_px).levels
-        selection[f"distance_{distance:g}"] = {"seconds_per_frame": seconds, "mean_level": float(levels.mean())}
-    result = {
-        "component": "lod",
-        "strands": args.strands,
-        "points_per_strand": args.points,
-        "guides": asset.guide_count,
-        "clusters": asset.cluster_count,
-        "control_points": args.control_points,
-        "built_levels": len(asset.levels) + 1,
-        "build_seconds": build_seconds,
-        "stages": asset.timings,
-        "selection": selection,
-        "memory_ratio": asset.memory_bytes / _strand_bytes(strands),
-        "levels": _level_report(asset),
-        "area_ratios": asset.area_ratios,
-    }
-    if args.json:
-        print(json.dumps(result))
-    else:
-        print(json.dumps(result, indent=1))
+    for name in ("guides", "levels", "control_points"):
+        _positive(name.replace("_", "-"), getattr(args, name), 2 if name != "guides" else 1)
+    result = bench.bench_lod(strands=args.strands, points=args.points, guides=args.guides, levels=args.levels,
+                             control_points=args.control_points, width_px=args.width_px, frames=args.frames)
+    print(json.dumps(result) if args.json else json.dumps(result, indent=1))
     return 0
+
+
+def command_bench(args):
+    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod}[args.component](args)
 
 
 def build_parser():
@@ -331,16 +349,28 @@ def build_parser():
     lod.add_argument("--json", action="store_true", help="print one JSON object")
     lod.set_defaults(run=command_lod)
 
-    bench = commands.add_parser("bench", help="benchmark a component (timings and accuracy, no assertions)")
-    bench.add_argument("component", choices=["lod"], help="component to benchmark")
-    bench.add_argument("--strands", type=int, default=100_000, help="synthetic strands (default 100000)")
-    bench.add_argument("--points", type=int, default=32, help="points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=int, default=256, help="guides (default 256)")
-    bench.add_argument("--levels", type=int, default=6, help="levels including the strands (default 6)")
-    bench.add_argument("--control-points", type=int, default=16, help="control points (default 16)")
-    bench.add_argument("--width-px", type=float, default=2.0, help="width threshold (default 2)")
-    bench.add_argument("--frames", type=int, default=200, help="selection frames timed per camera (default 200)")
+    bake = commands.add_parser("bake", help="bake the aggregated BCSDF's lookup tables (OpenEXR + manifest.json)")
+    bake.add_argument("--params", metavar="FILE.json", help="HairParams fields as a JSON object (default: defaults)")
+    bake.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced atomically)")
+    bake.add_argument("--theta-samples", type=int, default=64, help="theta_d resolution (default 64)")
+    bake.add_argument("--hair-count-samples", type=int, default=64, help="hair count n resolution (default 64)")
+    bake.add_argument("--max-hair-count", type=float, default=64.0,
+                      help="largest hair count n the tables cover (default 64; the densest cluster in use)")
+    bake.add_argument("--json", action="store_true", help="print one JSON object")
+    bake.set_defaults(run=command_bake)
+
+    bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
+    bench.add_argument("component", choices=["bcsdf", "lod"], help="what to benchmark")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.add_argument("--repeats", type=int, default=5, help="bcsdf: timing repeats (median; default 5)")
+    bench.add_argument("--plot", metavar="FILE.png", help="bcsdf: also plot ns per evaluation against error")
+    bench.add_argument("--strands", type=int, default=100_000, help="lod: synthetic strands (default 100000)")
+    bench.add_argument("--points", type=int, default=32, help="lod: points per synthetic strand (default 32)")
+    bench.add_argument("--guides", type=int, default=256, help="lod: guides (default 256)")
+    bench.add_argument("--levels", type=int, default=6, help="lod: levels including the strands (default 6)")
+    bench.add_argument("--control-points", type=int, default=16, help="lod: control points (default 16)")
+    bench.add_argument("--width-px", type=float, default=2.0, help="lod: width threshold in pixels (default 2)")
+    bench.add_argument("--frames", type=int, default=200, help="lod: selection frames timed per camera (default 200)")
     bench.set_defaults(run=command_bench)
     return parser
 

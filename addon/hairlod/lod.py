@@ -109,6 +109,18 @@ class LodAsset:
                                  tuple(float(v) for v in viewport_size), float(width_px), previous)
 
 
+def strand_bytes(strands):
+    """Bytes of the strand data an asset's memory is compared with: points, radius, offsets."""
+    return strands.points.nbytes + strands.radius.nbytes + strands.offsets.nbytes
+
+
+def level_report(asset):
+    """Per thick level: its id, hairs, coverage and mean cross-section area, as plain Python."""
+    return [{"level": level_id, "hairs": int(len(level.n_total)), "coverage": level.coverage,
+             "mean_area": level.mean_area}
+            for level_id, level in zip(asset.level_ids, asset.levels)]
+
+
 def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_coverage=0.95):
     """Builds an LodAsset from Strands (Sec. 5.1); raises ValueError on invalid input."""
     return LodAsset(_core.build_lod(strands, guides=guides, levels=levels, control_points=control_points,

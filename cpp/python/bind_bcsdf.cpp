@@ -3,17 +3,21 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bindings.h"
+#include "hairlod/bcsdf/bake.h"
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/dual_scattering.h"
+#include "hairlod/bcsdf/exr_writer.h"
 #include "hairlod/bcsdf/furnace.h"
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/bcsdf/principled_hair.h"
+#include "hairlod/bcsdf/srbf.h"
 #include "hairlod/core/error.h"
 
 namespace py = pybind11;
@@ -164,6 +168,96 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
     m.def("bcsdf_white_furnace", &white_furnace_of, py::arg("model"), py::arg("params"), py::arg("wo"),
           py::arg("h") = py::none(), py::arg("tolerance") = 1e-6,
           "Integral of S(wi, wo) cos(theta_i) dw_i by adaptive quadrature (RGB).");
+
+    m.def(
+        "bcsdf_srbf_single_scattering",
+        [](const HairParams& params, const DoubleArray& directions, const DoubleArray& lambdas,
+           const DoubleArray& coefficients, const DoubleArray& wo, double caustic_width, double caustic_fade_range,
+           double caustic_max_window, int m) {
+            if (directions.ndim() != 2 || directions.shape(1) != 3) throw Error("light directions must have shape [N, 3]");
+            const py::ssize_t count = directions.shape(0);
+            if (lambdas.ndim() != 1 || lambdas.shape(0) != count) throw Error("lambdas must have shape [N]");
+            if (coefficients.ndim() != 2 || coefficients.shape(0) != count || coefficients.shape(1) != 3)
+                throw Error("coefficients must have shape [N, 3]");
+            if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [M, 3]");
+            std::vector<SrbfLight> lights(static_cast<size_t>(count));
+            for (py::ssize_t j = 0; j < count; ++j)
+                lights[j] = {{directions.at(j, 0), directions.at(j, 1), directions.at(j, 2)}, lambdas.at(j),
+                             {coefficients.at(j, 0), coefficients.at(j, 1), coefficients.at(j, 2)}};
+            const py::ssize_t views = wo.shape(0);
+            py::array_t<double> result({views, py::ssize_t(3)});
+            double* out = result.mutable_data();
+            const double* view = wo.data();
+            {
+                py::gil_scoped_release release;
+                const CircularGaussianMarschner model(
+                    MarschnerBcsdf(params, {caustic_width, caustic_fade_range, caustic_max_window}),
+                    default_circular_gaussian_tables(), m);
+                for (py::ssize_t k = 0; k < views; ++k) {
+                    glm::dvec3 sum(0.0);
+                    const glm::dvec3 w{view[3 * k], view[3 * k + 1], view[3 * k + 2]};
+                    for (const SrbfLight& light : lights) sum += model.single_scattering(light, w);
+                    for (int c = 0; c < 3; ++c) out[3 * k + c] = sum[c];
+                }
+            }
+            return result;
+        },
+        py::arg("params"), py::arg("directions"), py::arg("lambdas"), py::arg("coefficients"), py::arg("wo"),
+        py::arg("caustic_width") = MarschnerCaustic{}.width, py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
+        py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("m") = 4,
+        "Xu et al. 2011, Eq. 2 and 11: sum over SRBF lights of L_j integral G_j S cos(theta_i) dw_i (Marschner, "
+        "circular Gaussian representation) per view direction, [M, 3].");
+
+    m.def(
+        "bcsdf_bake",
+        [](const HairParams& params, int theta_samples, int hair_count_samples, double max_hair_count) {
+            std::vector<BakedTable> tables;
+            {
+                py::gil_scoped_release release;
+                BakeOptions options;
+                options.theta_samples = theta_samples;
+                options.hair_count_samples = hair_count_samples;
+                options.max_hair_count = max_hair_count;
+                tables = bake_aggregated(params, options);
+            }
+            py::list result;
+            for (const BakedTable& table : tables) {
+                py::list axes;
+                for (const BakeAxis& axis : table.axes) {
+                    py::dict a;
+                    a["name"] = axis.name;
+                    a["range"] = py::make_tuple(axis.begin, axis.end);
+                    a["samples"] = axis.samples;
+                    axes.append(a);
+                }
+                py::dict entry;
+                entry["name"] = table.name;
+                entry["equation"] = table.equation;
+                entry["axes"] = axes;
+                entry["channels"] = table.channels;
+                py::array_t<float> values({py::ssize_t(table.height()), py::ssize_t(table.width()),
+                                           static_cast<py::ssize_t>(table.channels.size())});
+                std::copy(table.values.begin(), table.values.end(), values.mutable_data());
+                entry["values"] = values;
+                result.append(entry);
+            }
+            return result;
+        },
+        py::arg("params"), py::arg("theta_samples") = BakeOptions{}.theta_samples,
+        py::arg("hair_count_samples") = BakeOptions{}.hair_count_samples,
+        py::arg("max_hair_count") = BakeOptions{}.max_hair_count,
+        "Lookup tables of the aggregated BCSDF: a list of {name, equation, axes, channels, values [H, W, C] float32}.");
+
+    m.def(
+        "write_exr",
+        [](const std::string& path, const FloatArray& values, const std::vector<std::string>& channels) {
+            if (values.ndim() != 3 || values.shape(2) != static_cast<py::ssize_t>(channels.size()))
+                throw Error(path + ": values must have shape [H, W, len(channels)]");
+            const std::span<const float> data(values.data(), static_cast<size_t>(values.size()));
+            py::gil_scoped_release release;
+            write_exr(path, static_cast<int>(values.shape(1)), static_cast<int>(values.shape(0)), channels, data);
+        },
+        py::arg("path"), py::arg("values"), py::arg("channels"), "Writes float32 [H, W, C] as an OpenEXR image.");
 
     m.def(
         "bcsdf_dual_scattering",

@@ -17,7 +17,7 @@ namespace hairlod::bcsdf {
 namespace {
 
 TEST(Bcsdf, ParseAndFactory) {
-    for (const char* name : {"chiang", "marschner", "fiber_rtd", "realtime", "aggregated"})
+    for (const char* name : {"chiang", "marschner", "marschner_cg", "fiber_rtd", "realtime", "aggregated"})
         EXPECT_EQ(make_bcsdf(parse_bcsdf_model(name), HairParams{})->name(), name);
     try {
         parse_bcsdf_model("kajiya");
@@ -75,6 +75,7 @@ TEST(Bcsdf, HardCasesAreFiniteAndNonNegative) {
     // Budgets follow the cost per evaluation; the far-field Chiang model (up to 4096 Gauss-Legendre nodes
     // per value) gets random pairs and the corners paired diagonally instead of all corner pairs.
     for (const Budget& budget : {Budget{BcsdfModel::Realtime, 400, 1000}, Budget{BcsdfModel::Marschner, 60, 1000},
+                                 Budget{BcsdfModel::MarschnerCircularGaussian, 10, 1000},
                                  Budget{BcsdfModel::FiberRtd, 40, 1000}, Budget{BcsdfModel::Chiang, 3, 100}}) {
         for (int set = 0; set < budget.parameter_sets; ++set) {
             const HairParams params = random_params(rng);

@@ -139,3 +139,125 @@ def test_aggregated_model_and_cluster_geometry():
         bcsdf.evaluate("aggregated", {}, wi, wo, hair_count=0.5)
     with pytest.raises(ValueError, match="hair_radius"):
         bcsdf.cluster_density(100, -1.0, 0.2, 0.1)
+
+
+def test_environment_fit_recovers_srbf_lights():
+    # A map made of the fit's own basis is reproduced; a smooth map is fitted better with more lights.
+    centres = bcsdf.fibonacci_directions(12)
+    lam = float(np.sqrt(4.0 * np.pi / 12))
+    truth = np.random.default_rng(4).uniform(0.1, 2.0, size=(12, 3))
+    directions, solid_angle = bcsdf.equirectangular_directions(48, 96)
+    assert abs(solid_angle.sum() - 4.0 * np.pi) < 1e-2
+    env = bcsdf.srbf(directions.reshape(-1, 3), centres.T, lam) @ truth
+    fit = bcsdf.fit_environment(env.reshape(48, 96, 3), 12, ridge=1e-12)
+    assert fit["relative_error"] < 1e-6
+    np.testing.assert_allclose(fit["coefficients"], truth, rtol=1e-4, atol=1e-4)
+    sky = np.repeat((0.5 + 0.5 * directions[..., 2:3]) ** 4, 3, axis=2)
+    errors = [bcsdf.fit_environment(sky, n)["relative_error"] for n in (8, 32, 128)]
+    assert errors[0] > errors[1] > errors[2]
+    with pytest.raises(ValueError, match="env"):
+        bcsdf.fit_environment(np.zeros((4, 4)), 8)
+    with pytest.raises(ValueError, match="count"):
+        bcsdf.fit_environment(sky, 0)
+
+
+def test_srbf_single_scattering_narrow_light_is_directional():
+    # For lambda -> 0 an SRBF light is a directional light of solid-angle weight pi lambda^2.
+    params = {"sigma_a": [0.2, 0.5, 1.2]}
+    wi = np.array([[np.sin(-0.2), np.cos(-0.2) * np.cos(2.9), np.cos(-0.2) * np.sin(2.9)]])
+    wo = np.array([[np.sin(0.3), np.cos(0.3), 0.0]])
+    lam = 2e-3
+    lights = {"directions": wi, "lambdas": np.array([lam]), "coefficients": np.ones((1, 3))}
+    value = bcsdf.srbf_single_scattering(params, lights, wo)
+    direct = bcsdf.evaluate("marschner", params, wi, wo)[0] * np.cos(-0.2) * np.pi * lam * lam
+    np.testing.assert_allclose(value[0], direct, rtol=0.05)
+    assert value.shape == (1, 3) and np.all(np.isfinite(value))
+    with pytest.raises(ValueError, match="lambdas"):
+        bcsdf.srbf_single_scattering(params, {"directions": wi, "coefficients": np.ones((1, 3))}, wo)
+
+
+def _read_exr(path, channels):
+    oiio = pytest.importorskip("OpenImageIO")
+    image = oiio.ImageInput.open(str(path))
+    assert image is not None, oiio.geterror()
+    names = list(image.spec().channelnames)
+    pixels = image.read_image("float")
+    image.close()
+    return pixels[..., [names.index(c) for c in channels]]
+
+
+def test_bake_writes_tables_that_match_direct_evaluation(tmp_path):
+    import json
+
+    params = {"sigma_a": [0.2, 0.5, 1.2]}
+    out = tmp_path / "lut"
+    manifest = bcsdf.bake(params, out, theta_samples=64, hair_count_samples=64, max_hair_count=20.0)
+    assert json.loads((out / "manifest.json").read_text()) == manifest
+    assert sorted(p.name for p in out.iterdir()) == sorted([t["file"] for t in manifest["tables"]] + ["manifest.json"])
+    tables = {t["name"]: t for t in manifest["tables"]}
+    aggregated = tables["aggregated_attenuation"]
+    assert aggregated["axes"][1] == {"name": "n", "range": [1.0, 20.0], "samples": 64, "image_axis": "y"}
+    values = _read_exr(out / aggregated["file"], aggregated["channels"])
+    assert values.shape == (64, 64, 9)
+    # Bilinear lookups between the nodes against the formulas evaluated from direct quadrature
+    # (Huang et al. 2025, Eq. 7 and 10; the budget of AggregatedBcsdf). Measured at 64 x 64 over n in
+    # [1, 20]: max 4.3e-3, mean 9e-5 (16 n samples: 0.094; 32: 0.014; 128: 1.6e-3).
+    rng = np.random.default_rng(7)
+    theta = rng.uniform(-1.5, 1.5, 40)
+    n = rng.uniform(1.0, 20.0, 40)
+    looked_up = bcsdf.lut_lookup(values, aggregated["axes"], np.stack([theta, n], axis=1))
+    direct = bcsdf.dual_scattering(params, theta, model="fiber_rtd", tolerance=1e-6)
+    a_f, a_b = direct["a_f"], direct["a_b"]
+    k = n[:, None]
+    expected = np.concatenate([a_f ** (k - 1), 0.6 * a_b * a_f * (1 - a_f ** (2 * k)) / (1 - a_f ** 2),
+                               np.maximum(0.0, 1 - a_f ** (k - 1) * (a_f + a_b))], axis=1)
+    error = np.abs(looked_up - expected).max()
+    assert error < 6e-3, error
+    # The table's own nodes are exact at n = 1: a_F^0 = 1.
+    np.testing.assert_allclose(values[0, :, 0:3], 1.0, rtol=0, atol=1e-6)
+    # Replacing an existing folder is atomic and leaves no staging folders behind.
+    bcsdf.bake(params, out, theta_samples=8, hair_count_samples=4, max_hair_count=2.0)
+    assert json.loads((out / "manifest.json").read_text())["tables"][0]["resolution"] == [8, 1]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["lut"]
+
+
+def test_bake_cli_bad_input_leaves_nothing(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"eta": 0.5}')
+    env = {"PYTHONPATH": "addon"}
+    run = subprocess.run([sys.executable, "-m", "hairlod", "bake", "--params", str(bad), "--out", str(tmp_path / "o")],
+                         capture_output=True, text=True, env=env)
+    assert run.returncode == 2 and run.stdout == ""
+    assert run.stderr.count("\n") == 1 and "eta" in run.stderr and "Traceback" not in run.stderr
+    run = subprocess.run([sys.executable, "-m", "hairlod", "bake", "--out", str(tmp_path / "o"),
+                          "--hair-count-samples", "1"], capture_output=True, text=True, env=env)
+    assert run.returncode == 2 and "hair_count_samples" in run.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json"]
+    run = subprocess.run([sys.executable, "-m", "hairlod", "bake", "--out", str(tmp_path / "o"), "--json"],
+                         capture_output=True, text=True, env=env)
+    assert run.returncode == 0, run.stderr
+    result = json.loads(run.stdout)
+    assert [t["name"] for t in result["tables"]] == ["fiber_attenuation", "dual_scattering", "aggregated_attenuation"]
+
+
+def test_bench_bcsdf_reports_every_tier(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    plot = tmp_path / "bench.png"
+    run = subprocess.run([sys.executable, "-m", "hairlod", "bench", "bcsdf", "--json", "--repeats", "1", "--plot",
+                          str(plot)], capture_output=True, text=True, env={"PYTHONPATH": "addon"})
+    assert run.returncode == 0, run.stderr
+    result = json.loads(run.stdout)
+    tiers = {(r["model"], r["tier"]) for r in result["rows"]}
+    assert ("marschner", "circular gaussian") in tiers and ("aggregated", "lut 64") in tiers
+    assert all(r["ns_per_eval"] > 0 for r in result["rows"])
+    assert plot.stat().st_size > 0 and sorted(p.name for p in tmp_path.iterdir()) == ["bench.png"]
+    bad = subprocess.run([sys.executable, "-m", "hairlod", "bench", "bcsdf", "--plot", str(tmp_path / "no" / "x.png")],
+                         capture_output=True, text=True, env={"PYTHONPATH": "addon"})
+    assert bad.returncode == 2 and bad.stdout == "" and "folder" in bad.stderr

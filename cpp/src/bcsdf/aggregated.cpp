@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include <glm/common.hpp>
 #include <glm/exponential.hpp>
 #include <tbb/parallel_for.h>
 
@@ -52,6 +53,22 @@ double hairs_crossed(double density, double ray_length, double hair_total, doubl
     if (!(std::isfinite(ray_length) && ray_length >= 0.0))
         throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
     return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
+}
+
+glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count) {
+    // sum_{i=1..n} a_F^(2i-1) = a_F (1 - a_F^(2n)) / (1 - a_F^2), n at a_F = 1.
+    glm::dvec3 a_1_plus;
+    for (int c = 0; c < 3; ++c) {
+        const double series =
+            a_f[c] < 1.0 ? a_f[c] * (1.0 - std::pow(a_f[c], 2.0 * hair_count)) / (1.0 - a_f[c] * a_f[c]) : hair_count;
+        a_1_plus[c] = kSideScatterWeight * a_b[c] * series;
+    }
+    return a_1_plus;
+}
+
+glm::dvec3 back_lobe_budget(const DualScatteringSample& seen, double hair_count) {
+    const glm::dvec3 direct = glm::pow(seen.a_f, glm::dvec3(hair_count - 1.0)) * (seen.a_f + seen.a_b);
+    return glm::max(glm::dvec3(0.0), 1.0 - direct);
 }
 
 DualScatteringSample AggregatedTable::sample(double theta_d) const {
@@ -138,14 +155,14 @@ LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& w
     // Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with
     // A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) = d_1+ a_B a_F (1 - a_F^(2n)) / (1 - a_F^2).
     if (std::abs(angles.phi) < 0.5 * kPi) {
-        glm::dvec3 a_1_plus;
-        for (int c = 0; c < 3; ++c) {
-            const double a_f = hair.a_f[c];
-            const double series = a_f < 1.0 ? a_f * (1.0 - std::pow(a_f, 2.0 * cluster_.hair_count)) / (1.0 - a_f * a_f)
-                                            : cluster_.hair_count;
-            a_1_plus[c] = kSideScatterWeight * hair.a_b[c] * series;
-        }
-        const glm::dvec3 a_b = a_1_plus + hair.A_1 + hair.A_3;
+        const glm::dvec3 a_1_plus = side_scatter_series(hair.a_f, hair.a_b, cluster_.hair_count);
+        // Energy bound (decision; Sec. 4 leaves it open): B^ returns light that the cluster's hairs
+        // scattered, so it carries at most what the direct lobes leave of the unit budget seen from
+        // wo, 1 - a_F^(n-1) (a_f + a_b) at theta_o (a_f + a_b is the fibre's furnace there, and B^'s
+        // lobe integrates to at most its attenuation). A lone lossless hair (n = 1) thus gets almost
+        // no B^; without the cap the lossless aggregate reached 1.10 at n = 1, theta_o = 0.
+        const glm::dvec3 budget = back_lobe_budget(table_->sample(dout.theta), cluster_.hair_count);
+        const glm::dvec3 a_b = glm::min(a_1_plus + hair.A_1 + hair.A_3, budget);
         const glm::dvec3 sigma_b2 = hair.sigma_b * hair.sigma_b;
         for (int c = 0; c < 3; ++c) {
             const double m = gaussian_longitudinal(di.theta, dout.theta, hair.delta_b[c],

@@ -5,7 +5,7 @@
 
 namespace hairlod::bcsdf {
 
-double log_bessel_i0(double x) {
+double log_scaled_bessel_i0(double x) {
     x = std::abs(x);
     if (x < 50.0) {
         // I_0(x) = sum_k (x^2 / 4)^k / (k!)^2; all terms are positive, so stop when they stop counting.
@@ -16,7 +16,7 @@ double log_bessel_i0(double x) {
             term *= q / (double(k) * double(k));
             sum += term;
         }
-        return std::log(sum);
+        return std::log(sum) - x;
     }
     double term = 1.0;
     double sum = 1.0;
@@ -25,8 +25,10 @@ double log_bessel_i0(double x) {
         term *= odd * odd / (8.0 * k * x);
         sum += term;
     }
-    return x - 0.5 * std::log(2.0 * std::numbers::pi * x) + std::log(sum);
+    return std::log(sum) - 0.5 * std::log(2.0 * std::numbers::pi * x);
 }
+
+double log_bessel_i0(double x) { return std::abs(x) + log_scaled_bessel_i0(x); }
 
 double deon_longitudinal(double sin_theta_i, double cos_theta_i, double sin_theta_o, double cos_theta_o, double v) {
     const double a = sin_theta_i * sin_theta_o / v;

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <string>
 
+#include <glm/common.hpp>
+#include <tbb/parallel_for.h>
+
 #include "hairlod/bcsdf/attenuation.h"
 #include "hairlod/bcsdf/fiber_frame.h"
 #include "hairlod/bcsdf/longitudinal.h"
@@ -25,6 +28,16 @@ struct Cubic {
 Cubic deflection_cubic(int p, double eta_prime) {
     const double c = std::asin(std::min(1.0, 1.0 / eta_prime));
     return {-8.0 * p * c / (kPi * kPi * kPi), 6.0 * p * c / kPi - 2.0};
+}
+
+constexpr int kLobeEnergySamples = 257;
+constexpr int kFurnaceSamples = 160;
+constexpr double kFurnaceMinEpsilon = 1e-7;
+
+// Distance of the k-th furnace sample from the pole, log-uniform in [1e-7, pi/2].
+double furnace_epsilon(int k) {
+    return kFurnaceMinEpsilon *
+           std::pow(0.5 * kPi / kFurnaceMinEpsilon, static_cast<double>(k) / (kFurnaceSamples - 1));
 }
 
 double smoothstep(double edge0, double edge1, double x) {
@@ -79,6 +92,65 @@ MarschnerBcsdf::MarschnerBcsdf(const HairParams& params, const MarschnerCaustic&
         throw Error("caustic_fade_range must be in (0, 2], got " + std::to_string(caustic_.fade_range));
     if (!(caustic_.max_window > 0.0 && caustic_.max_window <= 2.0))
         throw Error("caustic_max_window must be in (0, 2], got " + std::to_string(caustic_.max_window));
+
+    // Integral of N_p over phi = 1/2 integral of A_p over h (Xu et al. 2011, Eq. 9), the largest over
+    // the indices Eq. 24 sweeps, so that the furnace below bounds the eccentric fibre too.
+    const std::array<double, 3> weight{params_.weight_r, params_.weight_tt, params_.weight_trt};
+    std::vector<std::array<glm::dvec3, 3>> lobe_energy(kLobeEnergySamples);
+    for (int k = 0; k < kLobeEnergySamples; ++k) {
+        const double theta_d = 0.5 * kPi * k / (kLobeEnergySamples - 1);
+        for (double phi_h : {0.0, 0.25 * kPi, 0.5 * kPi}) {
+            const std::array<glm::dvec3, 4> a =
+                mean_fiber_attenuation(eccentric_eta(phi_h), params_.sigma_a, std::sin(theta_d), std::cos(theta_d));
+            for (int p = 0; p < 3; ++p) lobe_energy[k][p] = glm::max(lobe_energy[k][p], weight[p] * a[p]);
+        }
+    }
+    const auto lobe_energy_at = [&](int p, double theta_d) {
+        const double x = std::min(std::abs(theta_d), 0.5 * kPi) / (0.5 * kPi) * (kLobeEnergySamples - 1);
+        const int k = std::min(static_cast<int>(x), kLobeEnergySamples - 2);
+        const double t = x - k;
+        return (1.0 - t) * lobe_energy[k][p] + t * lobe_energy[k + 1][p];
+    };
+    // E(theta_o) = sum_p integral of M_p cos^2(theta_i) / cos^2(theta_d) (integral of N_p) d theta_i,
+    // integrated piecewise around each lobe so that narrow lobes (beta_m = 1e-3) are resolved.
+    const auto furnace = [&](double theta_o) {
+        glm::dvec3 e(0.0);
+        for (int p = 0; p < 3; ++p) {
+            const auto integrand = [&](double theta_i) {
+                const double c = std::max(std::cos(0.5 * (theta_o - theta_i)), kMinCos);
+                const double cos_i = std::cos(theta_i);
+                return (gaussian_longitudinal(theta_i, theta_o, lobes_[p].shift, lobes_[p].variance) * cos_i * cos_i /
+                        (c * c)) * lobe_energy_at(p, 0.5 * (theta_o - theta_i));
+            };
+            const double centre = std::clamp(2.0 * lobes_[p].shift - theta_o, -0.5 * kPi, 0.5 * kPi);
+            const double window = 10.0 * std::sqrt(lobes_[p].variance);
+            // Also cut at theta_d = 0, where the even attenuation table has a kink.
+            std::array<double, 6> cuts{-0.5 * kPi, std::max(-0.5 * kPi, centre - window), centre,
+                                       std::min(0.5 * kPi, centre + window), 0.5 * kPi, theta_o};
+            std::sort(cuts.begin(), cuts.end());
+            for (size_t k = 0; k + 1 < cuts.size(); ++k)
+                if (cuts[k + 1] > cuts[k]) e += integrate_adaptive(integrand, cuts[k], cuts[k + 1], {1e-6, 1e-6, 20});
+        }
+        return e;
+    };
+    for (int side = 0; side < 2; ++side) {
+        energy_[side].resize(kFurnaceSamples);
+        tbb::parallel_for(0, kFurnaceSamples, [&](int k) {
+            const double theta_o = (side == 0 ? -1.0 : 1.0) * (0.5 * kPi - furnace_epsilon(k));
+            energy_[side][k] = furnace(theta_o);
+        });
+    }
+}
+
+glm::dvec3 MarschnerBcsdf::energy(double theta_o) const {
+    // Inverse of furnace_epsilon, linear in log(epsilon).
+    const double epsilon = std::clamp(0.5 * kPi - std::abs(theta_o), kFurnaceMinEpsilon, 0.5 * kPi);
+    const double x = std::log(epsilon / kFurnaceMinEpsilon) / std::log(0.5 * kPi / kFurnaceMinEpsilon) *
+                     (kFurnaceSamples - 1);
+    const int k = std::min(static_cast<int>(x), kFurnaceSamples - 2);
+    const double t = x - k;
+    const std::vector<glm::dvec3>& table = energy_[theta_o < 0.0 ? 0 : 1];
+    return (1.0 - t) * table[k] + t * table[k + 1];
 }
 
 double MarschnerBcsdf::eccentric_eta(double phi_h) const {
@@ -141,14 +213,17 @@ glm::dvec3 MarschnerBcsdf::trt_azimuthal(double phi, double theta_d, double eta)
 }
 
 glm::dvec3 MarschnerBcsdf::azimuthal(int p, double phi, double theta_d, double eta) const {
-    if (p == 2) return trt_azimuthal(phi, theta_d, eta);
+    return p == 2 ? trt_azimuthal(phi, theta_d, eta) : root_azimuthal(p, phi, theta_d, eta);
+}
+
+glm::dvec3 MarschnerBcsdf::root_azimuthal(int p, double phi, double theta_d, double eta) const {
     const double eta_prime = bravais_index(eta, std::sin(theta_d), std::cos(theta_d));
     const AzimuthalRoots roots = marschner_roots(p, phi, eta_prime);
     glm::dvec3 n(0.0);
     for (int r = 0; r < roots.count; ++r) {
         const double gamma = roots.gamma[r];
         const double slope = std::abs(marschner_dphi_dgamma(p, gamma, eta_prime));
-        n += (0.5 * std::cos(gamma) / slope) * attenuation(p, std::sin(gamma), theta_d, eta);
+        n += (0.5 * std::cos(gamma) / std::max(slope, 1e-300)) * attenuation(p, std::sin(gamma), theta_d, eta);
     }
     return n;
 }
@@ -158,7 +233,8 @@ LobeValues MarschnerBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo
     const FiberDirection dout = fiber_direction(wo);
     const HalfAngles angles = half_angles(di, dout);
     const double cos_theta_d = std::max(std::cos(angles.theta_d), kMinCos);
-    const double inv_cos2 = 1.0 / (cos_theta_d * cos_theta_d);
+    const glm::dvec3 excess = glm::max(energy(dout.theta), glm::dvec3(1.0));
+    const glm::dvec3 inv_cos2 = 1.0 / (cos_theta_d * cos_theta_d * excess);
     const std::array<double, 3> weight{params_.weight_r, params_.weight_tt, params_.weight_trt};
 
     LobeValues out;

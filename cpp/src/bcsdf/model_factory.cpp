@@ -4,6 +4,7 @@
 
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/fiber_rtd.h"
+#include "hairlod/bcsdf/srbf.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {
@@ -11,17 +12,21 @@ namespace hairlod::bcsdf {
 BcsdfModel parse_bcsdf_model(std::string_view name) {
     if (name == "chiang") return BcsdfModel::Chiang;
     if (name == "marschner") return BcsdfModel::Marschner;
+    if (name == "marschner_cg") return BcsdfModel::MarschnerCircularGaussian;
     if (name == "fiber_rtd") return BcsdfModel::FiberRtd;
     if (name == "realtime") return BcsdfModel::Realtime;
     if (name == "aggregated") return BcsdfModel::Aggregated;
     throw Error("unknown BCSDF model '" + std::string(name) +
-                "' (expected chiang, marschner, fiber_rtd, realtime or aggregated)");
+                "' (expected chiang, marschner, marschner_cg, fiber_rtd, realtime or aggregated)");
 }
 
 std::unique_ptr<FiberBcsdf> make_bcsdf(BcsdfModel model, const HairParams& params, const ModelOptions& options) {
     switch (model) {
         case BcsdfModel::Chiang: return std::make_unique<ChiangBcsdf>(params);
         case BcsdfModel::Marschner: return std::make_unique<MarschnerBcsdf>(params, options.marschner_caustic);
+        case BcsdfModel::MarschnerCircularGaussian:
+            return std::make_unique<CircularGaussianMarschner>(MarschnerBcsdf(params, options.marschner_caustic),
+                                                               default_circular_gaussian_tables());
         case BcsdfModel::FiberRtd: return std::make_unique<FiberRtdBcsdf>(params);
         case BcsdfModel::Realtime: return std::make_unique<RealtimeBcsdf>(params, options.realtime_tt);
         case BcsdfModel::Aggregated: return std::make_unique<AggregatedBcsdf>(params, options.cluster);

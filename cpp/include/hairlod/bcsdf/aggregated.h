@@ -33,6 +33,13 @@ double cluster_density(double hair_total, double hair_radius, double major_axis,
 // Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)) hairs along a ray of length l, at least 1.
 double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
 
+// Eq. 10: A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) in closed form (n need not be an integer).
+glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count);
+
+// The energy budget of B^ seen from an inclination with per-hair terms `seen`:
+// max(0, 1 - a_F^(n-1) (a_f + a_b)) (see AggregatedBcsdf::eval_lobes).
+glm::dvec3 back_lobe_budget(const DualScatteringSample& seen, double hair_count);
+
 // The per-hair terms of the single fibre over theta_d in [-pi/2, pi/2] (uniform samples).
 struct AggregatedTable {
     std::vector<DualScatteringSample> samples;
@@ -52,7 +59,9 @@ public:
     AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
                     std::shared_ptr<const AggregatedTable> table = nullptr);
 
-    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Eq. 15.
+    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Eq. 15; B^'s
+    // attenuation is capped by the energy budget 1 - a_F^(n-1) (a_f + a_b) at theta_o, so the lossless model's
+    // white furnace stays <= 1 + 1e-3 for every n >= 1 and rho.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "aggregated"; }

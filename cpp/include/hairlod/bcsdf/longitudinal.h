@@ -8,6 +8,9 @@ namespace hairlod::bcsdf {
 // e^x / sqrt(2 pi x) * sum_k ((2k-1)!!)^2 / (k! (8x)^k) above; relative error below 1e-14.
 double log_bessel_i0(double x);
 
+// log(e^-x I_0(x)) for x >= 0, without the cancellation of log_bessel_i0(x) - x at large x.
+double log_scaled_bessel_i0(double x);
+
 // d'Eon et al. 2011 (Chiang et al. 2016, Sec. 4.1): the rough-cone lobe of variance v,
 //   M = exp(-sin_i sin_o / v) I_0(cos_i cos_o / v) / (2 v sinh(1 / v)),
 // evaluated in log space so that it is exact (normalised to 1e-12) for every v in [1e-7, 10].

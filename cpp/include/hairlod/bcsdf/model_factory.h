@@ -10,9 +10,10 @@
 
 namespace hairlod::bcsdf {
 
-enum class BcsdfModel { Chiang, Marschner, FiberRtd, Realtime, Aggregated };
+enum class BcsdfModel { Chiang, Marschner, MarschnerCircularGaussian, FiberRtd, Realtime, Aggregated };
 
-// Parses "chiang", "marschner", "fiber_rtd", "realtime", "aggregated"; throws Error naming the model otherwise.
+// Parses "chiang", "marschner", "marschner_cg" (its circular Gaussian tier), "fiber_rtd", "realtime",
+// "aggregated"; throws Error naming the model otherwise.
 BcsdfModel parse_bcsdf_model(std::string_view name);
 
 struct ModelOptions {

@@ -1,0 +1,203 @@
+"""Benchmarks: speed against error of the BCSDF tiers and of the LoD build and selection (DESIGN.md,
+"Speed and accuracy are reported together").
+
+bench_bcsdf() measures, for each model and tier, nanoseconds per evaluation (median of repeats,
+batched through the C++ core), relative error against a reference over a dense grid that includes
+grazing angles and phi -> 0, the white-furnace energy of a lossless fibre, and for baked lookup tables
+their bytes, lookup time and error against direct quadrature. No assertions: a benchmark, not a test.
+
+Relative error: |value - reference| / max(|reference|, 1e-2 * max |reference| over the grid), per
+channel, so that near-zero references do not dominate.
+"""
+
+import time
+
+import numpy as np
+
+from . import _core, bcsdf
+
+BROWN = {"sigma_a": [0.2, 0.5, 1.2]}
+LOSSLESS = {"sigma_a": 0.0}
+
+
+def _grid(seed):
+    thetas = np.array([-0.5 * np.pi + 1e-3, -1.2, -0.6, 0.0, 0.6, 1.2, 0.5 * np.pi - 1e-3])
+    phis = np.concatenate([np.linspace(-np.pi, np.pi, 24, endpoint=False) + np.pi / 24, [1e-9, np.pi]])
+    ti, to, ph = (a.ravel() for a in np.meshgrid(thetas, thetas, phis, indexing="ij"))
+    rng = np.random.default_rng(seed)
+    ti = np.concatenate([ti, np.arcsin(rng.uniform(-1, 1, 2000))])
+    to = np.concatenate([to, np.arcsin(rng.uniform(-1, 1, 2000))])
+    ph = np.concatenate([ph, rng.uniform(-np.pi, np.pi, 2000)])
+
+    def direction(theta, phi):
+        return np.stack([np.sin(theta), np.cos(theta) * np.cos(phi), np.cos(theta) * np.sin(phi)], axis=1)
+
+    return direction(ti, np.zeros_like(ti)).astype(np.float32), direction(to, ph).astype(np.float32)
+
+
+def _relative_error(value, reference):
+    value = np.asarray(value, dtype=np.float64)
+    reference = np.asarray(reference, dtype=np.float64)
+    floor = 1e-2 * np.abs(reference).max(axis=0, keepdims=True)
+    error = np.abs(value - reference) / np.maximum(np.abs(reference), np.maximum(floor, 1e-300))
+    return float(error.max()), float(error.mean())
+
+
+def _ns_per_item(function, items, repeats):
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return float(np.median(times)) / items * 1e9
+
+
+def _energy(model):
+    # The lossless fibre's white furnace at a few inclinations, grazing included (max |E - 1| and max E),
+    # with the model's default inputs.
+    values = [bcsdf.white_furnace(model, LOSSLESS, wo=(np.sin(t), np.cos(t), 0.0), tolerance=1e-3)[0]
+              for t in (0.0, 1.0, 1.5)]
+    return float(max(abs(v - 1.0) for v in values)), float(max(values))
+
+
+def _chiang_brute_force(wi, wo, nodes=64):
+    # Far field = 1/2 the integral over h of the near field; Gauss-Legendre in gamma = asin(h).
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    gamma = 0.5 * np.pi * x
+    total = np.zeros((len(wi), 3))
+    for g, weight in zip(gamma, w):
+        h = np.full(len(wi), np.sin(g), dtype=np.float32)
+        total += (0.5 * 0.5 * np.pi * weight * np.cos(g)) * bcsdf.evaluate("chiang", BROWN, wi, wo, h=h)
+    return total
+
+
+def _lut_rows(resolutions, repeats):
+    theta = np.linspace(-1.55, 1.55, 257)
+    direct = bcsdf.dual_scattering(BROWN, theta, model="fiber_rtd", tolerance=1e-6)
+    reference = np.concatenate([direct["a_f"], direct["a_b"]], axis=1)
+    rows = []
+    for resolution in resolutions:
+        tables = {t["name"]: t for t in _core.bcsdf_bake(bcsdf.as_params(BROWN), theta_samples=resolution,
+                                                          hair_count_samples=resolution, max_hair_count=64.0)}
+        table = tables["dual_scattering"]
+        axes = [dict(a, range=list(a["range"])) for a in table["axes"]]
+        looked_up = bcsdf.lut_lookup(table["values"], axes, theta[:, None])[:, 0:6]
+        max_error, mean_error = _relative_error(looked_up, reference)
+        ns = _ns_per_item(lambda: bcsdf.lut_lookup(table["values"], axes, theta[:, None]), len(theta), repeats)
+        rows.append({"model": "aggregated", "tier": f"lut {resolution}", "ns_per_eval": ns, "max_rel_error": max_error,
+                     "mean_rel_error": mean_error, "energy_error": None,
+                     "bytes": int(sum(t["values"].nbytes for t in tables.values())),
+                     "reference": "a_f, a_b by direct quadrature (numpy bilinear lookup)"})
+    return rows
+
+
+def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128)):
+    """Rows of {model, tier, ns_per_eval, max_rel_error, mean_rel_error, energy_error, bytes, reference}."""
+    wi, wo = _grid(seed)
+    count = len(wi)
+    rows = []
+
+    def row(model, tier, values, reference, reference_name, ns, energy):
+        max_error, mean_error = _relative_error(values, reference) if reference is not None else (None, None)
+        rows.append({"model": model, "tier": tier, "ns_per_eval": ns, "max_rel_error": max_error,
+                     "mean_rel_error": mean_error, "energy_error": energy[0], "max_energy": energy[1], "bytes": None,
+                     "reference": reference_name})
+
+    def run(model, **inputs):
+        values = bcsdf.evaluate(model, BROWN, wi, wo, **inputs)
+        ns = _ns_per_item(lambda: bcsdf.evaluate(model, BROWN, wi, wo, **inputs), count, repeats)
+        return values, ns
+
+    marschner, ns = run("marschner")
+    row("marschner", "exact", marschner, None, "itself (roots of Eq. 10)", ns, _energy("marschner"))
+    values, ns = run("marschner_cg")
+    row("marschner", "circular gaussian", values, marschner, "marschner exact", ns, _energy("marschner_cg"))
+    for tt in ("tafuri", "karis"):
+        values, ns = run("realtime", tt=tt)
+        # white_furnace takes no model inputs: the furnace is the default (tafuri) variant's.
+        energy = _energy("realtime") if tt == "tafuri" else (None, None)
+        row("marschner", f"realtime ({tt})", values, marschner, "marschner exact", ns, energy)
+    values, ns = run("chiang")
+    row("chiang", "exact", values, _chiang_brute_force(wi, wo), "64-node quadrature over h of the near field", ns,
+        _energy("chiang"))
+    values, ns = run("fiber_rtd")
+    row("fiber_rtd", "exact", values, None, "itself", ns, _energy("fiber_rtd"))
+    values, ns = run("aggregated", hair_count=4.0, density=0.5)
+    row("aggregated", "exact (n = 4, rho = 0.5)", values, None, "itself", ns, _energy("aggregated"))
+    rows.extend(_lut_rows(lut_resolutions, repeats))
+    return {"pairs": count, "repeats": repeats, "rows": rows}
+
+
+def plot_bcsdf(result, path):
+    """ns per evaluation against max relative error, one point per tier (matplotlib, PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots(figsize=(7, 4.5))
+    for r in result["rows"]:
+        if r["max_rel_error"] is None:
+            continue
+        axes.scatter(r["ns_per_eval"], max(r["max_rel_error"], 1e-8))
+        axes.annotate(f"{r['model']}: {r['tier']}", (r["ns_per_eval"], max(r["max_rel_error"], 1e-8)), fontsize=7)
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("ns per evaluation")
+    axes.set_ylabel("max relative error")
+    axes.set_title("BCSDF tiers: speed against error")
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
+__all__ = ["bench_bcsdf", "plot_bcsdf"]
+
+
+def synthetic_hair(strands, points, seed=7):
+    """Wavy strands hanging from a unit cylinder-capped head (the C++ benchmark's shape)."""
+    from . import Strands
+
+    rng = np.random.default_rng(seed)
+    azimuth, height = rng.uniform(0, 2 * np.pi, strands), rng.uniform(0, 1, strands)
+    roots = np.stack([np.cos(azimuth), np.sin(azimuth), height], axis=1)
+    t = np.linspace(0, 1, points)
+    wave = np.stack([0.05 * np.sin(12 * t[None, :] + azimuth[:, None]), np.zeros((strands, points)),
+                     -np.broadcast_to(t, (strands, points))], axis=2)
+    positions = (roots[:, None, :] * (1 + 0.3 * t[None, :, None]) + wave).astype(np.float32).reshape(-1, 3)
+    return Strands.from_counts(positions, np.full(strands, points), np.full(strands * points, 0.001, np.float32))
+
+
+def bench_lod(strands=100_000, points=32, guides=256, levels=6, control_points=16, width_px=2.0, frames=200):
+    """LoD build stages, selection time per frame at three distances, memory and quality per level
+    on synthetic hair. No assertions: a benchmark, not a test."""
+    from . import lod
+    from .camera import look_at, perspective
+
+    hair = synthetic_hair(strands, points)
+    start = time.perf_counter()
+    asset = lod.build_lod(hair, guides=guides, levels=levels, control_points=control_points)
+    build_seconds = time.perf_counter() - start
+    projection = perspective(np.radians(40), 16 / 9, 0.05, 100)
+    selection = {}
+    for distance in (3.0, 6.0, 30.0):
+        view = look_at((distance, 0, 0), (0, 0, -0.5))
+        seconds = asset._core.time_selection(view.astype(np.float32), projection.astype(np.float32),
+                                             (1920.0, 1080.0), width_px, frames)
+        selected = asset.select(view, projection, (1920, 1080), width_px).levels
+        selection[f"distance_{distance:g}"] = {"seconds_per_frame": seconds, "mean_level": float(selected.mean())}
+    return {
+        "component": "lod",
+        "strands": strands,
+        "points_per_strand": points,
+        "guides": asset.guide_count,
+        "clusters": asset.cluster_count,
+        "control_points": control_points,
+        "built_levels": len(asset.levels) + 1,
+        "build_seconds": build_seconds,
+        "stages": asset.timings,
+        "selection": selection,
+        "memory_ratio": asset.memory_bytes / lod.strand_bytes(hair),
+        "levels": lod.level_report(asset),
+        "area_ratios": asset.area_ratios,
+    }
