@@ -24,6 +24,8 @@ def registered():
         "generate strands": hasattr(bpy.types, "HAIRLOD_OT_generate_strands"),
         "hair mesh panel": hasattr(bpy.types, "VIEW3D_PT_hairlod_hair_mesh"),
         "strand settings": hasattr(bpy.types.Object, "hairlod_strands"),
+        "preview handler": any(handler.__module__.startswith("hairlod.")
+                               for handler in bpy.app.handlers.depsgraph_update_post),
         "import menu": len(hairlod_menu_entries(bpy.types.TOPBAR_MT_file_import)) == 1,
         "export menu": len(hairlod_menu_entries(bpy.types.TOPBAR_MT_file_export)) == 1,
     }

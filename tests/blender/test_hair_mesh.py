@@ -225,3 +225,50 @@ def test_panel_is_registered_and_recognises_hair_meshes(empty_scene, addon):
     scalp = grid_object()
     assert not is_hair_mesh_object(scalp)
     assert is_hair_mesh_object(left_half_hair_mesh())
+
+
+def preview_points(obj):
+    curves = bpy.data.objects[f"{obj.name}_preview"].data
+    points = np.empty((len(curves.points), 3), np.float32)
+    curves.attributes["position"].data.foreach_get("vector", points.ravel())
+    return points
+
+
+def test_live_preview_follows_edits_capped_and_goes_away(empty_scene, addon):
+    from hairlod.blender.hair_mesh_preview import PREVIEW_STRAND_LIMIT
+
+    obj = left_half_hair_mesh()
+    settings = obj.hairlod_strands
+    settings.count, settings.vertices = 5000, "5"
+    assert "Scalp_hair_mesh_preview" not in bpy.data.objects
+    settings.live_preview = True
+    preview = bpy.data.objects["Scalp_hair_mesh_preview"]
+    assert len(preview.data.curves) == PREVIEW_STRAND_LIMIT and len(preview.data.points) == PREVIEW_STRAND_LIMIT * 5
+    before = preview_points(obj)
+
+    # An update that changes none of the inputs keeps the preview object.
+    pointer = preview.as_pointer()
+    bpy.context.view_layer.update()
+    obj.update_tag()
+    bpy.context.view_layer.update()
+    assert bpy.data.objects["Scalp_hair_mesh_preview"].as_pointer() == pointer
+
+    # Raising the top layer lengthens the strands.
+    layer = vertex_attribute(obj, "hair_layer")
+    positions = np.empty((len(obj.data.vertices), 3), np.float32)
+    obj.data.vertices.foreach_get("co", positions.ravel())
+    positions[layer == layer.max(), 2] += 1.0
+    obj.data.vertices.foreach_set("co", positions.ravel())
+    obj.data.update()
+    bpy.context.view_layer.update()
+    after = preview_points(obj)
+    assert after.shape == before.shape and after[:, 2].max() > before[:, 2].max() + 0.5
+
+    # So does a transform, and the preview keeps its single object.
+    obj.location.z = 2.0
+    bpy.context.view_layer.update()
+    assert bpy.data.objects["Scalp_hair_mesh_preview"].matrix_world.translation.z == 2.0
+    assert [o.name for o in bpy.data.objects if o.type == 'CURVES'] == ["Scalp_hair_mesh_preview"]
+
+    settings.live_preview = False
+    assert "Scalp_hair_mesh_preview" not in bpy.data.objects and len(bpy.data.hair_curves) == 0

@@ -1,7 +1,7 @@
 """Operators that make hair meshes from scalp faces and grow strands from them."""
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
 
 # Strand vertex counts the generator accepts: 2^e + 1 (and 2, a straight segment).
 _VERTEX_COUNTS = (2, 3, 5, 9, 17, 33, 65, 129)
@@ -229,8 +229,19 @@ class StrandSettings:
         return operations
 
 
+def _live_preview_toggled(settings, context):
+    from .hair_mesh_preview import refresh_preview
+
+    refresh_preview(settings.id_data)
+
+
 class HAIRLOD_PG_strand_settings(StrandSettings, bpy.types.PropertyGroup):
-    pass
+    live_preview: BoolProperty(
+        name="Live Preview",
+        description="Regenerate a preview of at most a few thousand strands whenever the hair mesh changes",
+        default=False,
+        update=_live_preview_toggled,
+    )
 
 
 class HAIRLOD_OT_generate_strands(StrandSettings, bpy.types.Operator):
@@ -252,7 +263,6 @@ class HAIRLOD_OT_generate_strands(StrandSettings, bpy.types.Operator):
 
     def execute(self, context):
         from ..hairmesh import generate_strands
-        from .curves import strands_to_curves
         from .hair_mesh import hair_mesh_from_object
 
         source = context.active_object
@@ -264,39 +274,46 @@ class HAIRLOD_OT_generate_strands(StrandSettings, bpy.types.Operator):
             strands = generate_strands(hair_mesh, count=self.count, vertices=int(self.vertices), styling=self.styling(),
                                        seed=self.seed, lod=self.lod, subdivision=self.subdivision)
             window_manager.progress_update(2)
-            name = f"{source.name}_strands"
-            previous = bpy.data.objects.get(name)
-            if previous is not None and previous.type != 'CURVES':
-                previous = None  # someone else's object: keep it, the new one gets a numbered name
-            collection = previous.users_collection[0] if previous and previous.users_collection else context.collection
-            obj = strands_to_curves(strands, name, collection)
+            replace_generated_curves(source, strands, f"{source.name}_strands", context.collection)
         except (TypeError, ValueError) as error:
             self.report({'ERROR'}, f"Cannot generate strands: {error}")
             return {'CANCELLED'}
         finally:
             window_manager.progress_end()
 
-        obj.matrix_world = source.matrix_world
-        if previous is not None:
-            _take_place_of(obj, previous)
         source.hairlod_strands.copy_settings(self)
         self.report({'INFO'}, f"Generated {len(strands):,} strands, {strands.point_count:,} points")
         return {'FINISHED'}
 
 
-def _take_place_of(obj, previous):
-    """Gives ``obj`` the name, materials and collections of ``previous``, then deletes ``previous``."""
+def replace_generated_curves(source, strands, name, collection):
+    """Writes ``strands`` into a new Curves object named ``name`` placed like ``source``. An earlier
+    Curves object of that name passes on its materials and collections and is deleted; without one
+    the new object goes to ``collection``. Another kind of object of that name is left alone (the
+    new one gets a numbered name)."""
+    from .curves import strands_to_curves
+
+    previous = bpy.data.objects.get(name)
+    if previous is not None and previous.type != 'CURVES':
+        previous = None
+    if previous is not None and previous.users_collection:
+        collection = previous.users_collection[0]
+    obj = strands_to_curves(strands, name, collection)
+    obj.matrix_world = source.matrix_world
+    if previous is None:
+        return obj
     for material in previous.data.materials:
         obj.data.materials.append(material)
-    for collection in previous.users_collection:
-        if obj.name not in collection.objects:
-            collection.objects.link(obj)
+    for other in previous.users_collection:
+        if obj.name not in other.objects:
+            other.objects.link(obj)
     name, data_name = previous.name, previous.data.name
     old_data = previous.data
     bpy.data.objects.remove(previous)
     if old_data.users == 0:
         bpy.data.hair_curves.remove(old_data)
     obj.name, obj.data.name = name, data_name
+    return obj
 
 
 def register_properties():

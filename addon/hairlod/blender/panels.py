@@ -56,4 +56,6 @@ class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):
             block = column.column(align=True)
             for key in group:
                 block.prop(settings, key)
-        layout.operator(HAIRLOD_OT_generate_strands.bl_idname, icon='OUTLINER_OB_CURVES')
+        row = layout.row(align=True)
+        row.operator(HAIRLOD_OT_generate_strands.bl_idname, icon='OUTLINER_OB_CURVES')
+        row.prop(settings, "live_preview", toggle=True, icon='HIDE_OFF')
