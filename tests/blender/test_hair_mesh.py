@@ -263,6 +263,12 @@ def test_live_preview_follows_edits_capped_and_goes_away(empty_scene, addon):
     bpy.context.view_layer.update()
     after = preview_points(obj)
     assert after.shape == before.shape and after[:, 2].max() > before[:, 2].max() + 0.5
+    assert bpy.data.objects["Scalp_hair_mesh_preview"].as_pointer() == pointer  # rewritten in place
+
+    # Another vertex count changes the curves' sizes: a new preview object replaces the old one.
+    settings.vertices = "9"
+    bpy.context.view_layer.update()
+    assert len(bpy.data.objects["Scalp_hair_mesh_preview"].data.points) == PREVIEW_STRAND_LIMIT * 9
 
     # So does a transform, and the preview keeps its single object.
     obj.location.z = 2.0
@@ -272,3 +278,20 @@ def test_live_preview_follows_edits_capped_and_goes_away(empty_scene, addon):
 
     settings.live_preview = False
     assert "Scalp_hair_mesh_preview" not in bpy.data.objects and len(bpy.data.hair_curves) == 0
+
+
+def test_live_preview_follows_edit_mode_edits(empty_scene, addon):
+    obj = left_half_hair_mesh()
+    obj.hairlod_strands.live_preview = True
+    before = preview_points(obj)
+    bpy.ops.object.mode_set(mode='EDIT')
+    editable = bmesh.from_edit_mesh(obj.data)
+    layer = editable.verts.layers.int["hair_layer"]
+    top = max(vertex[layer] for vertex in editable.verts)
+    for vertex in editable.verts:
+        if vertex[layer] == top:
+            vertex.co.z += 1.0
+    bmesh.update_edit_mesh(obj.data)
+    bpy.context.view_layer.update()
+    assert obj.mode == 'EDIT'
+    assert preview_points(obj)[:, 2].max() > before[:, 2].max() + 0.5

@@ -35,34 +35,44 @@ def hair_mesh_from_object(obj) -> HairMesh:
     if obj is None or obj.type != 'MESH':
         kind = "nothing" if obj is None else f"'{obj.name}' ({obj.type})"
         raise TypeError(f"expected a hair-mesh Mesh object, got {kind}")
-    if obj.mode == 'EDIT':
-        obj.update_from_editmode()
-    mesh = obj.data
+    if obj.mode != 'EDIT':
+        return _hair_mesh_from_mesh(obj.data, obj.name)
+    # In edit mode a mesh's attribute arrays read as empty, and neither to_mesh() nor the evaluated
+    # mesh is up to date: write the edit mesh back and read a copy, which is not in edit mode.
+    obj.update_from_editmode()
+    copy = obj.data.copy()
+    try:
+        return _hair_mesh_from_mesh(copy, obj.name)
+    finally:
+        bpy.data.meshes.remove(copy)
+
+
+def _hair_mesh_from_mesh(mesh, name):
     vertex_count = len(mesh.vertices)
-    layer = _read_int_attribute(obj, LAYER_ATTRIBUTE)
-    root = _read_int_attribute(obj, ROOT_ATTRIBUTE)
+    layer = _read_int_attribute(mesh, name, LAYER_ATTRIBUTE)
+    root = _read_int_attribute(mesh, name, ROOT_ATTRIBUTE)
 
     if layer.min() < 0:
-        raise ValueError(f"'{obj.name}': {LAYER_ATTRIBUTE} is negative at vertex {int(np.argmin(layer))}")
+        raise ValueError(f"'{name}': {LAYER_ATTRIBUTE} is negative at vertex {int(np.argmin(layer))}")
     layer_count = int(layer.max()) + 1
     if layer_count < 2:
-        raise ValueError(f"'{obj.name}': all vertices are on the root layer; a hair mesh needs at least one more layer")
+        raise ValueError(f"'{name}': all vertices are on the root layer; a hair mesh needs at least one more layer")
     bad_root = (root < 0) | (root >= vertex_count)
     bad_root[~bad_root] = layer[root[~bad_root]] != 0
     if bad_root.any():
         vertex = int(np.argmax(bad_root))
-        raise ValueError(f"'{obj.name}': vertex {vertex} has {ROOT_ATTRIBUTE} {int(root[vertex])}, "
+        raise ValueError(f"'{name}': vertex {vertex} has {ROOT_ATTRIBUTE} {int(root[vertex])}, "
                          "which is not a root-layer vertex")
     root_vertices = np.flatnonzero(layer == 0)
     if (root[root_vertices] != root_vertices).any():
         vertex = int(root_vertices[np.argmax(root[root_vertices] != root_vertices)])
-        raise ValueError(f"'{obj.name}': root-layer vertex {vertex} has {ROOT_ATTRIBUTE} {int(root[vertex])}, "
+        raise ValueError(f"'{name}': root-layer vertex {vertex} has {ROOT_ATTRIBUTE} {int(root[vertex])}, "
                          "not its own index")
     roots_per_layer = len(root_vertices)
     layer_sizes = np.bincount(layer, minlength=layer_count)
     if (layer_sizes != roots_per_layer).any():
         wrong = int(np.argmax(layer_sizes != roots_per_layer))
-        raise ValueError(f"'{obj.name}': layer {wrong} has {layer_sizes[wrong]} vertices, "
+        raise ValueError(f"'{name}': layer {wrong} has {layer_sizes[wrong]} vertices, "
                          f"the root layer has {roots_per_layer}")
 
     # Hair-mesh vertex index of each root: its rank among the root-layer vertices.
@@ -72,7 +82,7 @@ def hair_mesh_from_object(obj) -> HairMesh:
     uses = np.bincount(slot, minlength=layer_count * roots_per_layer)
     if (uses != 1).any():
         twice = int(np.argmax(uses > 1))
-        raise ValueError(f"'{obj.name}': layer {twice // roots_per_layer} has two vertices for root vertex "
+        raise ValueError(f"'{name}': layer {twice // roots_per_layer} has two vertices for root vertex "
                          f"{int(root_vertices[twice % roots_per_layer])}")
 
     positions = np.empty((vertex_count, 3), np.float32)
@@ -92,7 +102,7 @@ def hair_mesh_from_object(obj) -> HairMesh:
     if len(order):
         is_root_face[order] = np.add.reduceat(off_root, loop_starts[order]) == 0
     if not is_root_face.any():
-        raise ValueError(f"'{obj.name}': no face has all its vertices on the root layer")
+        raise ValueError(f"'{name}': no face has all its vertices on the root layer")
     root_sizes = loop_totals[is_root_face]
     root_loop_count = int(root_sizes.sum())
     # Loop indices of the root faces in face order: each face's start plus 0 .. size - 1.
@@ -116,7 +126,7 @@ def hair_mesh_from_object(obj) -> HairMesh:
         return HairMesh(layers.reshape(layer_count, roots_per_layer, 3), root_sizes,
                         rank[loop_vertices[root_loops]].astype(np.int32), uv, w)
     except ValueError as error:
-        raise ValueError(f"'{obj.name}': {error}") from None
+        raise ValueError(f"'{name}': {error}") from None
 
 
 def object_from_hair_mesh(hair_mesh: HairMesh, name, collection=None):
@@ -171,12 +181,12 @@ def object_from_hair_mesh(hair_mesh: HairMesh, name, collection=None):
     return obj
 
 
-def _read_int_attribute(obj, name):
-    attribute = obj.data.attributes.get(name)
+def _read_int_attribute(mesh, object_name, name):
+    attribute = mesh.attributes.get(name)
     if attribute is None or attribute.domain != 'POINT' or attribute.data_type != 'INT':
-        raise ValueError(f"'{obj.name}' has no integer vertex attribute '{name}': "
+        raise ValueError(f"'{object_name}' has no integer vertex attribute '{name}': "
                          "it is not a hair mesh (make one with New Hair Mesh from Faces)")
-    values = np.empty(len(obj.data.vertices), np.int32)
+    values = np.empty(len(mesh.vertices), np.int32)
     attribute.data.foreach_get("value", values)
     return values.astype(np.int64)
 

@@ -113,6 +113,12 @@ class HAIRLOD_OT_hair_mesh_from_faces(bpy.types.Operator):
         return {'FINISHED'}
 
 
+def _tag_owner(settings, context):
+    # Tagging the hair-mesh object that holds the settings lets the live preview handler see the change.
+    if isinstance(settings.id_data, bpy.types.Object):
+        settings.id_data.update_tag()
+
+
 class StrandSettings:
     """Strand generation settings: the Generate Strands operator's properties, also kept on each
     hair-mesh object (``Object.hairlod_strands``) so that the sidebar shows and edits them."""
@@ -123,18 +129,21 @@ class StrandSettings:
         default=10000,
         min=1,
         soft_max=200000,
+        update=_tag_owner,
     )
     vertices: EnumProperty(
         name="Vertices",
         description="Vertices per strand at full level of detail",
         items=[(str(count), str(count), f"{count} vertices per strand") for count in _VERTEX_COUNTS],
         default="17",
+        update=_tag_owner,
     )
     seed: IntProperty(
         name="Seed",
         description="Seed of every random choice (roots, per-strand styling)",
         default=0,
         min=0,
+        update=_tag_owner,
     )
     subdivision: IntProperty(
         name="Subdivision",
@@ -142,6 +151,7 @@ class StrandSettings:
         default=0,
         min=0,
         max=3,
+        update=_tag_owner,
     )
     lod: FloatProperty(
         name="Level of Detail",
@@ -150,6 +160,7 @@ class StrandSettings:
         min=0.001,
         max=1.0,
         subtype='FACTOR',
+        update=_tag_owner,
     )
     curl_radius: FloatProperty(
         name="Curl Radius",
@@ -157,12 +168,14 @@ class StrandSettings:
         default=0.0,
         min=0.0,
         unit='LENGTH',
+        update=_tag_owner,
     )
     curl_frequency: FloatProperty(
         name="Curl Frequency",
         description="Curl turns per unit of strand length",
         default=10.0,
         min=0.0,
+        update=_tag_owner,
     )
     wave_amplitude: FloatProperty(
         name="Wave Amplitude",
@@ -170,12 +183,14 @@ class StrandSettings:
         default=0.0,
         min=0.0,
         unit='LENGTH',
+        update=_tag_owner,
     )
     wave_frequency: FloatProperty(
         name="Wave Frequency",
         description="Wave periods per unit of strand length",
         default=3.0,
         min=0.0,
+        update=_tag_owner,
     )
     clump_amount: FloatProperty(
         name="Clump",
@@ -184,6 +199,7 @@ class StrandSettings:
         min=0.0,
         max=1.0,
         subtype='FACTOR',
+        update=_tag_owner,
     )
     frizz_amplitude: FloatProperty(
         name="Frizz",
@@ -191,12 +207,14 @@ class StrandSettings:
         default=0.0,
         min=0.0,
         unit='LENGTH',
+        update=_tag_owner,
     )
     frizz_frequency: FloatProperty(
         name="Frizz Frequency",
         description="Frizz noise cells per unit of strand length",
         default=20.0,
         min=0.0,
+        update=_tag_owner,
     )
     trim_amount: FloatProperty(
         name="Trim",
@@ -205,6 +223,7 @@ class StrandSettings:
         min=0.0,
         max=1.0,
         subtype='FACTOR',
+        update=_tag_owner,
     )
 
     def copy_settings(self, source):

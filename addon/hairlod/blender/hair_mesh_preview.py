@@ -13,6 +13,9 @@ PREVIEW_STRAND_LIMIT = 2000
 # Per hair-mesh object name, the inputs of its current preview. Reading an edit-mode mesh tags it
 # for an update, so without this the handler would regenerate again and again for one edit.
 _preview_inputs = {}
+# Building curves on Blender < 4.0 applies a modifier, which evaluates the depsgraph and calls the
+# handler again in the middle of the write; those nested calls must do nothing.
+_writing = False
 
 
 def preview_name(obj):
@@ -34,6 +37,7 @@ def refresh_preview(obj):
         return
 
     from ..hairmesh import generate_strands
+    from .curves import rewrite_strand_data
     from .hair_mesh import hair_mesh_from_object
     from .hair_mesh_operators import StrandSettings, replace_generated_curves
 
@@ -44,22 +48,34 @@ def refresh_preview(obj):
     inputs = (hair_mesh.layers.tobytes(), hair_mesh.face_vertices.tobytes(), hair_mesh.face_sizes.tobytes(),
               tuple(obj.matrix_world.col[i][j] for i in range(4) for j in range(4)),
               tuple(getattr(settings, key) for key in StrandSettings.__annotations__))
-    if _preview_inputs.get(obj.name) == inputs:
+    # Undo can take the preview away without changing the inputs.
+    preview = bpy.data.objects.get(preview_name(obj))
+    if _preview_inputs.get(obj.name) == inputs and preview is not None:
         return
-    _preview_inputs[obj.name] = inputs
+    global _writing
+    _writing = True
     try:
         strands = generate_strands(hair_mesh, count=min(settings.count, PREVIEW_STRAND_LIMIT),
                                    vertices=int(settings.vertices), styling=settings.styling(), seed=settings.seed,
                                    lod=settings.lod, subdivision=settings.subdivision)
-    except ValueError as error:
+        # Rewriting in place keeps edits fast, and is the only way in edit mode before Blender 4.0.
+        if preview is not None and preview.type == 'CURVES' and rewrite_strand_data(preview, strands):
+            preview.matrix_world = obj.matrix_world
+        else:
+            collection = obj.users_collection[0] if obj.users_collection else bpy.context.scene.collection
+            replace_generated_curves(obj, strands, preview_name(obj), collection)
+    except (ValueError, RuntimeError) as error:
         print(f"hairlod: no preview for '{obj.name}': {error}")
         return
-    collection = obj.users_collection[0] if obj.users_collection else bpy.context.scene.collection
-    replace_generated_curves(obj, strands, preview_name(obj), collection)
+    finally:
+        _writing = False
+    _preview_inputs[obj.name] = inputs
 
 
 @persistent
 def update_previews(scene, depsgraph):
+    if _writing:
+        return
     from .hair_mesh import is_hair_mesh_object
 
     # Any update counts (settings edits tag the object too); refresh_preview skips unchanged inputs.
