@@ -106,8 +106,9 @@ def strands_to_curves(strands: Strands, name, collection=None):
 
 def rewrite_strand_data(obj, strands: Strands):
     """Overwrites positions, radius and attributes of a Curves object made by ``strands_to_curves``
-    with those of ``strands``, which must have the same curve sizes and attributes: unlike building
-    new curves, this works in any mode and is cheap. Returns False, changing nothing, otherwise."""
+    with those of ``strands``, which must have the same curve sizes and the same attribute names,
+    types and domains (Blender's own attributes aside). Unlike building new curves, this works in any
+    mode and is cheap. Returns False, changing nothing, when the layouts differ."""
     curves = obj.data
     if len(curves.curves) != len(strands) or len(curves.points) != strands.point_count:
         return False
@@ -116,10 +117,10 @@ def rewrite_strand_data(obj, strands: Strands):
     if not np.array_equal(offsets, strands.offsets) or "radius" not in curves.attributes:
         return False
     attributes = {name: _attribute_layout(strands, name) for name in strands.attribute_names()}
-    for name, (data_type, domain, _, _) in attributes.items():
-        existing = curves.attributes.get(name)
-        if existing is None or (existing.data_type, existing.domain) != (data_type, domain):
-            return False
+    existing = {attribute.name: (attribute.data_type, attribute.domain) for attribute in curves.attributes
+                if attribute.name not in _BUILTIN_ATTRIBUTES and not attribute.name.startswith(".")}
+    if existing != {name: (data_type, domain) for name, (data_type, domain, _, _) in attributes.items()}:
+        return False
     curves.attributes["position"].data.foreach_set("vector", strands.points.ravel())
     curves.attributes["radius"].data.foreach_set("value", np.ascontiguousarray(strands.radius))
     for name, (_, _, prop, values) in attributes.items():
