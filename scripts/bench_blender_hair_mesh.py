@@ -2,7 +2,9 @@
 
 Run: blender -b --factory-startup --python scripts/bench_blender_hair_mesh.py [-- --count 100000 --vertices 17]
 Prints one JSON object: median seconds of 3 runs of the whole operator, of the strand generation
-alone and of reading the hair mesh object, on a hair mesh extruded from a quarter of a sphere.
+alone and of reading the hair mesh object, on a hair mesh extruded from a quarter of a sphere; and
+of one live preview update after a vertex edit (in-place rewrite), at the preview's strand limit
+and with the limit raised to --count.
 """
 
 import argparse
@@ -59,7 +61,20 @@ def main():
         "generate_s": median_seconds(lambda: generate_strands(hair_mesh, count=args.count, vertices=args.vertices)),
         "operator_s": median_seconds(lambda: bpy.ops.hairlod.generate_strands(**settings)),
     }
+    from hairlod.blender import hair_mesh_preview
+
+    for key, limit in (("preview_update_s", hair_mesh_preview.PREVIEW_STRAND_LIMIT), ("preview_update_full_s", args.count)):
+        hair_mesh_preview.PREVIEW_STRAND_LIMIT = limit
+        hair_obj.hairlod_strands.live_preview = False
+        hair_obj.hairlod_strands.live_preview = True
+        result[key] = median_seconds(lambda: _edit_and_update(hair_obj), repeats=5)
     print(json.dumps(result))
+
+
+def _edit_and_update(obj):
+    obj.data.vertices[-1].co.z += 1e-3
+    obj.data.update()
+    bpy.context.view_layer.update()
 
 
 main()
