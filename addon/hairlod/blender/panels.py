@@ -44,7 +44,7 @@ class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):
         layout.operator(HAIRLOD_OT_hair_mesh_from_faces.bl_idname, icon='MOD_SOLIDIFY')
         obj = context.active_object
         if not is_hair_mesh_object(obj):
-            layout.label(text="Active object is no hair mesh", icon='INFO')
+            layout.label(text="No active hair mesh", icon='INFO')
             return
         settings = obj.hairlod_strands
         column = layout.column()
