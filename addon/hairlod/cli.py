@@ -162,6 +162,134 @@ def command_generate(args):
     return 0
 
 
+def _strand_bytes(strands):
+    """Bytes of the strand data the LoD asset is compared with: points, radius, offsets."""
+    return strands.points.nbytes + strands.radius.nbytes + strands.offsets.nbytes
+
+
+def _level_report(asset):
+    return [{"level": level_id, "hairs": int(len(level.n_total)), "coverage": level.coverage, "mean_area": level.mean_area}
+            for level_id, level in zip(asset.level_ids, asset.levels)]
+
+
+def _positive(name, value, lowest=1):
+    if value < lowest:
+        raise UsageError(f"--{name} must be >= {lowest}, got {value}")
+
+
+def command_lod(args):
+    from . import lod
+
+    for name in ("guides", "levels", "control_points"):
+        _positive(name.replace("_", "-"), getattr(args, name), 2 if name != "guides" else 1)
+    if not args.width_px > 0:
+        raise UsageError(f"--width-px must be > 0, got {args.width_px}")
+    cameras = lod.read_cameras(args.cameras) if args.cameras else None
+    strands, read_seconds = _read_timed(args.input)
+    start = time.perf_counter()
+    asset = lod.build_lod(strands, guides=args.guides, levels=args.levels, control_points=args.control_points, seed=args.seed)
+    build_seconds = time.perf_counter() - start
+    finest = len(asset.levels)
+    selected = list(range(finest + 1))
+    if cameras:
+        # Item 8: keep only the levels some camera selects; at least one thick level stays, as the
+        # asset's hierarchy and the strands' skinning are defined through the thick levels.
+        selected = lod.scene_levels(asset, cameras, args.width_px)
+        kept = [level for level in selected if level < finest] or [finest - 1]
+        asset = asset.with_levels(kept)
+    options = {name: getattr(args, name) for name in ("guides", "levels", "control_points", "seed", "width_px")}
+    start = time.perf_counter()
+    manifest = lod.save(asset, args.out, extra={
+        "input": os.path.abspath(args.input),
+        "options": options,
+        "cameras": len(cameras) if cameras else 0,
+        "selected_levels": selected,
+        "strands_selected": finest in selected,
+    })
+    write_seconds = time.perf_counter() - start
+    result = {
+        "input": args.input,
+        "output": args.out,
+        "strands": len(strands),
+        "guides": asset.guide_count,
+        "clusters": asset.cluster_count,
+        "built_levels": finest + 1,
+        "selected_levels": selected,
+        "levels": _level_report(asset),
+        "area_ratios": manifest["area_ratios"],
+        "memory_ratio": asset.memory_bytes / _strand_bytes(strands),
+        "timings": asset.timings,
+        "read_seconds": read_seconds,
+        "build_seconds": build_seconds,
+        "write_seconds": write_seconds,
+    }
+    if args.json:
+        print(json.dumps(result))
+    else:
+        print(f"{args.input} -> {args.out}: {len(strands)} strands, {asset.cluster_count} clusters, "
+              f"thick levels {[level['hairs'] for level in result['levels']]}, build {build_seconds:.2f} s")
+    return 0
+
+
+def synthetic_hair(strands, points, seed=7):
+    """Wavy strands hanging from a unit cylinder-capped head (the C++ benchmark's shape)."""
+    import numpy as np
+
+    from . import Strands
+
+    rng = np.random.default_rng(seed)
+    azimuth, height = rng.uniform(0, 2 * np.pi, strands), rng.uniform(0, 1, strands)
+    roots = np.stack([np.cos(azimuth), np.sin(azimuth), height], axis=1)
+    t = np.linspace(0, 1, points)
+    wave = np.stack([0.05 * np.sin(12 * t[None, :] + azimuth[:, None]), np.zeros((strands, points)),
+                     -np.broadcast_to(t, (strands, points))], axis=2)
+    positions = (roots[:, None, :] * (1 + 0.3 * t[None, :, None]) + wave).astype(np.float32).reshape(-1, 3)
+    return Strands.from_counts(positions, np.full(strands, points), np.full(strands * points, 0.001, np.float32))
+
+
+def command_bench(args):
+    import numpy as np
+
+    from . import lod
+    from .camera import look_at, perspective
+
+    _positive("strands", args.strands)
+    _positive("points", args.points, 2)
+    _positive("frames", args.frames)
+    strands = synthetic_hair(args.strands, args.points)
+    start = time.perf_counter()
+    asset = lod.build_lod(strands, guides=args.guides, levels=args.levels, control_points=args.control_points)
+    build_seconds = time.perf_counter() - start
+    projection = perspective(np.radians(40), 16 / 9, 0.05, 100)
+    selection = {}
+    for distance in (3.0, 6.0, 30.0):
+        view = look_at((distance, 0, 0), (0, 0, -0.5))
+        seconds = asset._core.time_selection(view.astype(np.float32), projection.astype(np.float32), (1920.0, 1080.0),
+                                             args.width_px, args.frames)
+        levels = asset.select(view, projection, (1920, 1080), args.width_px).levels
+        selection[f"distance_{distance:g}"] = {"seconds_per_frame": seconds, "mean_level": float(levels.mean())}
+    result = {
+        "component": "lod",
+        "strands": args.strands,
+        "points_per_strand": args.points,
+        "guides": asset.guide_count,
+        "clusters": asset.cluster_count,
+        "control_points": args.control_points,
+        "built_levels": len(asset.levels) + 1,
+        "build_seconds": build_seconds,
+        "stages": asset.timings,
+        "selection": selection,
+        "memory_ratio": asset.memory_bytes / _strand_bytes(strands),
+        "levels": _level_report(asset),
+        "area_ratios": asset.area_ratios,
+    }
+    if args.json:
+        print(json.dumps(result))
+    else:
+        print(json.dumps(result, indent=1))
+    return 0
+
+
 def build_parser():
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -190,6 +318,30 @@ def build_parser():
     generate.add_argument("--out", default=None, help="hair file to write (.hair .data); omitted: generate only")
     generate.add_argument("--json", action="store_true", help="print one JSON object")
     generate.set_defaults(run=command_generate)
+
+    lod = commands.add_parser("lod", help="build an LoD asset and export it to a folder")
+    lod.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
+    lod.add_argument("--out", required=True, help="folder to write (replaced atomically)")
+    lod.add_argument("--guides", type=int, default=256, help="k of the guide k-means (default 256)")
+    lod.add_argument("--levels", type=int, default=6, help="levels including the strands (default 6)")
+    lod.add_argument("--control-points", type=int, default=16, help="control points per hair (default 16)")
+    lod.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    lod.add_argument("--width-px", type=float, default=2.0, help="screen width threshold in pixels (default 2)")
+    lod.add_argument("--cameras", help="JSON list of {view, projection, viewport}: export only the levels they select")
+    lod.add_argument("--json", action="store_true", help="print one JSON object")
+    lod.set_defaults(run=command_lod)
+
+    bench = commands.add_parser("bench", help="benchmark a component (timings and accuracy, no assertions)")
+    bench.add_argument("component", choices=["lod"], help="component to benchmark")
+    bench.add_argument("--strands", type=int, default=100_000, help="synthetic strands (default 100000)")
+    bench.add_argument("--points", type=int, default=32, help="points per synthetic strand (default 32)")
+    bench.add_argument("--guides", type=int, default=256, help="guides (default 256)")
+    bench.add_argument("--levels", type=int, default=6, help="levels including the strands (default 6)")
+    bench.add_argument("--control-points", type=int, default=16, help="control points (default 16)")
+    bench.add_argument("--width-px", type=float, default=2.0, help="width threshold (default 2)")
+    bench.add_argument("--frames", type=int, default=200, help="selection frames timed per camera (default 200)")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.set_defaults(run=command_bench)
     return parser
 
 

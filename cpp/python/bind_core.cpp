@@ -106,10 +106,10 @@ len(strands) is the number of curves C.)doc")
             "points",
             [](py::object self) {
                 const auto& s = self.cast<const StrandSet&>();
-                return view(&s.points.data()->x, {static_cast<py::ssize_t>(s.point_count()), 3}, self, true);
+                return view(point_floats(s.points).data(), {static_cast<py::ssize_t>(s.point_count()), 3}, self, true);
             },
             [](StrandSet& s, const FloatArray& points) {
-                copy_into({&s.points.data()->x, s.points.size() * 3}, points, "points");
+                copy_into(point_floats(s.points), points, "points");
             })
         .def_property_readonly("offsets",
                                [](py::object self) {

@@ -117,7 +117,7 @@ polygon corner and optional w float32 [L, V]; validated (ValueError naming the p
         .def_property_readonly("face_count", &HairMesh::face_count)
         .def_property_readonly("layers",
                                [](const HairMesh& h) {
-                                   return copy_array(&h.positions.data()->x,
+                                   return copy_array(point_floats(h.positions).data(),
                                                      {static_cast<py::ssize_t>(h.layer_count()),
                                                       static_cast<py::ssize_t>(h.vertex_count), 3});
                                },
@@ -137,7 +137,7 @@ polygon corner and optional w float32 [L, V]; validated (ValueError naming the p
         .def_property_readonly("uv",
                                [](const HairMesh& h) -> py::object {
                                    if (h.corner_uv.empty()) return py::none();
-                                   return copy_array(&h.corner_uv.data()->x, {static_cast<py::ssize_t>(h.corner_uv.size()), 2});
+                                   return copy_array(reinterpret_cast<const float*>(h.corner_uv.data()), {static_cast<py::ssize_t>(h.corner_uv.size()), 2});
                                })
         .def_property_readonly("w",
                                [](const HairMesh& h) -> py::object {

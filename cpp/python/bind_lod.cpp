@@ -2,6 +2,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <string>
 
@@ -75,6 +77,102 @@ py::dict geometry_dict(const LodAsset& asset, LodGeometry geometry) {
     return d;
 }
 
+// Element type of a stored asset array -> numpy scalar type and components per element.
+template <typename T>
+struct Stored {
+    using Scalar = T;
+    static constexpr py::ssize_t components = 1;
+};
+template <glm::length_t N>
+struct Stored<glm::vec<N, float>> {
+    using Scalar = float;
+    static constexpr py::ssize_t components = N;
+};
+template <size_t N>
+struct Stored<std::array<int32_t, N>> {
+    using Scalar = int32_t;
+    static constexpr py::ssize_t components = N;
+};
+template <>
+struct Stored<FrameKind> {
+    using Scalar = uint8_t;
+    static constexpr py::ssize_t components = 1;
+};
+
+// A stored array as numpy: [n] for scalars, [n, components] otherwise.
+template <typename T>
+py::array stored_to_numpy(const std::vector<T>& values) {
+    using S = Stored<T>;
+    std::vector<py::ssize_t> shape{as_size(values.size())};
+    if (S::components > 1) shape.push_back(S::components);
+    return to_numpy<typename S::Scalar>(values, shape);
+}
+
+template <typename T>
+void stored_from_numpy(const py::handle& source, const std::string& name, std::vector<T>& values) {
+    using S = Stored<T>;
+    const auto array = py::array_t<typename S::Scalar, py::array::c_style>::ensure(source);
+    if (!array) throw Error("LoD asset: " + name + " must be an array of " + py::str(py::dtype::of<typename S::Scalar>()).cast<std::string>());
+    const bool scalar_rows = S::components == 1;
+    if (array.ndim() != (scalar_rows ? 1 : 2) || (!scalar_rows && array.shape(1) != S::components))
+        throw Error("LoD asset: " + name + " must have shape [n" + (scalar_rows ? "" : ", " + std::to_string(S::components)) + "]");
+    values.resize(static_cast<size_t>(array.shape(0)));
+    std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
+}
+
+py::dict asset_arrays(const LodAsset& asset) {
+    py::dict arrays;
+    LodAsset::visit_arrays(asset, [&](const char* name, const auto& values) { arrays[name] = stored_to_numpy(values); });
+    py::list levels;
+    for (const ThickHairLevel& level : asset.thick_levels) {
+        py::dict d;
+        ThickHairLevel::visit_arrays(level, [&](const char* name, const auto& values) { d[name] = stored_to_numpy(values); });
+        levels.append(d);
+    }
+    arrays["levels"] = levels;
+    return arrays;
+}
+
+py::dict asset_scalars(const LodAsset& asset) {
+    py::dict d;
+    d["control_points"] = asset.control_points;
+    py::list coverage, mean_area;
+    for (const ThickHairLevel& level : asset.thick_levels) {
+        coverage.append(level.coverage);
+        mean_area.append(level.mean_area);
+    }
+    d["coverage"] = coverage;
+    d["mean_area"] = mean_area;
+    return d;
+}
+
+LodAsset asset_from(const py::dict& scalars, const py::dict& arrays) {
+    LodAsset asset;
+    try {
+        asset.control_points = scalars["control_points"].cast<int>();
+        LodAsset::visit_arrays(asset, [&](const char* name, auto& values) { stored_from_numpy(arrays[name], name, values); });
+        const py::list levels = arrays["levels"];
+        const py::list coverage = scalars["coverage"], mean_area = scalars["mean_area"];
+        if (coverage.size() != levels.size() || mean_area.size() != levels.size())
+            throw Error("LoD asset: coverage and mean_area need one value per level");
+        for (size_t l = 0; l < levels.size(); ++l) {
+            ThickHairLevel& level = asset.thick_levels.emplace_back();
+            const py::dict d = levels[l];
+            ThickHairLevel::visit_arrays(level, [&](const char* name, auto& values) {
+                stored_from_numpy(d[name], "level " + std::to_string(l) + " " + name, values);
+            });
+            level.coverage = coverage[l].cast<double>();
+            level.mean_area = mean_area[l].cast<double>();
+        }
+    } catch (const py::error_already_set& error) {
+        throw Error(std::string("LoD asset: missing or malformed entry: ") + error.what());
+    } catch (const py::cast_error& error) {
+        throw Error(std::string("LoD asset: malformed entry: ") + error.what());
+    }
+    asset.validate();
+    return asset;
+}
+
 std::vector<glm::vec3> guides_from(const FloatArray& guides, const LodAsset& asset) {
     if (guides.ndim() != 3 || static_cast<size_t>(guides.shape(0)) != asset.guide_count() ||
         guides.shape(1) != asset.control_points || guides.shape(2) != 3)
@@ -132,6 +230,10 @@ void bind_lod(py::module_& m) {
             for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, a.thick_levels[l], rest.levels[l]));
             return levels;
         }, "Per thick level: rest centres, axes, radii, density, corners, n_total, parent, membership, coverage.")
+        .def("arrays", &asset_arrays, "Every stored array by name (flat [n] or [n, components]); 'levels' holds one dict per thick level.")
+        .def("scalars", &asset_scalars, "control_points, and coverage and mean_area per thick level.")
+        .def_static("from_arrays", &asset_from, py::arg("scalars"), py::arg("arrays"),
+                    "Rebuilds an asset from scalars() and arrays(); raises ValueError naming an inconsistent array.")
         .def("skin", [](const LodAsset& a, const FloatArray& guides) {
             const std::vector<glm::vec3> points = guides_from(guides, a);
             LodGeometry geometry;
@@ -141,6 +243,23 @@ void bind_lod(py::module_& m) {
             }
             return geometry_dict(a, std::move(geometry));
         }, py::arg("deformed_guides"), "Skinned strands and thick hairs for guides [G, n_c, 3].")
+        .def("time_selection", [](const LodAsset& a, const FloatArray& view, const FloatArray& projection,
+                                  std::pair<float, float> viewport, float width_px, int frames) {
+            if (frames < 1) throw Error("frames must be >= 1");
+            const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
+            py::gil_scoped_release release;
+            const LodGeometry geometry = a.rest_geometry();
+            Selection selection = select_initial(a, geometry, camera, width_px);
+            std::vector<double> seconds(static_cast<size_t>(frames));
+            for (double& s : seconds) {
+                const auto start = std::chrono::steady_clock::now();
+                select_deferred_in_place(a, geometry, camera, width_px, selection);
+                s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            }
+            std::nth_element(seconds.begin(), seconds.begin() + frames / 2, seconds.end());
+            return seconds[static_cast<size_t>(frames / 2)];
+        }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f, py::arg("frames") = 100,
+           "Median seconds of one Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
         .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,
                           std::pair<float, float> viewport, float width_px, const Selection* previous) {
             const std::vector<glm::vec3> points = guides_from(guides, a);

@@ -21,12 +21,12 @@ std::vector<float> random_rows(size_t n, size_t dim, uint32_t seed) {
 }
 
 // Plain Lloyd: full assignment in double, means in row order, empty clusters keep their centre.
-KMeansResult naive_lloyd(const FeatureRows& rows, std::vector<float> centres, int iterations) {
+KMeansResult naive_lloyd(const FeatureRows& rows, std::vector<float> centres, int iterations, double stop_fraction = 0.0) {
     const size_t n = rows.size(), dim = rows.dim, k = centres.size() / dim;
     KMeansResult result;
     result.assignment.resize(n);
     auto assign = [&] {
-        bool changed = false;
+        size_t changed = 0;
         for (size_t i = 0; i < n; ++i) {
             double best = std::numeric_limits<double>::infinity();
             int32_t index = 0;
@@ -41,7 +41,7 @@ KMeansResult naive_lloyd(const FeatureRows& rows, std::vector<float> centres, in
                     index = static_cast<int32_t>(c);
                 }
             }
-            changed |= index != result.assignment[i];
+            changed += index != result.assignment[i] ? 1 : 0;
             result.assignment[i] = index;
         }
         return changed;
@@ -60,10 +60,9 @@ KMeansResult naive_lloyd(const FeatureRows& rows, std::vector<float> centres, in
                 for (size_t d = 0; d < dim; ++d) centres[c * dim + d] = static_cast<float>(sum[d] / static_cast<double>(count));
         }
         ++result.iterations;
-        if (!assign()) {
-            result.converged = true;
-            break;
-        }
+        const size_t changed = assign();
+        result.converged = changed == 0;
+        if (static_cast<double>(changed) <= stop_fraction * static_cast<double>(n)) break;
     }
     result.centres = centres;
     return result;
@@ -81,6 +80,50 @@ TEST(KMeans, EqualsNaiveLloydFromTheSameSeeds) {
     EXPECT_EQ(fast.converged, naive.converged);
     ASSERT_EQ(fast.centres.size(), naive.centres.size());
     for (size_t i = 0; i < fast.centres.size(); ++i) EXPECT_NEAR(fast.centres[i], naive.centres[i], 1e-5f);
+}
+
+TEST(KMeans, StopFractionEqualsNaiveLloydWithTheSameRule) {
+    const std::vector<float> values = random_rows(2000, 12, 4);
+    const FeatureRows rows{values, 12};
+    const std::vector<float> seeds = kmeans_plus_plus_seeds(rows, 24, 5);
+    const KMeansResult fast = kmeans(rows, seeds, 50, 0.01);
+    const KMeansResult naive = naive_lloyd(rows, seeds, 50, 0.01);
+    EXPECT_EQ(fast.assignment, naive.assignment);
+    EXPECT_EQ(fast.iterations, naive.iterations);
+    EXPECT_EQ(fast.converged, naive.converged);
+    EXPECT_THROW(kmeans(rows, seeds, 5, 1.0), Error);
+}
+
+// k-means++ without pruning: every row measured against every new centre, same draws.
+std::vector<float> naive_seeds(const FeatureRows& rows, size_t k, uint64_t seed) {
+    const size_t n = rows.size(), dim = rows.dim;
+    std::mt19937_64 rng(seed);
+    auto uniform = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    std::vector<float> centres, nearest(n, std::numeric_limits<float>::infinity());
+    size_t chosen = std::min(static_cast<size_t>(uniform() * static_cast<double>(n)), n - 1);
+    while (true) {
+        centres.insert(centres.end(), rows.row(chosen), rows.row(chosen) + dim);
+        if (centres.size() / dim == k) break;
+        for (size_t i = 0; i < n; ++i) nearest[i] = std::min(nearest[i], squared_distance(rows.row(i), rows.row(chosen), dim));
+        double total = 0.0;
+        for (float d : nearest) total += d;
+        if (!(total > 0.0)) break;
+        const double target = uniform() * total;
+        double running = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            if (nearest[i] <= 0.0f) continue;
+            chosen = i;
+            running += nearest[i];
+            if (running > target) break;
+        }
+    }
+    return centres;
+}
+
+TEST(KMeans, PrunedSeedingEqualsUnprunedSeeding) {
+    const std::vector<float> values = random_rows(3000, 12, 6);
+    const FeatureRows rows{values, 12};
+    for (uint64_t seed : {1u, 2u, 3u}) EXPECT_EQ(kmeans_plus_plus_seeds(rows, 40, seed), naive_seeds(rows, 40, seed));
 }
 
 TEST(KMeans, SeedingIsDeterministicAndDistinct) {

@@ -35,6 +35,12 @@ StrandSet test_hair(size_t curves, size_t points, uint32_t seed, glm::vec3 offse
     return strands;
 }
 
+// The strands as build_lod resamples them: what the rest pose must reproduce.
+StrandSet lod_resampled(const StrandSet& strands, int control_points) {
+    return resample_strands(strands, {.points_per_curve = control_points,
+                                      .subdivisions_per_segment = LodOptions{}.arc_length_subdivisions});
+}
+
 float max_relative_error(std::span<const glm::vec3> got, std::span<const glm::vec3> expected) {
     float scale = 1e-30f, error = 0.0f;
     for (const glm::vec3& p : expected) scale = std::max(scale, glm::length(p));
@@ -80,7 +86,7 @@ TEST_F(LodAssetTest, LevelsPartitionTheStrands) {
 
 TEST_F(LodAssetTest, L0ClustersShareTheirThreeNearestGuides) {
     const LodAsset& a = *asset_;
-    const StrandSet resampled = resample_strands(*strands_, {.points_per_curve = 8});
+    const StrandSet resampled = lod_resampled(*strands_, 8);
     for (size_t s = 0; s < 3000; s += 97) {
         std::vector<std::pair<double, int32_t>> distances;
         for (size_t g = 0; g < a.guide_count(); ++g) {
@@ -125,7 +131,7 @@ TEST_F(LodAssetTest, CoverageAndAreaRatioPerLevel) {
 
 TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
     const LodAsset& a = *asset_;
-    const StrandSet resampled = resample_strands(*strands_, {.points_per_curve = 8});
+    const StrandSet resampled = lod_resampled(*strands_, 8);
     const LodGeometry rest = a.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, resampled.points), 1e-5f);
 
@@ -168,7 +174,7 @@ TEST(LodAssetHardCases, OneStrandAndFewerStrandsThanGuides) {
     const LodAsset few = build_lod(test_hair(10, 5, 2), {.guides = 256});
     EXPECT_EQ(few.guide_count(), 10u);
     EXPECT_LT(max_relative_error(few.rest_geometry().strands.points,
-                                 resample_strands(test_hair(10, 5, 2), {.points_per_curve = 16}).points),
+                                 lod_resampled(test_hair(10, 5, 2), 16).points),
               1e-5f);
 }
 
@@ -190,7 +196,7 @@ TEST(LodAssetHardCases, TwoPointAndCollinearStrands) {
     }
     const LodAsset asset = build_lod(strands, {.guides = 5, .levels = 3, .control_points = 4});
     const LodGeometry rest = asset.rest_geometry();
-    EXPECT_LT(max_relative_error(rest.strands.points, resample_strands(strands, {.points_per_curve = 4}).points), 1e-5f);
+    EXPECT_LT(max_relative_error(rest.strands.points, lod_resampled(strands, 4).points), 1e-5f);
     for (const ThickHairLevel& level : asset.thick_levels) EXPECT_GE(level.coverage, 0.95);
 }
 
@@ -198,7 +204,7 @@ TEST(LodAssetHardCases, HugeCoordinates) {
     const StrandSet strands = test_hair(300, 8, 6, glm::vec3(1e6f, -1e6f, 1e6f));
     const LodAsset asset = build_lod(strands, {.guides = 8, .control_points = 6});
     const LodGeometry rest = asset.rest_geometry();
-    EXPECT_LT(max_relative_error(rest.strands.points, resample_strands(strands, {.points_per_curve = 6}).points), 1e-5f);
+    EXPECT_LT(max_relative_error(rest.strands.points, lod_resampled(strands, 6).points), 1e-5f);
     for (const ThickHairLevel& level : asset.thick_levels)
         for (const glm::vec2& r : level.radii) ASSERT_TRUE(std::isfinite(r.x) && std::isfinite(r.y));
 }

@@ -62,6 +62,27 @@ TEST(ProjectedWidth, OrthographicCorners) {
     EXPECT_TRUE(std::isinf(projected_width(behind, {100.0f, 100.0f}, glm::vec3(0, 0, 1), {1, 0, 0}, corners)));
 }
 
+TEST_F(SelectionTest, WidthBoundIsNeverBelowTheProjectedCornerWidth) {
+    for (float distance : {2.5f, 8.0f}) {
+        const Camera camera = camera_at(distance);
+        const ScreenWidthBound bound(camera);
+        const glm::mat4 view_projection = camera.projection * camera.view;
+        for (size_t l = 0; l < rest_->levels.size(); ++l) {
+            const ThickHairGeometry& g = rest_->levels[l];
+            const auto nc = static_cast<size_t>(asset_->control_points);
+            for (size_t c = 0; c < asset_->cluster_count(); ++c)
+                for (int32_t h = asset_->thick_levels[l].cluster_first[c]; h < asset_->thick_levels[l].cluster_first[c + 1]; ++h)
+                    for (size_t k = 0; k < nc; ++k) {
+                        const size_t at = static_cast<size_t>(h) * nc + k;
+                        const float exact = projected_width(view_projection, camera.viewport, g.centre[at], g.tangent[at], g.corners[at]);
+                        const glm::vec4 widest = g.widest[c * nc + k];
+                        // The cluster's widest diameter at the hair's own centre bounds the hair's width.
+                        ASSERT_GE(bound(g.centre[at], widest.w), exact) << "level " << l << " hair " << h;
+                    }
+        }
+    }
+}
+
 TEST_F(SelectionTest, FartherCamerasNeverSelectFinerLevels) {
     Selection nearer = select_initial(*asset_, *rest_, camera_at(2.5f), 2.0f);
     int finest_seen = 0, coarsest_seen = 255;

@@ -120,3 +120,67 @@ def test_bad_arguments_are_one_line():
     line = one_line_error(run_cli("frobnicate"))
     assert "frobnicate" in line
     assert run_cli("--help").returncode == 0
+
+
+def _lod_input(tmp_path):
+    from hairlod import io
+    from test_lod import hanging_hair
+
+    path = tmp_path / "in.hair"
+    io.write(path, hanging_hair(curves=1200, points=10))
+    return path
+
+
+def test_lod_exports_a_folder_that_loads_back(tmp_path):
+    from hairlod import lod
+
+    source = _lod_input(tmp_path)
+    result = run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 5, "--control-points", 8,
+                     "--json")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["strands"] == 1200 and report["selected_levels"] == list(range(report["built_levels"]))
+    assert all(level["coverage"] >= 0.95 for level in report["levels"])
+    assert report["timings"]["kmeans"] > 0
+    manifest = json.loads((tmp_path / "asset" / "manifest.json").read_text())
+    assert [level["hairs"] for level in manifest["thick_levels"]] == [level["hairs"] for level in report["levels"]]
+    for level in manifest["thick_levels"]:
+        assert (tmp_path / "asset" / level["hair_file"]).is_file()
+    loaded = lod.load(tmp_path / "asset")
+    assert sum(int(n) for n in loaded.levels[0].n_total) == 1200
+
+
+def test_lod_with_a_far_camera_drops_fine_levels(tmp_path):
+    from test_lod import look_at, perspective
+
+    source = _lod_input(tmp_path)
+    far = {"view": look_at((300, 30, 20), (0, 0, -0.3)).tolist(),
+           "projection": perspective(0.8, 4 / 3, 0.01, 1000).tolist(), "viewport": [800, 600]}
+    (tmp_path / "cameras.json").write_text(json.dumps([far]))
+    result = run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 5, "--control-points", 8,
+                     "--cameras", tmp_path / "cameras.json", "--json")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["selected_levels"] and max(report["selected_levels"]) < report["built_levels"] - 1
+    assert [level["level"] for level in report["levels"]] == [level for level in report["selected_levels"]]
+
+
+@pytest.mark.parametrize("arguments", [["--guides", "0"], ["--width-px", "0"], ["--cameras", "missing.json"],
+                                       ["--cameras", "bad.json"]])
+def test_lod_bad_input_exits_2_without_output(tmp_path, arguments):
+    source = _lod_input(tmp_path)
+    (tmp_path / "bad.json").write_text(json.dumps([{"view": [[1, 0], [0, 1]]}]))
+    arguments = [str(tmp_path / a) if a.endswith(".json") else a for a in arguments]
+    result = run_cli("lod", source, "--out", tmp_path / "asset", *arguments)
+    one_line_error(result)
+    assert not (tmp_path / "asset").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["in.hair", "bad.json"])
+
+
+def test_bench_lod_json():
+    result = run_cli("bench", "lod", "--strands", 3000, "--guides", 16, "--frames", 20, "--json")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert set(report["stages"]) == {"resample", "kmeans", "clusters", "levels", "fitting", "weights"}
+    assert all(entry["seconds_per_frame"] > 0 for entry in report["selection"].values())
+    assert report["memory_ratio"] > 0 and len(report["area_ratios"]) == len(report["levels"]) - 1

@@ -108,3 +108,68 @@ def test_hard_cases_and_errors():
         build_lod(hanging_hair(curves=5), levels=1)
     with pytest.raises(ValueError):
         few.skin(np.zeros((3, 16, 3)))
+
+
+def _assert_same_asset(a, b):
+    arrays_a, arrays_b = a.arrays(), b.arrays()
+    for name in arrays_a:
+        if name != "levels":
+            assert np.array_equal(arrays_a[name], arrays_b[name]), name
+    assert len(arrays_a["levels"]) == len(arrays_b["levels"])
+    for level_a, level_b in zip(arrays_a["levels"], arrays_b["levels"]):
+        for name in level_a:
+            assert np.array_equal(level_a[name], level_b[name]), name
+    assert a.scalars() == b.scalars() and a.level_ids == b.level_ids and a.timings == b.timings
+
+
+def test_save_load_gives_an_identical_asset(asset, tmp_path):
+    from hairlod import io, lod
+
+    manifest = lod.save(asset, tmp_path / "asset")
+    loaded = lod.load(tmp_path / "asset")
+    _assert_same_asset(asset, loaded)
+    rest, again = asset.skin(asset.rest_guides), loaded.skin(loaded.rest_guides)
+    assert np.array_equal(rest["strands"].points, again["strands"].points)
+    for level, level_again in zip(rest["levels"], again["levels"]):
+        assert np.array_equal(level["corners"], level_again["corners"])
+    view, projection = look_at((6, 2, 1), (0, 0, -0.3)), perspective(math.radians(45), 4 / 3, 0.01, 1000)
+    first, second = asset.select(view, projection, (800, 600)), loaded.select(view, projection, (800, 600))
+    assert np.array_equal(first.levels, second.levels) and np.array_equal(first.draws, second.draws)
+    # One .hair per thick level: the rest centres with thickness = 2 x major radius.
+    hairs = io.read(tmp_path / "asset" / manifest["thick_levels"][0]["hair_file"])
+    assert np.allclose(hairs.points, asset.levels[0].centres.reshape(-1, 3))
+    assert np.allclose(hairs.radius, asset.levels[0].radii[..., 0].reshape(-1))
+    # Saving again replaces the folder atomically and leaves no temporary folder behind.
+    lod.save(asset, tmp_path / "asset")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["asset"]
+
+
+def test_load_rejects_broken_folders(asset, tmp_path):
+    from hairlod import lod
+
+    with pytest.raises(ValueError, match="manifest.json"):
+        lod.load(tmp_path)
+    lod.save(asset, tmp_path / "asset")
+    np.save(tmp_path / "asset" / "level0_strand_hair.npy", np.full(asset.strand_count, 10**6, np.int32))
+    with pytest.raises(ValueError, match="strand_hair"):
+        lod.load(tmp_path / "asset")
+
+
+def test_with_levels_composes_parents(asset):
+    kept = asset.with_levels([0, 2])
+    assert kept.level_ids == [0, 2]
+    expected = asset.levels[1].parent[asset.levels[2].parent]
+    assert np.array_equal(kept.levels[1].parent, expected)
+    assert np.all(kept.levels[0].parent == -1)
+    assert np.array_equal(kept.levels[1].membership, asset.levels[2].membership)
+
+
+def test_scene_levels_follow_the_cameras(asset):
+    from hairlod import lod
+
+    projection = perspective(math.radians(45), 4 / 3, 0.01, 1000)
+    near = {"view": look_at((2.5, 0.5, 0.3), (0, 0, -0.3)), "projection": projection, "viewport": (800, 600)}
+    far = {"view": look_at((400, 50, 30), (0, 0, -0.3)), "projection": projection, "viewport": (800, 600)}
+    near_levels, far_levels = lod.scene_levels(asset, [near]), lod.scene_levels(asset, [far])
+    assert max(far_levels) <= min(near_levels) or max(far_levels) < max(near_levels)
+    assert lod.scene_levels(asset, [near, far]) == sorted(set(near_levels) | set(far_levels))

@@ -5,6 +5,7 @@ import bpy
 from .hair_mesh_operators import (HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces,
                                   HAIRLOD_PG_strand_settings, register_properties, unregister_properties)
 from .hair_mesh_preview import register_handler, unregister_handler
+from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair, menu_func_export, menu_func_import
 from .panels import VIEW3D_PT_hairlod, VIEW3D_PT_hairlod_hair_mesh
 
@@ -14,6 +15,7 @@ classes = (
     HAIRLOD_PG_strand_settings,
     HAIRLOD_OT_hair_mesh_from_faces,
     HAIRLOD_OT_generate_strands,
+    HAIRLOD_OT_build_lod,
     VIEW3D_PT_hairlod,
     VIEW3D_PT_hairlod_hair_mesh,
 )

@@ -88,8 +88,8 @@ def strands_to_curves(strands: Strands, name, collection=None):
         if bpy.app.version >= (4, 0, 0):
             curves.add_curves(counts.tolist())
         else:
-            _build_topology_with_geometry_nodes(obj, strands.points, counts)
-        # Positions are written even where the topology came with them: the values are exact.
+            _build_topology_with_geometry_nodes(obj, counts)
+            curves = obj.data
         curves.attributes["position"].data.foreach_set("vector", strands.points.ravel())
         # A "radius" that does not exist yet silently drops foreach_set writes: create it first.
         radius = curves.attributes.get("radius") or curves.attributes.new("radius", 'FLOAT', 'POINT')
@@ -98,8 +98,9 @@ def strands_to_curves(strands: Strands, name, collection=None):
             _write_attribute(curves, attribute_name, strands)
         curves.update_tag()
     except BaseException:
+        data = obj.data
         bpy.data.objects.remove(obj)
-        bpy.data.hair_curves.remove(curves)
+        bpy.data.hair_curves.remove(data)
         raise
     return obj
 
@@ -147,32 +148,35 @@ def _write_attribute(curves, name, strands):
     curves.attributes.new(name, data_type, domain).data.foreach_set(prop, values)
 
 
-def _build_topology_with_geometry_nodes(obj, points, counts):
+_COUNT_ATTRIBUTE = "hairlod_point_count"
+
+
+def _build_topology_with_geometry_nodes(obj, counts):
     """Gives the (empty) Curves of ``obj`` one curve per entry of ``counts`` (Blender < 4.0).
 
-    These versions cannot resize Curves from Python, so a temporary edge mesh, one chain per
-    curve, goes through Geometry Nodes "Mesh to Curve" in a modifier that is then applied.
-    Mesh to Curve starts each chain at its lowest-index end and orders the chains by that
-    index, so points and curves keep the input's order (checked by the tests).
+    These versions cannot resize Curves from Python, so Geometry Nodes build the topology: a
+    temporary mesh of one isolated edge per curve, carrying the curve's point count, goes through
+    "Mesh to Curve" (one 2-point curve per edge, in edge order) and "Resample Curve" with that
+    count. The modifier's evaluated result is copied into the object: one evaluation, where
+    bpy.ops.object.modifier_apply would evaluate the view layer twice more (and an edge chain per
+    curve through Mesh to Curve alone costs about 10x more). The caller writes the positions.
     """
-    point_count = len(points)
-    last_points = np.cumsum(counts) - 1
-    edge_starts = np.delete(np.arange(point_count, dtype=np.int32), last_points)
-    edges = np.stack([edge_starts, edge_starts + 1], axis=1)
-
+    curve_count = len(counts)
     mesh = bpy.data.meshes.new("hairlod_edges")
     mesh_obj = node_group = None
     try:
-        mesh.vertices.add(point_count)
-        mesh.vertices.foreach_set("co", np.ascontiguousarray(points).ravel())
-        mesh.edges.add(len(edges))
-        mesh.edges.foreach_set("vertices", edges.ravel())
+        mesh.vertices.add(2 * curve_count)
+        mesh.edges.add(curve_count)
+        mesh.edges.foreach_set("vertices", np.arange(2 * curve_count, dtype=np.int32))
+        count_attribute = mesh.attributes.new(_COUNT_ATTRIBUTE, 'INT', 'POINT')
+        count_attribute.data.foreach_set("value", np.repeat(counts, 2).astype(np.int32))
         mesh_obj = bpy.data.objects.new("hairlod_edges", mesh)
-        node_group = _mesh_to_curve_node_group(mesh_obj)
-        modifier = obj.modifiers.new("hairlod_mesh_to_curve", 'NODES')
+        node_group = _topology_node_group(mesh_obj)
+        modifier = obj.modifiers.new("hairlod_topology", 'NODES')
         modifier.node_group = node_group
-        with bpy.context.temp_override(object=obj, active_object=obj):
-            bpy.ops.object.modifier_apply(modifier=modifier.name)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        topology = obj.evaluated_get(depsgraph).data.copy()
+        obj.modifiers.remove(modifier)
     finally:
         if mesh_obj is not None:
             bpy.data.objects.remove(mesh_obj)
@@ -180,25 +184,40 @@ def _build_topology_with_geometry_nodes(obj, points, counts):
         if node_group is not None:
             bpy.data.node_groups.remove(node_group)
 
-    curves = obj.data
-    if len(curves.points) != point_count or len(curves.curves) != len(counts):
-        raise RuntimeError("Mesh to Curve changed the strand topology: "
-                           f"{len(curves.curves)} curves / {len(curves.points)} points, "
-                           f"expected {len(counts)} / {point_count}")
+    empty = obj.data
+    obj.data = topology
+    bpy.data.hair_curves.remove(empty)
+    topology.name = obj.name
+    offsets = np.empty(len(topology.curves) + 1, np.int32)
+    topology.curve_offset_data.foreach_get("value", offsets)
+    if len(topology.curves) != curve_count or not np.array_equal(np.diff(offsets), counts):
+        raise RuntimeError("Geometry Nodes built a different strand topology: "
+                           f"{len(topology.curves)} curves / {len(topology.points)} points, "
+                           f"expected {curve_count} / {int(counts.sum())}")
     # Without curve_type the curves are Catmull-Rom; the others are mesh leftovers or defaults.
-    for leftover in ("curve_type", "cyclic", ".select_vert", ".select_edge"):
-        attribute = curves.attributes.get(leftover)
+    for leftover in (_COUNT_ATTRIBUTE, "curve_type", "cyclic", ".select_vert", ".select_edge"):
+        attribute = topology.attributes.get(leftover)
         if attribute is not None:
-            curves.attributes.remove(attribute)
+            topology.attributes.remove(attribute)
 
 
-def _mesh_to_curve_node_group(mesh_obj):
-    node_group = bpy.data.node_groups.new("hairlod_mesh_to_curve", 'GeometryNodeTree')
+def _topology_node_group(mesh_obj):
+    """Object Info (the edge mesh) -> Mesh to Curve -> Resample Curve (count per curve)."""
+    node_group = bpy.data.node_groups.new("hairlod_topology", 'GeometryNodeTree')
     node_group.outputs.new('NodeSocketGeometry', "Geometry")
-    object_info = node_group.nodes.new('GeometryNodeObjectInfo')
+    nodes, links = node_group.nodes, node_group.links
+    object_info = nodes.new('GeometryNodeObjectInfo')
     object_info.inputs["Object"].default_value = mesh_obj
-    mesh_to_curve = node_group.nodes.new('GeometryNodeMeshToCurve')
-    output = node_group.nodes.new('NodeGroupOutput')
-    node_group.links.new(object_info.outputs["Geometry"], mesh_to_curve.inputs["Mesh"])
-    node_group.links.new(mesh_to_curve.outputs["Curve"], output.inputs["Geometry"])
+    mesh_to_curve = nodes.new('GeometryNodeMeshToCurve')
+    resample = nodes.new('GeometryNodeResampleCurve')
+    resample.mode = 'COUNT'
+    point_count = nodes.new('GeometryNodeInputNamedAttribute')
+    point_count.data_type = 'INT'
+    point_count.inputs["Name"].default_value = _COUNT_ATTRIBUTE
+    output = nodes.new('NodeGroupOutput')
+    links.new(object_info.outputs["Geometry"], mesh_to_curve.inputs["Mesh"])
+    links.new(mesh_to_curve.outputs["Curve"], resample.inputs["Curve"])
+    # The node has one "Attribute" output per data type; only the INT one is enabled.
+    links.new(next(socket for socket in point_count.outputs if socket.enabled), resample.inputs["Count"])
+    links.new(resample.outputs["Curve"], output.inputs["Geometry"])
     return node_group

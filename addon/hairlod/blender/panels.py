@@ -3,6 +3,7 @@
 import bpy
 
 from .hair_mesh_operators import HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces
+from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair
 
 
@@ -28,6 +29,7 @@ class VIEW3D_PT_hairlod(bpy.types.Panel):
         column = box.column(align=True)
         column.label(text=f"Strands: {len(obj.data.curves):,}")
         column.label(text=f"Points: {len(obj.data.points):,}")
+        box.operator(HAIRLOD_OT_build_lod.bl_idname, icon='MOD_PARTICLES')
 
 
 class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):

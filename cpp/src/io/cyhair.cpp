@@ -117,7 +117,7 @@ CyHairFile read_cyhair(std::span<const std::byte> bytes) {
     }
 
     std::vector<glm::vec3> points(point_count);
-    reader.read_array(std::span(&points.data()->x, 3 * points.size()), "points");
+    reader.read_array(point_floats(points), "points");
 
     std::vector<float> radius;
     if (flags & has_thickness) {
@@ -203,7 +203,7 @@ std::vector<std::byte> write_cyhair(const StrandSet& strands, const CyHairHeader
             segments[c] = static_cast<uint16_t>(strands.curve_size(c) - 1);
         writer.write_array(std::span<const uint16_t>(segments));
     }
-    writer.write_array(std::span<const float>(&strands.points.data()->x, 3 * strands.points.size()));
+    writer.write_array(point_floats(strands.points));
     std::vector<float> thickness(strands.radius.size());
     for (size_t i = 0; i < thickness.size(); ++i) {
         thickness[i] = 2.0f * strands.radius[i];

@@ -70,11 +70,11 @@ StrandListFile read_strand_list(std::span<const std::byte> bytes, int floats_per
         const size_t first = points.size();
         points.resize(first + n);
         if (unused_bytes == 0) {
-            reader.read_array(std::span(&points[first].x, 3 * n), "strand points");
+            reader.read_array(point_floats(std::span(points).subspan(first, n)), "strand points");
             continue;
         }
         for (size_t i = first; i < first + n; ++i) {
-            reader.read_array(std::span(&points[i].x, 3), "strand points");
+            reader.read_array(point_floats(std::span(points).subspan(i, 1)), "strand points");
             reader.skip(unused_bytes, "point extra values");
         }
     }

@@ -29,7 +29,7 @@ std::vector<std::byte> write_usc_data(const StrandSet& strands) {
             throw Error("curve " + std::to_string(c) + " has " + std::to_string(curve.size()) +
                         " points; .data stores at most " + std::to_string(int32_max));
         writer.write(static_cast<int32_t>(curve.size()));
-        writer.write_array(std::span<const float>(&curve.data()->x, 3 * curve.size()));
+        writer.write_array(point_floats(curve));
     }
     return std::move(writer).take();
 }

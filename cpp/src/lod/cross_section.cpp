@@ -17,21 +17,22 @@ namespace {
 // despite rounding.
 constexpr double kBoundaryInflation = 1.0 + 1e-5;
 
+// The members closest to the four axis endpoints, in one pass over the points.
 std::array<int, 4> corner_members(std::span<const glm::vec3> points, const CrossSection& s) {
     const glm::vec3 targets[4] = {s.centre + s.major_radius * s.major_axis, s.centre - s.major_radius * s.major_axis,
                                   s.centre + s.minor_radius * s.minor_axis, s.centre - s.minor_radius * s.minor_axis};
     std::array<int, 4> corners{0, 0, 0, 0};
-    for (int c = 0; c < 4; ++c) {
-        float best = std::numeric_limits<float>::infinity();
-        for (size_t i = 0; i < points.size(); ++i) {
+    float best[4] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                     std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+    for (size_t i = 0; i < points.size(); ++i)
+        for (int c = 0; c < 4; ++c) {
             const glm::vec3 d = points[i] - targets[c];
             const float distance = glm::dot(d, d);
-            if (distance < best) {
-                best = distance;
+            if (distance < best[c]) {
+                best[c] = distance;
                 corners[c] = static_cast<int>(i);
             }
         }
-    }
     return corners;
 }
 

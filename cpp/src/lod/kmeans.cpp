@@ -18,6 +18,9 @@ namespace {
 // Bounds are compared with this relative slack so that float rounding in the distances never
 // lets Hamerly's test skip a row whose nearest centre Lloyd would change.
 constexpr float kBoundSlack = 1.0f + 1e-5f;
+// Relative slack on squared distances for the triangle-inequality pruning of the seeding: far
+// above the rounding of a float squared distance (about dim * 2^-24).
+constexpr float kPruneSlack = 1.0f + 1e-3f;
 
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
@@ -87,13 +90,28 @@ std::vector<float> kmeans_plus_plus_seeds(const FeatureRows& rows, size_t k, uin
     centres.reserve(std::min(k, n) * dim);
     size_t chosen = std::min(static_cast<size_t>(uniform01(rng) * static_cast<double>(n)), n - 1);
     std::vector<float> nearest(n, std::numeric_limits<float>::infinity());
+    std::vector<int32_t> nearest_centre(n, -1);
+    std::vector<float> gap_to_new;  // squared distances from the newest centre to the earlier ones
     while (true) {
         centres.insert(centres.end(), rows.row(chosen), rows.row(chosen) + dim);
-        if (centres.size() / dim == k) break;
+        const size_t newest = centres.size() / dim - 1;
+        if (newest + 1 == k) break;
         const float* centre = rows.row(chosen);
+        gap_to_new.resize(newest);
+        for (size_t j = 0; j < newest; ++j) gap_to_new[j] = squared_distance(centre, centres.data() + j * dim, dim);
         tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t i = range.begin(); i != range.end(); ++i)
-                nearest[i] = std::min(nearest[i], squared_distance(rows.row(i), centre, dim));
+            for (size_t i = range.begin(); i != range.end(); ++i) {
+                // Triangle inequality: |c_new - c_j| >= 2 |x - c_j| means |x - c_new| >= |x - c_j|,
+                // so the nearest distance cannot shrink (the slack absorbs float rounding, keeping
+                // the seeds identical to the unpruned loop).
+                const int32_t j = nearest_centre[i];
+                if (j >= 0 && gap_to_new[static_cast<size_t>(j)] >= 4.0f * kPruneSlack * nearest[i]) continue;
+                const float d = squared_distance(rows.row(i), centre, dim);
+                if (d < nearest[i]) {
+                    nearest[i] = d;
+                    nearest_centre[i] = static_cast<int32_t>(newest);
+                }
+            }
         });
         // Sequential sums keep the draw independent of the thread count.
         double total = 0.0;
@@ -124,11 +142,12 @@ ClusterMembers group_by_cluster(std::span<const int32_t> assignment, size_t clus
     return result;
 }
 
-KMeansResult kmeans(const FeatureRows& rows, std::vector<float> initial_centres, int max_iterations) {
+KMeansResult kmeans(const FeatureRows& rows, std::vector<float> initial_centres, int max_iterations, double stop_fraction) {
     const size_t n = rows.size(), dim = rows.dim;
     if (initial_centres.empty() || initial_centres.size() % dim != 0)
         throw Error("kmeans: centres must be a non-empty multiple of " + std::to_string(dim) + " values");
     if (max_iterations < 0) throw Error("kmeans: max_iterations must be >= 0");
+    if (!(stop_fraction >= 0.0 && stop_fraction < 1.0)) throw Error("kmeans: stop_fraction must be in [0, 1)");
     const size_t k = initial_centres.size() / dim;
     KMeansResult result;
     result.centres = std::move(initial_centres);
@@ -191,10 +210,8 @@ KMeansResult kmeans(const FeatureRows& rows, std::vector<float> initial_centres,
                 return count;
             },
             [](size_t a, size_t b) { return a + b; });
-        if (changed == 0) {
-            result.converged = true;
-            break;
-        }
+        result.converged = changed == 0;
+        if (static_cast<double>(changed) <= stop_fraction * static_cast<double>(n)) break;
     }
     return result;
 }

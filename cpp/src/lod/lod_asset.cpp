@@ -59,7 +59,8 @@ std::vector<float> centred_features(const StrandSet& resampled) {
 // Sec. 5.1 step 1: k-means guides, each the exact medoid of its (non-empty) cluster.
 std::vector<int64_t> select_guides(const FeatureRows& rows, const LodOptions& options) {
     std::vector<float> seeds = kmeans_plus_plus_seeds(rows, static_cast<size_t>(options.guides), options.seed);
-    const KMeansResult clusters = kmeans(rows, std::move(seeds), options.max_kmeans_iterations);
+    const KMeansResult clusters =
+        kmeans(rows, std::move(seeds), options.max_kmeans_iterations, options.kmeans_stop_fraction);
     std::vector<int64_t> guides;
     for (int64_t medoid : cluster_medoids(rows, group_by_cluster(clusters.assignment, clusters.centres.size() / rows.dim)))
         if (medoid >= 0) guides.push_back(medoid);
@@ -163,23 +164,30 @@ std::vector<glm::vec3> fit_level(ThickHairLevel& level, const Groups& groups, co
     std::vector<int64_t> covered(hairs, 0);
     std::vector<double> area(hairs, 0.0);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, hairs), [&](const tbb::blocked_range<size_t>& range) {
+        // Member points gathered once per hair, control point k of member j at [k * members + j]:
+        // each strand is read contiguously and each cross-section fit reads a contiguous span.
         std::vector<glm::vec3> points, point_tangents;
+        std::vector<double> radius;
         std::vector<float> scratch;
         for (size_t h = range.begin(); h != range.end(); ++h) {
             const std::vector<int32_t>& members = groups[h];
-            for (size_t k = 0; k < nc; ++k) {
-                points.clear();
-                point_tangents.clear();
-                double radius = 0.0;
-                for (int32_t s : members) {
-                    const size_t i = static_cast<size_t>(s) * nc + k;
-                    points.push_back(resampled.points[i]);
-                    point_tangents.push_back(tangents[i]);
-                    radius += resampled.radius[i];
+            const size_t m = members.size();
+            points.resize(nc * m);
+            point_tangents.resize(nc * m);
+            radius.assign(nc, 0.0);
+            for (size_t j = 0; j < m; ++j) {
+                const size_t first = static_cast<size_t>(members[j]) * nc;
+                for (size_t k = 0; k < nc; ++k) {
+                    points[k * m + j] = resampled.points[first + k];
+                    point_tangents[k * m + j] = tangents[first + k];
+                    radius[k] += resampled.radius[first + k];
                 }
-                radius /= static_cast<double>(members.size());
-                const CrossSection section =
-                    fit_cross_section(points, point_tangents, static_cast<float>(radius), coverage, scratch);
+            }
+            for (size_t k = 0; k < nc; ++k) {
+                const double mean_radius = radius[k] / static_cast<double>(m);
+                const CrossSection section = fit_cross_section(std::span(points).subspan(k * m, m),
+                                                               std::span(point_tangents).subspan(k * m, m),
+                                                               static_cast<float>(mean_radius), coverage, scratch);
                 const size_t at = h * nc + k;
                 centres[at] = section.centre;
                 level.major_axis[at] = section.major_axis;
@@ -188,7 +196,7 @@ std::vector<glm::vec3> fit_level(ThickHairLevel& level, const Groups& groups, co
                 // hair-lod-aggregated-bcsdf.txt Sec. 4: rho = n_total r^2 / (|r_A| |r_B|).
                 const double axes_product = static_cast<double>(section.major_radius) * section.minor_radius;
                 level.density[at] = axes_product > 0.0
-                                        ? static_cast<float>(static_cast<double>(members.size()) * radius * radius / axes_product)
+                                        ? static_cast<float>(static_cast<double>(m) * mean_radius * mean_radius / axes_product)
                                         : 0.0f;
                 for (int c = 0; c < 4; ++c) level.corner_strands[at][c] = members[static_cast<size_t>(section.corners[c])];
                 covered[h] += section.covered;
@@ -208,12 +216,29 @@ std::vector<glm::vec3> fit_level(ThickHairLevel& level, const Groups& groups, co
     return centres;
 }
 
+// Largest distance between the corners projected onto the plane through `centre` normal to
+// `tangent` (Sec. 5.2 "Hair width calculation", in world units).
+float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners) {
+    glm::vec3 on_plane[4];
+    for (int i = 0; i < 4; ++i) {
+        const glm::vec3 offset = corners[i] - centre;
+        on_plane[i] = offset - glm::dot(offset, tangent) * tangent;
+    }
+    float widest = 0.0f;
+    for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) widest = std::max(widest, glm::distance(on_plane[i], on_plane[j]));
+    return widest;
+}
+
 void check_options(const LodOptions& options) {
     if (options.guides < 1) throw Error("build_lod: guides must be >= 1, got " + std::to_string(options.guides));
     if (options.levels < 2 || options.levels > 16)
         throw Error("build_lod: levels must be in [2, 16] (thick levels plus the strands), got " + std::to_string(options.levels));
     if (options.control_points < 2) throw Error("build_lod: control_points must be >= 2, got " + std::to_string(options.control_points));
     if (options.max_kmeans_iterations < 0) throw Error("build_lod: max_kmeans_iterations must be >= 0");
+    if (!(options.kmeans_stop_fraction >= 0.0 && options.kmeans_stop_fraction < 1.0))
+        throw Error("build_lod: kmeans_stop_fraction must be in [0, 1)");
+    if (options.arc_length_subdivisions < 1) throw Error("build_lod: arc_length_subdivisions must be >= 1");
     if (!(options.ellipse_coverage > 0.0f && options.ellipse_coverage <= 1.0f))
         throw Error("build_lod: ellipse_coverage must be in (0, 1]");
 }
@@ -230,7 +255,8 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     asset.control_points = options.control_points;
     const auto nc = static_cast<size_t>(options.control_points);
 
-    const StrandSet resampled = resample_strands(strands, {.points_per_curve = options.control_points});
+    const StrandSet resampled = resample_strands(
+        strands, {.points_per_curve = options.control_points, .subdivisions_per_segment = options.arc_length_subdivisions});
     asset.timings.resample = watch.lap();
 
     const std::vector<float> features = centred_features(resampled);
@@ -293,14 +319,6 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         }
         for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
         level_centres.push_back(fit_level(level, groups, resampled, tangents, options.control_points, options.ellipse_coverage));
-        level.widest_hair.resize(cluster_count * nc);
-        for (size_t c = 0; c < cluster_count; ++c)
-            for (size_t k = 0; k < nc; ++k) {
-                int32_t widest = level.cluster_first[c];
-                for (int32_t h = widest + 1; h < level.cluster_first[c + 1]; ++h)
-                    if (level.radii[static_cast<size_t>(h) * nc + k].x > level.radii[static_cast<size_t>(widest) * nc + k].x) widest = h;
-                level.widest_hair[c * nc + k] = widest;
-            }
     }
     asset.timings.fitting = watch.lap();
 
@@ -338,14 +356,80 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
 }
 
 size_t LodAsset::memory_bytes() const {
-    auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
-    size_t total = bytes(guide_strands) + bytes(rest_guides) + bytes(cluster_guides) + bytes(frame_kinds) +
-                   bytes(strand_local) + bytes(strand_radius) + bytes(strand_order) + bytes(cluster_strand_first);
-    for (const ThickHairLevel& level : thick_levels)
-        total += bytes(level.cluster_first) + bytes(level.parent) + bytes(level.n_total) + bytes(level.strand_hair) +
-                 bytes(level.centre_local) + bytes(level.major_axis) + bytes(level.minor_axis) + bytes(level.radii) +
-                 bytes(level.density) + bytes(level.corner_strands) + bytes(level.widest_hair);
+    size_t total = 0;
+    auto add = [&](const char*, const auto& array) { total += array.size() * sizeof(array[0]); };
+    visit_arrays(*this, add);
+    for (const ThickHairLevel& level : thick_levels) ThickHairLevel::visit_arrays(level, add);
     return total;
+}
+
+namespace {
+
+void require(bool condition, const std::string& what) {
+    if (!condition) throw Error("LoD asset: " + what);
+}
+
+template <typename T>
+void require_size(const std::vector<T>& array, size_t expected, const std::string& name) {
+    require(array.size() == expected, name + " has " + std::to_string(array.size()) + " entries, expected " +
+                                          std::to_string(expected));
+}
+
+// Offsets [parts + 1] starting at 0, non-decreasing, ending at `total`.
+void require_offsets(const std::vector<int32_t>& first, size_t parts, size_t total, const std::string& name) {
+    require_size(first, parts + 1, name);
+    require(first.front() == 0 && static_cast<size_t>(first.back()) == total, name + " must run from 0 to " + std::to_string(total));
+    require(std::is_sorted(first.begin(), first.end()), name + " must not decrease");
+}
+
+template <typename T>
+void require_indices(const std::vector<T>& indices, int64_t lowest, size_t count, const std::string& name) {
+    for (const T& index : indices)
+        require(static_cast<int64_t>(index) >= lowest && static_cast<int64_t>(index) < static_cast<int64_t>(count),
+                name + " holds an index outside [" + std::to_string(lowest) + ", " + std::to_string(count) + ")");
+}
+
+}  // namespace
+
+void LodAsset::validate() const {
+    require(control_points >= 2, "control_points must be >= 2");
+    const auto nc = static_cast<size_t>(control_points);
+    require(strand_radius.size() % nc == 0 && !strand_radius.empty(), "strand_radius must hold n_c values per strand");
+    const size_t strands = strand_count(), guides = guide_count(), clusters = cluster_count();
+    require(guides > 0 && clusters > 0, "needs at least one guide and one cluster");
+    require_size(rest_guides, guides * nc, "rest_guides");
+    require_indices(guide_strands, 0, strands, "guide_strands");
+    for (const auto& set : cluster_guides) {
+        require(set[0] >= 0, "cluster_guides: every cluster needs a guide");
+        for (int32_t g : set) require(g >= -1 && g < static_cast<int32_t>(guides), "cluster_guides holds an unknown guide");
+    }
+    require_size(frame_kinds, clusters * nc, "frame_kinds");
+    for (FrameKind kind : frame_kinds) require(kind <= FrameKind::World, "frame_kinds holds an unknown kind");
+    require_size(strand_local, strands * nc, "strand_local");
+    require_size(strand_order, strands, "strand_order");
+    require_indices(strand_order, 0, strands, "strand_order");
+    require_offsets(cluster_strand_first, clusters, strands, "cluster_strand_first");
+    require(!thick_levels.empty(), "needs at least one thick level");
+    for (size_t l = 0; l < thick_levels.size(); ++l) {
+        const ThickHairLevel& level = thick_levels[l];
+        const std::string name = "level " + std::to_string(l) + " ";
+        const size_t hairs = level.hair_count();
+        require_offsets(level.cluster_first, clusters, hairs, name + "cluster_first");
+        require_size(level.parent, hairs, name + "parent");
+        require_indices(level.parent, l == 0 ? -1 : 0, l == 0 ? 0 : thick_levels[l - 1].hair_count(), name + "parent");
+        require_size(level.strand_hair, strands, name + "strand_hair");
+        require_indices(level.strand_hair, 0, hairs, name + "strand_hair");
+        require_indices(level.n_total, 1, strands + 1, name + "n_total");
+        for (const char* array : {"centre_local", "major_axis", "minor_axis", "radii", "density", "corner_strands"}) {
+            size_t size = 0;
+            ThickHairLevel::visit_arrays(level, [&](const char* n, const auto& values) {
+                if (std::string(n) == array) size = values.size();
+            });
+            require(size == hairs * nc, name + array + " must hold n_c entries per hair");
+        }
+        for (const auto& corners : level.corner_strands)
+            for (int32_t s : corners) require(s >= 0 && static_cast<size_t>(s) < strands, name + "corner_strands holds an unknown strand");
+    }
 }
 
 LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
@@ -406,6 +490,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
         g.major.resize(count);
         g.minor.resize(count);
         g.corners.resize(count);
+        g.widest.resize(clusters * nc);
         tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
             for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
                 const size_t first = static_cast<size_t>(h) * nc;
@@ -421,6 +506,9 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
                     const glm::vec3 step = g.centre[first + std::min(k + 1, nc - 1)] - g.centre[first + (k == 0 ? 0 : k - 1)];
                     const float length = glm::length(step);
                     g.tangent[first + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
+                    const float diameter = corner_diameter(g.centre[first + k], g.tangent[first + k], g.corners[first + k]);
+                    glm::vec4& widest = g.widest[c * nc + k];
+                    if (h == level.cluster_first[c] || diameter > widest.w) widest = glm::vec4(g.centre[first + k], diameter);
                 }
             }
         });

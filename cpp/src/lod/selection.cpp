@@ -45,42 +45,34 @@ struct Frustum {
 struct Context {
     const LodAsset& asset;
     const LodGeometry& geometry;
-    glm::mat4 view_projection;
-    glm::vec2 viewport;
+    Frustum frustum;
+    ScreenWidthBound bound;
+    float width_px;
     int segments;
     int finest;  // the strands' level
-};
 
-// Largest width per segment of the cluster at one thick level; a segment's width is the larger of
-// its two control points' widths. Each control point measures the cluster's hair with the largest
-// rest major radius there (ThickHairLevel::widest_hair), which keeps the cost at n_c projections
-// per cluster and level instead of one per hair (Sec. 5.2 takes the maximum over all hairs with
-// atomicMax on the GPU).
-void segment_widths(const Context& context, int level, size_t cluster, std::vector<float>& widths) {
-    const ThickHairLevel& hairs = context.asset.thick_levels[static_cast<size_t>(level)];
-    const ThickHairGeometry& g = context.geometry.levels[static_cast<size_t>(level)];
-    const auto nc = static_cast<size_t>(context.segments + 1);
-    float previous = 0.0f;
-    for (size_t k = 0; k < nc; ++k) {
-        const size_t at = static_cast<size_t>(hairs.widest_hair[cluster * nc + k]) * nc + k;
-        const float width = projected_width(context.view_projection, context.viewport, g.centre[at], g.tangent[at], g.corners[at]);
-        if (k > 0) widths[k - 1] = std::max(previous, width);
-        previous = width;
+    // Width of segment s of cluster c at a thick level: the larger bound of its two control points.
+    float segment_width(size_t c, int level, size_t s) const {
+        if (level >= finest) return 0.0f;  // the strands are always fine enough
+        const glm::vec4* widest =
+            geometry.levels[static_cast<size_t>(level)].widest.data() + c * static_cast<size_t>(segments + 1) + s;
+        return std::max(bound(glm::vec3(widest[0]), widest[0].w), bound(glm::vec3(widest[1]), widest[1].w));
     }
-}
+};
 
 Context make_context(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px) {
     if (!(width_px > 0.0f)) throw Error("select: width_px must be > 0, got " + std::to_string(width_px));
     if (!(camera.viewport.x > 0.0f && camera.viewport.y > 0.0f)) throw Error("select: viewport size must be positive");
     if (geometry.levels.size() != asset.thick_levels.size() || geometry.cluster_bounds.size() != asset.cluster_count())
         throw Error("select: geometry does not belong to this asset");
-    return {asset, geometry, camera.projection * camera.view, camera.viewport, asset.control_points - 1,
-            static_cast<int>(asset.thick_levels.size())};
+    return {asset, geometry, Frustum(camera.projection * camera.view), ScreenWidthBound(camera), width_px,
+            asset.control_points - 1, static_cast<int>(asset.thick_levels.size())};
 }
 
 // Runs of equal level within each visible cluster become draw ranges.
 void collect_draws(const Context& context, Selection& selection) {
     const auto segments = static_cast<size_t>(context.segments);
+    selection.draws.clear();
     for (size_t c = 0; c < context.asset.cluster_count(); ++c) {
         if (!selection.visible[c]) continue;
         const uint8_t* levels = selection.level.data() + c * segments;
@@ -106,15 +98,20 @@ void collect_draws(const Context& context, Selection& selection) {
     }
 }
 
-Selection empty_selection(const Context& context) {
-    Selection selection;
-    selection.segments = context.segments;
-    selection.level.assign(context.asset.cluster_count() * static_cast<size_t>(context.segments), 0);
-    selection.visible.assign(context.asset.cluster_count(), 0);
-    return selection;
-}
-
 }  // namespace
+
+ScreenWidthBound::ScreenWidthBound(const Camera& camera) {
+    const glm::mat4 m = camera.projection * camera.view;
+    depth_row_ = {m[0][3], m[1][3], m[2][3], m[3][3]};
+    // Rows 0 and 1 of the 3x3 block, scaled to pixels; the largest singular value of that 2x3
+    // matrix B is the square root of the largest eigenvalue of B B^T (2x2, closed form).
+    const glm::vec3 x_row = 0.5f * camera.viewport.x * glm::vec3(m[0][0], m[1][0], m[2][0]);
+    const glm::vec3 y_row = 0.5f * camera.viewport.y * glm::vec3(m[0][1], m[1][1], m[2][1]);
+    const double a = glm::dot(x_row, x_row), b = glm::dot(x_row, y_row), d = glm::dot(y_row, y_row);
+    const double largest = 0.5 * (a + d + std::sqrt((a - d) * (a - d) + 4.0 * b * b));
+    // Rounded up a little so the float bound stays above the float width.
+    pixels_per_unit_ = static_cast<float>(std::sqrt(largest) * (1.0 + 1e-5));
+}
 
 float projected_width(const glm::mat4& view_projection, const glm::vec2& viewport, const glm::vec3& centre,
                       const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners) {
@@ -138,68 +135,55 @@ float projected_width(const glm::mat4& view_projection, const glm::vec2& viewpor
 
 Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px) {
     const Context context = make_context(asset, geometry, camera, width_px);
-    const Frustum frustum(context.view_projection);
-    Selection selection = empty_selection(context);
     const auto segments = static_cast<size_t>(context.segments);
-    std::vector<float> widths(segments);
+    Selection selection;
+    selection.segments = context.segments;
+    selection.level.assign(asset.cluster_count() * segments, 0);
+    selection.visible.assign(asset.cluster_count(), 0);
     for (size_t c = 0; c < asset.cluster_count(); ++c) {
-        selection.visible[c] = frustum.intersects(geometry.cluster_bounds[c]);
+        selection.visible[c] = context.frustum.intersects(geometry.cluster_bounds[c]);
         if (!selection.visible[c]) continue;
-        uint8_t* levels = selection.level.data() + c * segments;
-        std::fill(levels, levels + segments, static_cast<uint8_t>(context.finest));
-        size_t unresolved = segments;
         // Coarsest to finest; a segment takes the first level that is narrow enough.
-        for (int l = 0; l < context.finest && unresolved > 0; ++l) {
-            segment_widths(context, l, c, widths);
-            for (size_t s = 0; s < segments; ++s)
-                if (levels[s] == context.finest && widths[s] <= width_px) {
-                    levels[s] = static_cast<uint8_t>(l);
-                    --unresolved;
-                }
+        for (size_t s = 0; s < segments; ++s) {
+            int level = 0;
+            while (level < context.finest && context.segment_width(c, level, s) > width_px) ++level;
+            selection.level[c * segments + s] = static_cast<uint8_t>(level);
         }
     }
     collect_draws(context, selection);
     return selection;
 }
 
-Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
-                          const Selection& previous) {
+void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
+                     Selection& selection) {
     const Context context = make_context(asset, geometry, camera, width_px);
     const auto segments = static_cast<size_t>(context.segments);
-    if (previous.segments != context.segments || previous.level.size() != asset.cluster_count() * segments)
+    if (selection.segments != context.segments || selection.level.size() != asset.cluster_count() * segments ||
+        selection.visible.size() != asset.cluster_count())
         throw Error("select: the previous selection does not belong to this asset");
-    const Frustum frustum(context.view_projection);
-    Selection selection = empty_selection(context);
-    selection.level = previous.level;
-    // Widths per thick level, computed only for the levels some segment of the cluster needs.
-    std::vector<std::vector<float>> widths(static_cast<size_t>(context.finest), std::vector<float>(segments));
-    std::vector<uint8_t> computed(static_cast<size_t>(context.finest));
-    auto width_at = [&](size_t c, int level, size_t s) {
-        if (level >= context.finest) return 0.0f;  // the strands are always fine enough
-        if (!computed[static_cast<size_t>(level)]) {
-            segment_widths(context, level, c, widths[static_cast<size_t>(level)]);
-            computed[static_cast<size_t>(level)] = 1;
-        }
-        return widths[static_cast<size_t>(level)][s];
-    };
     for (size_t c = 0; c < asset.cluster_count(); ++c) {
-        selection.visible[c] = frustum.intersects(geometry.cluster_bounds[c]);
+        selection.visible[c] = context.frustum.intersects(geometry.cluster_bounds[c]);
         if (!selection.visible[c]) continue;
-        std::fill(computed.begin(), computed.end(), 0);
         uint8_t* levels = selection.level.data() + c * segments;
         for (size_t s = 0; s < segments; ++s) {
             const int current = std::min<int>(levels[s], context.finest);
             // Eq. 16: w_cur > eps -> finer; w_cur- (one level coarser) <= eps -> coarser.
-            if (width_at(c, current, s) > width_px)
-                levels[s] = static_cast<uint8_t>(current + 1);
-            else if (current > 0 && width_at(c, current - 1, s) <= width_px)
-                levels[s] = static_cast<uint8_t>(current - 1);
-            else
-                levels[s] = static_cast<uint8_t>(current);
+            int next = current;
+            if (context.segment_width(c, current, s) > width_px)
+                next = current + 1;
+            else if (current > 0 && context.segment_width(c, current - 1, s) <= width_px)
+                next = current - 1;
+            levels[s] = static_cast<uint8_t>(next);
         }
     }
     collect_draws(context, selection);
-    return selection;
+}
+
+Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
+                          const Selection& previous) {
+    Selection next = previous;
+    select_deferred_in_place(asset, geometry, camera, width_px, next);
+    return next;
 }
 
 }  // namespace hairlod

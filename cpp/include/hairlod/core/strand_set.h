@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -14,6 +15,15 @@
 namespace hairlod {
 
 static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "points must be tightly packed float[3]");
+
+// Points (a vector or span of glm::vec3) as 3N contiguous floats, for bulk copies; empty, not a
+// member access through a null pointer, when there are no points.
+template <typename Points>
+auto point_floats(Points&& points) {
+    using Float = std::conditional_t<std::is_const_v<std::remove_pointer_t<decltype(std::data(points))>>,
+                                     const float, float>;
+    return std::span<Float>(reinterpret_cast<Float*>(std::data(points)), 3 * std::size(points));
+}
 
 enum class AttributeDomain { Point, Curve };
 

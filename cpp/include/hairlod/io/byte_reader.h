@@ -69,6 +69,7 @@ public:
         requires std::is_arithmetic_v<T>
     void read_array(std::span<T> out, std::string_view what) {
         const std::span<const std::byte> source = read_bytes(out.size_bytes(), what);
+        if (out.empty()) return;  // memcpy's pointers must not be null, even for 0 bytes
         std::memcpy(out.data(), source.data(), source.size());
         const bool file_is_little = order_ == ByteOrder::LittleEndian;
         if (sizeof(T) > 1 && file_is_little != (std::endian::native == std::endian::little))

@@ -36,8 +36,12 @@ struct KMeansResult {
 
 // Lloyd's algorithm accelerated with Hamerly's bounds (one upper bound to the assigned centre,
 // one lower bound to all others), so it returns the same assignment as plain Lloyd iterations
-// from the same centres. Centre sums are accumulated in double in row order.
-KMeansResult kmeans(const FeatureRows& rows, std::vector<float> initial_centres, int max_iterations);
+// from the same centres. Centre sums are accumulated in double in row order. Stops after
+// max_iterations centre updates, or after the first update whose reassignment moves at most
+// stop_fraction * rows rows (0: only at convergence). The tail of Lloyd's iterations moves a few
+// boundary rows between neighbouring clusters, which barely changes the medoids used as guides.
+KMeansResult kmeans(const FeatureRows& rows, std::vector<float> initial_centres, int max_iterations,
+                    double stop_fraction = 0.0);
 
 // Rows grouped by cluster: cluster c owns members[first[c] .. first[c + 1]), in increasing row order.
 struct ClusterMembers {

@@ -21,7 +21,9 @@ struct LodOptions {
     int levels = 6;            // n_L: thick-hair levels L0 .. L_{n_L - 2}, then the strands
     int control_points = 16;   // n_c per strand and per thick hair
     uint64_t seed = 0;
-    int max_kmeans_iterations = 20;  // Lloyd updates for the guides (the tail moves few strands)
+    int max_kmeans_iterations = 20;  // Lloyd updates for the guides
+    double kmeans_stop_fraction = 1e-3;  // ... or fewer once an update moves at most this fraction of strands
+    int arc_length_subdivisions = 4;     // per input segment when resampling (see ResampleOptions)
     float ellipse_coverage = 0.95f;  // fraction of member control points each ellipse must hold
 };
 
@@ -40,13 +42,25 @@ struct ThickHairLevel {
     // The strands whose control point k is a corner control point (closest to centre +- major,
     // centre +- minor), so corners skin exactly like strand points.
     std::vector<std::array<int32_t, 4>> corner_strands;
-    // Per L0 cluster and control point [clusters * n_c]: the hair with the largest major radius,
-    // which stands for the cluster's widest hair in the per-frame selection.
-    std::vector<int32_t> widest_hair;
     double coverage = 0.0;    // fraction of member control points inside their ellipse
     double mean_area = 0.0;   // mean over hairs and control points of pi r_A r_B
 
     size_t hair_count() const { return n_total.size(); }
+
+    // Calls visit(name, array) for every stored array, in a fixed order (serialisation, memory).
+    template <typename Level, typename Visit>
+    static void visit_arrays(Level& level, Visit&& visit) {
+        visit("cluster_first", level.cluster_first);
+        visit("parent", level.parent);
+        visit("n_total", level.n_total);
+        visit("strand_hair", level.strand_hair);
+        visit("centre_local", level.centre_local);
+        visit("major_axis", level.major_axis);
+        visit("minor_axis", level.minor_axis);
+        visit("radii", level.radii);
+        visit("density", level.density);
+        visit("corner_strands", level.corner_strands);
+    }
 };
 
 // Positions of everything drawable, for the rest pose or deformed guides.
@@ -56,6 +70,10 @@ struct ThickHairGeometry {
     std::vector<glm::vec3> major;    // semi-axis vectors (axis * radius)
     std::vector<glm::vec3> minor;
     std::vector<std::array<glm::vec3, 4>> corners;
+    // Per L0 cluster and control point [clusters * n_c]: the centre (xyz) and corner diameter (w)
+    // of the cluster's widest hair there, the diameter measured between the corners projected onto
+    // the plane normal to the tangent (Sec. 5.2). All the per-frame selection reads.
+    std::vector<glm::vec4> widest;
 };
 
 struct LodGeometry {
@@ -87,6 +105,23 @@ struct LodAsset {
     size_t cluster_count() const { return cluster_guides.size(); }
     size_t level_count() const { return thick_levels.size() + 1; }
     size_t memory_bytes() const;
+
+    // Calls visit(name, array) for every stored array outside the levels, in a fixed order.
+    template <typename Asset, typename Visit>
+    static void visit_arrays(Asset& asset, Visit&& visit) {
+        visit("guide_strands", asset.guide_strands);
+        visit("rest_guides", asset.rest_guides);
+        visit("cluster_guides", asset.cluster_guides);
+        visit("frame_kinds", asset.frame_kinds);
+        visit("strand_local", asset.strand_local);
+        visit("strand_radius", asset.strand_radius);
+        visit("strand_order", asset.strand_order);
+        visit("cluster_strand_first", asset.cluster_strand_first);
+    }
+
+    // Throws Error naming the first array whose size or indices are inconsistent (an asset read
+    // back from files must be checked before skinning indexes with it).
+    void validate() const;
 
     // Skins strands and thick hairs to `deformed_guides` ([guides * n_c] points, the guides in the
     // order of guide_strands) by the linear skinning of Sec. 5.1 step 4 / Sec. 5.2.

@@ -2,10 +2,12 @@
 // Screen-width LoD selection per L0 cluster and segment (hair-lod-aggregated-bcsdf.txt Sec. 5.1
 // step 5 and Sec. 5.2): the initial selection and the deferred per-frame rule of Eq. 16.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 
 #include "hairlod/lod/lod_asset.h"
 
@@ -43,12 +45,37 @@ struct Selection {
 float projected_width(const glm::mat4& view_projection, const glm::vec2& viewport, const glm::vec3& centre,
                       const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners);
 
+// An upper bound of the projected width (as projected_width measures it) of any cross-section
+// whose in-plane corner diameter is `diameter` at `centre`: the diameter times the largest
+// stretch of the camera's xy projection (the spectral norm of the viewport-scaled upper-left
+// 2x3 block of projection * view) over the centre's clip w. Per camera a few flops per point, and
+// never below the exact width, so a level it accepts is never wider than eps_w on screen.
+class ScreenWidthBound {
+public:
+    explicit ScreenWidthBound(const Camera& camera);
+    // Infinite when the centre is behind the camera.
+    float operator()(const glm::vec3& centre, float diameter) const {
+        const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w;
+        return w > 0.0f ? diameter * pixels_per_unit_ / w : std::numeric_limits<float>::infinity();
+    }
+
+private:
+    glm::vec4 depth_row_;  // row 3 of projection * view: clip w
+    float pixels_per_unit_ = 0.0f;
+};
+
 // Sec. 5.1 step 5: per visible cluster and segment, the coarsest level whose largest thick-hair
-// width is at most width_px (the strands when none is).
+// width is at most width_px (the strands when none is). Widths are ScreenWidthBound of
+// ThickHairGeometry::widest, a segment's width the larger of its two control points'.
 Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px);
 
-// Eq. 16: one step per cluster and segment from `previous`: finer when the current level is too
+// Eq. 16: one step per cluster and segment from the current levels in `selection`, updated in
+// place (no allocation once its draw list has grown to size): finer when the current level is too
 // wide, coarser when one coarser level fits, else unchanged. Culled clusters keep their level.
+void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
+                     Selection& selection);
+
+// Eq. 16 from `previous`, returning the next selection.
 Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
                           const Selection& previous);
 
