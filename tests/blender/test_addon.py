@@ -20,6 +20,12 @@ def registered():
         "import": hasattr(bpy.types, "HAIRLOD_OT_import_hair"),
         "export": hasattr(bpy.types, "HAIRLOD_OT_export_hair"),
         "panel": hasattr(bpy.types, "VIEW3D_PT_hairlod"),
+        "hair mesh from faces": hasattr(bpy.types, "HAIRLOD_OT_hair_mesh_from_faces"),
+        "generate strands": hasattr(bpy.types, "HAIRLOD_OT_generate_strands"),
+        "hair mesh panel": hasattr(bpy.types, "VIEW3D_PT_hairlod_hair_mesh"),
+        "strand settings": hasattr(bpy.types.Object, "hairlod_strands"),
+        "preview handler": any(handler.__module__.startswith("hairlod.")
+                               for handler in bpy.app.handlers.depsgraph_update_post),
         "import menu": len(hairlod_menu_entries(bpy.types.TOPBAR_MT_file_import)) == 1,
         "export menu": len(hairlod_menu_entries(bpy.types.TOPBAR_MT_file_export)) == 1,
     }

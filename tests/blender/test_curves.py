@@ -174,3 +174,20 @@ def test_failed_conversion_leaves_nothing_behind(empty_scene, name, components, 
     with pytest.raises(ValueError, match=message):
         strands_to_curves(strands, "failed")
     assert datablock_counts() == before
+
+
+def test_rewrite_keeps_the_object_and_needs_the_same_sizes(empty_scene):
+    from hairlod.blender.curves import rewrite_strand_data
+
+    original = random_strands(50, seed=1)
+    obj = strands_to_curves(original, "rewritten")
+    moved = random_strands(50, seed=1)
+    moved = Strands(moved.points + 1, moved.offsets, moved.radius * 2)
+    for name in original.attribute_names():
+        moved.set_attribute(name, original.attribute(name) * 3, original.attribute_domain(name))
+    assert rewrite_strand_data(obj, moved)
+    assert_same_strands(curves_to_strands(obj, evaluated=False), moved)
+
+    assert not rewrite_strand_data(obj, random_strands(50, seed=2))  # other curve sizes
+    assert not rewrite_strand_data(obj, Strands(moved.points, moved.offsets, moved.radius))  # fewer attributes
+    assert_same_strands(curves_to_strands(obj, evaluated=False), moved)

@@ -2,21 +2,30 @@
 
 import bpy
 
+from .hair_mesh_operators import (HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces,
+                                  HAIRLOD_PG_strand_settings, register_properties, unregister_properties)
+from .hair_mesh_preview import register_handler, unregister_handler
 from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair, menu_func_export, menu_func_import
-from .panels import VIEW3D_PT_hairlod
+from .panels import VIEW3D_PT_hairlod, VIEW3D_PT_hairlod_hair_mesh
 
 classes = (
     HAIRLOD_OT_import_hair,
     HAIRLOD_OT_export_hair,
+    HAIRLOD_PG_strand_settings,
+    HAIRLOD_OT_hair_mesh_from_faces,
+    HAIRLOD_OT_generate_strands,
     HAIRLOD_OT_build_lod,
     VIEW3D_PT_hairlod,
+    VIEW3D_PT_hairlod_hair_mesh,
 )
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
+    register_properties()
+    register_handler()
     bpy.types.TOPBAR_MT_file_import.append(menu_func_import)
     bpy.types.TOPBAR_MT_file_export.append(menu_func_export)
 
@@ -24,5 +33,7 @@ def register():
 def unregister():
     bpy.types.TOPBAR_MT_file_export.remove(menu_func_export)
     bpy.types.TOPBAR_MT_file_import.remove(menu_func_import)
+    unregister_handler()
+    unregister_properties()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -105,17 +105,47 @@ def strands_to_curves(strands: Strands, name, collection=None):
     return obj
 
 
-def _write_attribute(curves, name, strands):
+def rewrite_strand_data(obj, strands: Strands):
+    """Overwrites positions, radius and attributes of a Curves object made by ``strands_to_curves``
+    with those of ``strands``, which must have the same curve sizes and the same attribute names,
+    types and domains (Blender's own attributes aside). Unlike building new curves, this works in any
+    mode and is cheap. Returns False, changing nothing, when the layouts differ."""
+    curves = obj.data
+    if len(curves.curves) != len(strands) or len(curves.points) != strands.point_count:
+        return False
+    offsets = np.empty(len(curves.curves) + 1, np.int32)
+    curves.curve_offset_data.foreach_get("value", offsets)
+    if not np.array_equal(offsets, strands.offsets) or "radius" not in curves.attributes:
+        return False
+    attributes = {name: _attribute_layout(strands, name) for name in strands.attribute_names()}
+    existing = {attribute.name: (attribute.data_type, attribute.domain) for attribute in curves.attributes
+                if attribute.name not in _BUILTIN_ATTRIBUTES and not attribute.name.startswith(".")}
+    if existing != {name: (data_type, domain) for name, (data_type, domain, _, _) in attributes.items()}:
+        return False
+    curves.attributes["position"].data.foreach_set("vector", strands.points.ravel())
+    curves.attributes["radius"].data.foreach_set("value", np.ascontiguousarray(strands.radius))
+    for name, (_, _, prop, values) in attributes.items():
+        curves.attributes[name].data.foreach_set(prop, values)
+    curves.update_tag()
+    return True
+
+
+def _attribute_layout(strands, name):
+    """(Blender data type, domain, foreach property, flat float32 values) of a Strands attribute."""
     values = strands.attribute(name)
     components = values.shape[1] if values.ndim == 2 else 1
     if components not in _FLOAT_TYPES:
         raise ValueError(f"attribute '{name}' has {components} components; Blender takes 1 to 4")
-    if name in curves.attributes:
-        raise ValueError(f"attribute '{name}' clashes with a Blender attribute of the same name")
     data_type, prop = _FLOAT_TYPES[components]
     domain = _DOMAIN_TO_BLENDER[strands.attribute_domain(name)]
-    attribute = curves.attributes.new(name, data_type, domain)
-    attribute.data.foreach_set(prop, np.ascontiguousarray(values, np.float32).ravel())
+    return data_type, domain, prop, np.ascontiguousarray(values, np.float32).ravel()
+
+
+def _write_attribute(curves, name, strands):
+    data_type, domain, prop, values = _attribute_layout(strands, name)
+    if name in curves.attributes:
+        raise ValueError(f"attribute '{name}' clashes with a Blender attribute of the same name")
+    curves.attributes.new(name, data_type, domain).data.foreach_set(prop, values)
 
 
 _COUNT_ATTRIBUTE = "hairlod_point_count"

@@ -2,6 +2,7 @@
 
 import bpy
 
+from .hair_mesh_operators import HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces
 from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair
 
@@ -29,3 +30,34 @@ class VIEW3D_PT_hairlod(bpy.types.Panel):
         column.label(text=f"Strands: {len(obj.data.curves):,}")
         column.label(text=f"Points: {len(obj.data.points):,}")
         box.operator(HAIRLOD_OT_build_lod.bl_idname, icon='MOD_PARTICLES')
+
+
+class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "Hair LoD"
+    bl_label = "Hair Mesh"
+    bl_parent_id = "VIEW3D_PT_hairlod"
+
+    def draw(self, context):
+        from .hair_mesh import is_hair_mesh_object
+
+        layout = self.layout
+        layout.operator(HAIRLOD_OT_hair_mesh_from_faces.bl_idname, icon='MOD_SOLIDIFY')
+        obj = context.active_object
+        if not is_hair_mesh_object(obj):
+            layout.label(text="No active hair mesh", icon='INFO')
+            return
+        settings = obj.hairlod_strands
+        column = layout.column()
+        column.use_property_split = True
+        column.use_property_decorate = False
+        for group in (("count", "vertices", "seed", "subdivision", "lod"),
+                      ("curl_radius", "curl_frequency", "wave_amplitude", "wave_frequency"),
+                      ("clump_amount", "frizz_amplitude", "frizz_frequency", "trim_amount")):
+            block = column.column(align=True)
+            for key in group:
+                block.prop(settings, key)
+        row = layout.row(align=True)
+        row.operator(HAIRLOD_OT_generate_strands.bl_idname, icon='OUTLINER_OB_CURVES')
+        row.prop(settings, "live_preview", toggle=True, icon='HIDE_OFF')
