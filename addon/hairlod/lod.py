@@ -84,7 +84,7 @@ class LodAsset:
         arrays, scalars = self.arrays(), self.scalars()
         levels = arrays["levels"]
         for previous, level in zip([None] + kept, kept):
-            parent = np.full(len(levels[level]["n_total"]), -1, np.int32)
+            parent = np.full(len(levels[level]["parent"]), -1, np.int32)
             if previous is not None:
                 parent = levels[level]["parent"]
                 for between in range(level - 1, previous, -1):
@@ -196,8 +196,9 @@ def save(asset, directory, extra=None):
                 "coverage": scalars["coverage"][position],
                 "mean_area": scalars["mean_area"][position],
                 # The cluster tree and per-hair data live in these arrays: parent (hair one kept level
-                # coarser), n_total, strand_hair (strand -> hair membership), major_axis, minor_axis,
-                # radii, density (rho), centre_local, corner_strands, cluster_first.
+                # coarser), member_first (hair h holds the strands at positions [member_first[h],
+                # member_first[h + 1]) of strand_order), major_axis, minor_axis, radii, density (rho),
+                # centre_local, corner_strands, cluster_first.
                 "arrays": level_entries,
             })
         manifest = {

@@ -39,7 +39,10 @@ glm::mat4 matrix_from(const FloatArray& m, const char* what) {
     return result;
 }
 
-py::dict level_dict(const LodAsset& asset, const ThickHairLevel& level, const ThickHairGeometry& rest) {
+py::dict level_dict(const LodAsset& asset, size_t level_index, const ThickHairGeometry& rest) {
+    const ThickHairLevel& level = asset.thick_levels[level_index];
+    std::vector<int32_t> n_total(level.hair_count());
+    for (size_t h = 0; h < n_total.size(); ++h) n_total[h] = level.n_total(h);
     const auto hairs = as_size(level.hair_count()), nc = static_cast<py::ssize_t>(asset.control_points);
     py::dict d;
     d["centres"] = to_numpy<float>(rest.centre, {hairs, nc, 3});
@@ -48,9 +51,9 @@ py::dict level_dict(const LodAsset& asset, const ThickHairLevel& level, const Th
     d["radii"] = to_numpy<float>(level.radii, {hairs, nc, 2});
     d["density"] = to_numpy<float>(level.density, {hairs, nc});
     d["corner_strands"] = to_numpy<int32_t>(level.corner_strands, {hairs, nc, 4});
-    d["n_total"] = to_numpy<int32_t>(level.n_total, {hairs});
+    d["n_total"] = to_numpy<int32_t>(n_total, {hairs});
     d["parent"] = to_numpy<int32_t>(level.parent, {hairs});
-    d["membership"] = to_numpy<int32_t>(level.strand_hair, {as_size(level.strand_hair.size())});
+    d["membership"] = to_numpy<int32_t>(asset.strand_hairs(level_index), {as_size(asset.strand_count())});
     d["cluster_first"] = to_numpy<int32_t>(level.cluster_first, {as_size(level.cluster_first.size())});
     d["coverage"] = level.coverage;
     d["mean_area"] = level.mean_area;
@@ -227,7 +230,7 @@ void bind_lod(py::module_& m) {
                 rest = a.rest_geometry();
             }
             py::list levels;
-            for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, a.thick_levels[l], rest.levels[l]));
+            for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, l, rest.levels[l]));
             return levels;
         }, "Per thick level: rest centres, axes, radii, density, corners, n_total, parent, membership, coverage.")
         .def("arrays", &asset_arrays, "Every stored array by name (flat [n] or [n, components]); 'levels' holds one dict per thick level.")

@@ -279,15 +279,13 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     std::vector<int32_t> strand_cluster(strand_count);
     for (size_t s = 0; s < strand_count; ++s) strand_cluster[s] = cluster_of_set[sets[s]];
     const ClusterMembers l0 = group_by_cluster(strand_cluster, cluster_count);
-    asset.strand_order.assign(l0.members.begin(), l0.members.end());
-    asset.cluster_strand_first.assign(l0.first.begin(), l0.first.end());
     asset.timings.clusters = watch.lap();
 
     // Finer levels by splitting L0, until the requested count or until nothing can split.
     std::vector<Groups> level_groups(1);
     std::vector<std::vector<int32_t>> level_parents(1, std::vector<int32_t>(cluster_count, -1));
     for (size_t c = 0; c < cluster_count; ++c)
-        level_groups[0].emplace_back(asset.strand_order.begin() + l0.first[c], asset.strand_order.begin() + l0.first[c + 1]);
+        level_groups[0].emplace_back(l0.members.begin() + l0.first[c], l0.members.begin() + l0.first[c + 1]);
     // A level is added only while most strands can still split: otherwise it would mostly copy
     // the previous one.
     auto splittable_strands = [](const Groups& groups) {
@@ -303,18 +301,21 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     }
     asset.timings.levels = watch.lap();
 
+    // Hierarchy order: the finest level's hairs one after another. Splits keep a parent's children
+    // adjacent and in parent order, so every coarser hair is a contiguous range as well.
+    for (const std::vector<int32_t>& group : level_groups.back())
+        asset.strand_order.insert(asset.strand_order.end(), group.begin(), group.end());
+
     const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
     std::vector<std::vector<glm::vec3>> level_centres;
     for (size_t l = 0; l < level_groups.size(); ++l) {
         ThickHairLevel& level = asset.thick_levels.emplace_back();
         const Groups& groups = level_groups[l];
         level.parent = std::move(level_parents[l]);
-        level.strand_hair.resize(strand_count);
-        level.n_total.resize(groups.size());
+        level.member_first.assign(1, 0);
         level.cluster_first.assign(cluster_count + 1, 0);
         for (size_t h = 0; h < groups.size(); ++h) {
-            level.n_total[h] = static_cast<int32_t>(groups[h].size());
-            for (int32_t s : groups[h]) level.strand_hair[static_cast<size_t>(s)] = static_cast<int32_t>(h);
+            level.member_first.push_back(level.member_first.back() + static_cast<int32_t>(groups[h].size()));
             ++level.cluster_first[static_cast<size_t>(strand_cluster[static_cast<size_t>(groups[h][0])]) + 1];
         }
         for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
@@ -334,11 +335,14 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         }
     });
     asset.strand_local.resize(strand_count * nc);
-    asset.strand_radius = resampled.radius;
-    tbb::parallel_for(size_t{0}, strand_count, [&](size_t s) {
-        const size_t c = static_cast<size_t>(strand_cluster[s]);
-        for (size_t k = 0; k < nc; ++k)
-            asset.strand_local[s * nc + k] = to_local(frames[c * nc + k], resampled.points[s * nc + k]);
+    asset.strand_radius.resize(strand_count * nc);
+    tbb::parallel_for(size_t{0}, strand_count, [&](size_t i) {
+        const auto s = static_cast<size_t>(asset.strand_order[i]);
+        const auto c = static_cast<size_t>(strand_cluster[s]);
+        for (size_t k = 0; k < nc; ++k) {
+            asset.strand_local[i * nc + k] = to_local(frames[c * nc + k], resampled.points[s * nc + k]);
+            asset.strand_radius[i * nc + k] = resampled.radius[s * nc + k];
+        }
     });
     for (size_t l = 0; l < asset.thick_levels.size(); ++l) {
         ThickHairLevel& level = asset.thick_levels[l];
@@ -353,6 +357,15 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     }
     asset.timings.weights = watch.lap();
     return asset;
+}
+
+std::vector<int32_t> LodAsset::strand_hairs(size_t level) const {
+    const ThickHairLevel& thick = thick_levels.at(level);
+    std::vector<int32_t> hairs(strand_order.size());
+    for (size_t h = 0; h < thick.hair_count(); ++h)
+        for (int32_t i = thick.member_first[h]; i < thick.member_first[h + 1]; ++i)
+            hairs[static_cast<size_t>(strand_order[static_cast<size_t>(i)])] = static_cast<int32_t>(h);
+    return hairs;
 }
 
 size_t LodAsset::memory_bytes() const {
@@ -408,8 +421,12 @@ void LodAsset::validate() const {
     require_size(strand_local, strands * nc, "strand_local");
     require_size(strand_order, strands, "strand_order");
     require_indices(strand_order, 0, strands, "strand_order");
-    require_offsets(cluster_strand_first, clusters, strands, "cluster_strand_first");
-    require(!thick_levels.empty(), "needs at least one thick level");
+    std::vector<bool> seen(strands, false);
+    for (int32_t s : strand_order) {
+        require(!seen[static_cast<size_t>(s)], "strand_order must list every strand once");
+        seen[static_cast<size_t>(s)] = true;
+    }
+    require(!thick_levels.empty() && thick_levels[0].hair_count() == clusters, "level 0 needs one hair per cluster");
     for (size_t l = 0; l < thick_levels.size(); ++l) {
         const ThickHairLevel& level = thick_levels[l];
         const std::string name = "level " + std::to_string(l) + " ";
@@ -417,9 +434,15 @@ void LodAsset::validate() const {
         require_offsets(level.cluster_first, clusters, hairs, name + "cluster_first");
         require_size(level.parent, hairs, name + "parent");
         require_indices(level.parent, l == 0 ? -1 : 0, l == 0 ? 0 : thick_levels[l - 1].hair_count(), name + "parent");
-        require_size(level.strand_hair, strands, name + "strand_hair");
-        require_indices(level.strand_hair, 0, hairs, name + "strand_hair");
-        require_indices(level.n_total, 1, strands + 1, name + "n_total");
+        require_offsets(level.member_first, hairs, strands, name + "member_first");
+        for (size_t h = 0; h < hairs; ++h) {
+            require(level.n_total(h) > 0, name + "member_first gives a hair no strands");
+            if (l == 0) continue;
+            const ThickHairLevel& coarser = thick_levels[l - 1];
+            const auto p = static_cast<size_t>(level.parent[h]);
+            require(coarser.member_first[p] <= level.member_first[h] && level.member_first[h + 1] <= coarser.member_first[p + 1],
+                    name + "member_first puts a hair's strands outside its parent");
+        }
         for (const char* array : {"centre_local", "major_axis", "minor_axis", "radii", "density", "corner_strands"}) {
             size_t size = 0;
             ThickHairLevel::visit_arrays(level, [&](const char* n, const auto& values) {
@@ -462,21 +485,23 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
     LodGeometry geometry;
     StrandSet& out = geometry.strands;
     out.points.resize(strands * nc);
-    out.radius = strand_radius;
+    out.radius.resize(strands * nc);
     out.offsets.resize(strands + 1);
     for (size_t s = 0; s <= strands; ++s) out.offsets[s] = static_cast<int64_t>(s * nc);
     geometry.cluster_bounds.resize(clusters);
     tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
         glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
         float widest = 0.0f;
-        for (int32_t i = cluster_strand_first[c]; i < cluster_strand_first[c + 1]; ++i) {
-            const size_t s = static_cast<size_t>(strand_order[static_cast<size_t>(i)]);
+        const auto [first, end] = cluster_strands(c);
+        for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
+            const auto s = static_cast<size_t>(strand_order[i]);
             for (size_t k = 0; k < nc; ++k) {
-                const glm::vec3 p = frames[c * nc + k].to_world(strand_local[s * nc + k]);
+                const glm::vec3 p = frames[c * nc + k].to_world(strand_local[i * nc + k]);
                 out.points[s * nc + k] = p;
+                out.radius[s * nc + k] = strand_radius[i * nc + k];
                 lower = glm::min(lower, p);
                 upper = glm::max(upper, p);
-                widest = std::max(widest, strand_radius[s * nc + k]);
+                widest = std::max(widest, strand_radius[i * nc + k]);
             }
         }
         geometry.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest);

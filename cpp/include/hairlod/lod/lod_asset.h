@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -29,11 +30,12 @@ struct LodOptions {
 
 // One level of thick hairs. Hairs are ordered by L0 cluster: cluster c owns hairs
 // [cluster_first[c], cluster_first[c + 1]). Per-control-point arrays hold hairs * n_c entries.
+// Strands are stored in hierarchy order (LodAsset::strand_order), so the members of hair h are the
+// contiguous positions [member_first[h], member_first[h + 1]) on every level.
 struct ThickHairLevel {
     std::vector<int32_t> cluster_first;
-    std::vector<int32_t> parent;       // the hair one level coarser holding it (-1 on L0)
-    std::vector<int32_t> n_total;      // member strands
-    std::vector<int32_t> strand_hair;  // per strand: the hair of this level holding it
+    std::vector<int32_t> parent;        // the hair one level coarser holding it (-1 on L0)
+    std::vector<int32_t> member_first;  // [hairs + 1] offsets into the hierarchy order
     std::vector<glm::vec3> centre_local;  // cross-section centre in the L0 cluster's guide frame
     std::vector<glm::vec3> major_axis;    // unit, rest pose
     std::vector<glm::vec3> minor_axis;
@@ -45,15 +47,15 @@ struct ThickHairLevel {
     double coverage = 0.0;    // fraction of member control points inside their ellipse
     double mean_area = 0.0;   // mean over hairs and control points of pi r_A r_B
 
-    size_t hair_count() const { return n_total.size(); }
+    size_t hair_count() const { return parent.size(); }
+    int32_t n_total(size_t hair) const { return member_first[hair + 1] - member_first[hair]; }
 
     // Calls visit(name, array) for every stored array, in a fixed order (serialisation, memory).
     template <typename Level, typename Visit>
     static void visit_arrays(Level& level, Visit&& visit) {
         visit("cluster_first", level.cluster_first);
         visit("parent", level.parent);
-        visit("n_total", level.n_total);
-        visit("strand_hair", level.strand_hair);
+        visit("member_first", level.member_first);
         visit("centre_local", level.centre_local);
         visit("major_axis", level.major_axis);
         visit("minor_axis", level.minor_axis);
@@ -92,11 +94,12 @@ struct LodAsset {
     std::vector<glm::vec3> rest_guides;  // [guides * n_c], resampled guide strands
     std::vector<std::array<int32_t, 3>> cluster_guides;  // per L0 cluster, sorted, -1 padded
     std::vector<FrameKind> frame_kinds;  // [L0 clusters * n_c]
+    // Hierarchy order: position i holds input strand strand_order[i]; the finest thick level's
+    // hairs follow each other, so every hair of every level (and every L0 cluster) is a range of
+    // positions. Per-strand arrays below are indexed by position.
+    std::vector<int32_t> strand_order;
     std::vector<glm::vec3> strand_local;  // [strands * n_c], coordinates in the L0 guide frame
     std::vector<float> strand_radius;     // [strands * n_c]
-    // Strands ordered by L0 cluster: cluster c owns strand_order[cluster_strand_first[c] .. [c + 1]).
-    std::vector<int32_t> strand_order;
-    std::vector<int32_t> cluster_strand_first;
     std::vector<ThickHairLevel> thick_levels;  // L0 first; the strands are level thick_levels.size()
     LodBuildTimings timings;
 
@@ -105,6 +108,12 @@ struct LodAsset {
     size_t cluster_count() const { return cluster_guides.size(); }
     size_t level_count() const { return thick_levels.size() + 1; }
     size_t memory_bytes() const;
+    // Positions of the strands of L0 cluster c: [first, second).
+    std::pair<int32_t, int32_t> cluster_strands(size_t c) const {
+        return {thick_levels[0].member_first[c], thick_levels[0].member_first[c + 1]};
+    }
+    // Per input strand: the hair of thick level `level` holding it.
+    std::vector<int32_t> strand_hairs(size_t level) const;
 
     // Calls visit(name, array) for every stored array outside the levels, in a fixed order.
     template <typename Asset, typename Visit>
@@ -113,10 +122,9 @@ struct LodAsset {
         visit("rest_guides", asset.rest_guides);
         visit("cluster_guides", asset.cluster_guides);
         visit("frame_kinds", asset.frame_kinds);
+        visit("strand_order", asset.strand_order);
         visit("strand_local", asset.strand_local);
         visit("strand_radius", asset.strand_radius);
-        visit("strand_order", asset.strand_order);
-        visit("cluster_strand_first", asset.cluster_strand_first);
     }
 
     // Throws Error naming the first array whose size or indices are inconsistent (an asset read
