@@ -209,8 +209,12 @@ TEST(LodAssetHardCases, HugeCoordinates) {
     const LodAsset asset = build_lod(strands, {.guides = 8, .control_points = 6});
     const LodGeometry rest = asset.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, lod_resampled(strands, 6).points), 1e-5f);
-    for (const ThickHairLevel& level : asset.thick_levels)
-        for (const glm::vec2& r : level.radii) ASSERT_TRUE(std::isfinite(r.x) && std::isfinite(r.y));
+    for (size_t l = 0; l < asset.thick_levels.size(); ++l)
+        for (size_t h = 0; h < asset.thick_levels[l].hair_count(); ++h)
+            for (size_t k = 0; k < 6; ++k) {
+                const glm::vec2 r = asset.section(l, h, k).radii;
+                ASSERT_TRUE(std::isfinite(r.x) && std::isfinite(r.y) && r.x > 0.0f && r.y > 0.0f);
+            }
 }
 
 TEST(LodAssetHardCases, ClearErrors) {
