@@ -137,6 +137,11 @@ TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
     const StrandSet resampled = lod_resampled(*strands_, 8);
     const LodGeometry rest = a.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, resampled.points), 1e-5f);
+    // Radii are stored rounded up, by at most 2^-10 of their value.
+    for (size_t i = 0; i < resampled.radius.size(); ++i) {
+        ASSERT_GE(rest.strands.radius[i], resampled.radius[i]);
+        ASSERT_LE(rest.strands.radius[i], resampled.radius[i] * (1.0f + std::exp2(-10.0f)));
+    }
 
     const glm::mat4 motion = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -2.0f, 3.0f)), 0.7f,
                                          glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f)));
@@ -152,6 +157,28 @@ TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
             const glm::vec3 expected = glm::mat3(motion) * rest.levels[l].major[i];
             ASSERT_LT(glm::distance(moved.levels[l].major[i], expected), 1e-4f * glm::length(expected) + 1e-7f);
         }
+    }
+}
+
+TEST_F(LodAssetTest, DensityAndCornersFollowTheDecodedSections) {
+    const LodAsset& a = *asset_;
+    const LodGeometry rest = a.rest_geometry();
+    for (size_t l = 0; l < a.thick_levels.size(); ++l) {
+        const ThickHairLevel& level = a.thick_levels[l];
+        const std::vector<float> density = a.density(l);
+        for (size_t h = 0; h < level.hair_count(); ++h)
+            for (size_t k = 0; k < 8; ++k) {
+                const size_t at = h * 8 + k;
+                const RestSection section = a.section(l, h, k);
+                // Every test strand has radius 0.002 (stored rounded up to a half).
+                const float radius = rest.strands.radius[0];
+                ASSERT_NEAR(density[at], level.n_total(h) * radius * radius / (section.radii.x * section.radii.y), 1e-5f * density[at]);
+                ASSERT_NEAR(glm::length(rest.levels[l].major[at]), section.radii.x, 1e-5f * section.radii.x);
+                ASSERT_LT(std::abs(glm::dot(section.major_axis, section.minor_axis)), 1e-4f);
+                const std::array<glm::vec3, 4>& corners = rest.levels[l].corners[at];
+                ASSERT_LT(glm::distance(corners[0], rest.levels[l].centre[at] + rest.levels[l].major[at]), 1e-5f);
+                ASSERT_LT(glm::distance(corners[3], rest.levels[l].centre[at] - rest.levels[l].minor[at]), 1e-5f);
+            }
     }
 }
 
