@@ -16,7 +16,7 @@ from . import _core
 __all__ = ["LodAsset", "ThickLevel", "build_lod", "load", "read_cameras", "save", "scene_levels"]
 
 MANIFEST = "manifest.json"
-FORMAT = "hairlod-lod/1"
+FORMAT = "hairlod-lod/2"  # 2: compact cross-sections and strand coordinates, hierarchy order
 
 
 @dataclass(frozen=True)
@@ -24,11 +24,10 @@ class ThickLevel:
     """One level of thick hairs at rest; per-control-point arrays are [hairs, n_c, ...]."""
 
     centres: np.ndarray        # float32 [H, n_c, 3]
-    major_axis: np.ndarray     # float32 [H, n_c, 3], unit
+    major_axis: np.ndarray     # float32 [H, n_c, 3], unit (decoded from the compact storage)
     minor_axis: np.ndarray     # float32 [H, n_c, 3], unit
     radii: np.ndarray          # float32 [H, n_c, 2] (major, minor)
-    density: np.ndarray        # float32 [H, n_c], rho = n_total r^2 / (|r_A| |r_B|) (Sec. 4)
-    corner_strands: np.ndarray  # int32 [H, n_c, 4], strands whose control point k is a corner
+    density: np.ndarray        # float32 [H, n_c], rho = n_total r^2 / (|r_A| |r_B|) (Sec. 4), derived
     n_total: np.ndarray        # int32 [H], member strands
     parent: np.ndarray         # int32 [H], hair one level coarser (-1 on L0)
     membership: np.ndarray     # int32 [strands], hair of this level holding each strand
@@ -72,7 +71,7 @@ class LodAsset:
         return self._core.arrays()
 
     def scalars(self):
-        """control_points, coverage and mean_area per thick level."""
+        """control_points, radius_exponent, coverage and mean_area per thick level."""
         return self._core.scalars()
 
     def with_levels(self, kept):
@@ -84,7 +83,7 @@ class LodAsset:
         arrays, scalars = self.arrays(), self.scalars()
         levels = arrays["levels"]
         for previous, level in zip([None] + kept, kept):
-            parent = np.full(len(levels[level]["n_total"]), -1, np.int32)
+            parent = np.full(len(levels[level]["parent"]), -1, np.int32)
             if previous is not None:
                 parent = levels[level]["parent"]
                 for between in range(level - 1, previous, -1):
@@ -208,13 +207,17 @@ def save(asset, directory, extra=None):
                 "coverage": scalars["coverage"][position],
                 "mean_area": scalars["mean_area"][position],
                 # The cluster tree and per-hair data live in these arrays: parent (hair one kept level
-                # coarser), n_total, strand_hair (strand -> hair membership), major_axis, minor_axis,
-                # radii, density (rho), centre_local, corner_strands, cluster_first.
+                # coarser), member_first (hair h holds the strands at positions [member_first[h],
+                # member_first[h + 1]) of strand_order), cluster_first, and the compact cross-sections
+                # centre_local (uint16 in local_boxes), major_axis (octahedral int16), minor_axis
+                # (uint16 angle about the major axis), radii (halves x 2^radius_exponent). Density is
+                # derived: rho = n_total r^2 / (|r_A| |r_B|).
                 "arrays": level_entries,
             })
         manifest = {
             "format": FORMAT,
             "control_points": scalars["control_points"],
+            "radius_exponent": scalars["radius_exponent"],
             "strands": asset.strand_count,
             "guides": asset.guide_count,
             "clusters": asset.cluster_count,
@@ -272,6 +275,7 @@ def load(directory):
         arrays["levels"] = [{name.split("_", 1)[1]: _read_array(directory, entry, name)
                              for name, entry in level["arrays"].items()} for level in levels]
         scalars = {"control_points": int(manifest["control_points"]),
+                   "radius_exponent": int(manifest["radius_exponent"]),
                    "coverage": [float(level["coverage"]) for level in levels],
                    "mean_area": [float(level["mean_area"]) for level in levels]}
         level_ids = [int(level["level"]) for level in levels]

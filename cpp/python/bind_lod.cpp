@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "bindings.h"
 #include "hairlod/core/error.h"
@@ -39,18 +40,31 @@ glm::mat4 matrix_from(const FloatArray& m, const char* what) {
     return result;
 }
 
-py::dict level_dict(const LodAsset& asset, const ThickHairLevel& level, const ThickHairGeometry& rest) {
-    const auto hairs = as_size(level.hair_count()), nc = static_cast<py::ssize_t>(asset.control_points);
+py::dict level_dict(const LodAsset& asset, size_t level_index, const ThickHairGeometry& rest) {
+    const ThickHairLevel& level = asset.thick_levels[level_index];
+    const size_t nc = static_cast<size_t>(asset.control_points);
+    std::vector<int32_t> n_total(level.hair_count());
+    std::vector<glm::vec3> major_axis(level.hair_count() * nc), minor_axis(major_axis.size());
+    std::vector<glm::vec2> radii(major_axis.size());
+    for (size_t h = 0; h < n_total.size(); ++h) {
+        n_total[h] = level.n_total(h);
+        for (size_t k = 0; k < nc; ++k) {
+            const RestSection section = asset.section(level_index, h, k);
+            major_axis[h * nc + k] = section.major_axis;
+            minor_axis[h * nc + k] = section.minor_axis;
+            radii[h * nc + k] = section.radii;
+        }
+    }
+    const auto hairs = as_size(level.hair_count()), nc_size = as_size(nc);
     py::dict d;
-    d["centres"] = to_numpy<float>(rest.centre, {hairs, nc, 3});
-    d["major_axis"] = to_numpy<float>(level.major_axis, {hairs, nc, 3});
-    d["minor_axis"] = to_numpy<float>(level.minor_axis, {hairs, nc, 3});
-    d["radii"] = to_numpy<float>(level.radii, {hairs, nc, 2});
-    d["density"] = to_numpy<float>(level.density, {hairs, nc});
-    d["corner_strands"] = to_numpy<int32_t>(level.corner_strands, {hairs, nc, 4});
-    d["n_total"] = to_numpy<int32_t>(level.n_total, {hairs});
+    d["centres"] = to_numpy<float>(rest.centre, {hairs, nc_size, 3});
+    d["major_axis"] = to_numpy<float>(major_axis, {hairs, nc_size, 3});
+    d["minor_axis"] = to_numpy<float>(minor_axis, {hairs, nc_size, 3});
+    d["radii"] = to_numpy<float>(radii, {hairs, nc_size, 2});
+    d["density"] = to_numpy<float>(asset.density(level_index), {hairs, nc_size});
+    d["n_total"] = to_numpy<int32_t>(n_total, {hairs});
     d["parent"] = to_numpy<int32_t>(level.parent, {hairs});
-    d["membership"] = to_numpy<int32_t>(level.strand_hair, {as_size(level.strand_hair.size())});
+    d["membership"] = to_numpy<int32_t>(asset.strand_hairs(level_index), {as_size(asset.strand_count())});
     d["cluster_first"] = to_numpy<int32_t>(level.cluster_first, {as_size(level.cluster_first.size())});
     d["coverage"] = level.coverage;
     d["mean_area"] = level.mean_area;
@@ -83,10 +97,15 @@ struct Stored {
     using Scalar = T;
     static constexpr py::ssize_t components = 1;
 };
-template <glm::length_t N>
-struct Stored<glm::vec<N, float>> {
-    using Scalar = float;
+template <glm::length_t N, typename T>
+struct Stored<glm::vec<N, T>> {
+    using Scalar = T;
     static constexpr py::ssize_t components = N;
+};
+template <>
+struct Stored<QuantisationBox> {  // lower xyz, step xyz
+    using Scalar = float;
+    static constexpr py::ssize_t components = 6;
 };
 template <size_t N>
 struct Stored<std::array<int32_t, N>> {
@@ -117,7 +136,8 @@ void stored_from_numpy(const py::handle& source, const std::string& name, std::v
     if (array.ndim() != (scalar_rows ? 1 : 2) || (!scalar_rows && array.shape(1) != S::components))
         throw Error("LoD asset: " + name + " must have shape [n" + (scalar_rows ? "" : ", " + std::to_string(S::components)) + "]");
     values.resize(static_cast<size_t>(array.shape(0)));
-    std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::memcpy(static_cast<void*>(values.data()), array.data(), values.size() * sizeof(T));
 }
 
 py::dict asset_arrays(const LodAsset& asset) {
@@ -136,6 +156,7 @@ py::dict asset_arrays(const LodAsset& asset) {
 py::dict asset_scalars(const LodAsset& asset) {
     py::dict d;
     d["control_points"] = asset.control_points;
+    d["radius_exponent"] = asset.radius_exponent;
     py::list coverage, mean_area;
     for (const ThickHairLevel& level : asset.thick_levels) {
         coverage.append(level.coverage);
@@ -150,6 +171,7 @@ LodAsset asset_from(const py::dict& scalars, const py::dict& arrays) {
     LodAsset asset;
     try {
         asset.control_points = scalars["control_points"].cast<int>();
+        asset.radius_exponent = scalars["radius_exponent"].cast<int>();
         LodAsset::visit_arrays(asset, [&](const char* name, auto& values) { stored_from_numpy(arrays[name], name, values); });
         const py::list levels = arrays["levels"];
         const py::list coverage = scalars["coverage"], mean_area = scalars["mean_area"];
@@ -227,11 +249,11 @@ void bind_lod(py::module_& m) {
                 rest = a.rest_geometry();
             }
             py::list levels;
-            for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, a.thick_levels[l], rest.levels[l]));
+            for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, l, rest.levels[l]));
             return levels;
-        }, "Per thick level: rest centres, axes, radii, density, corners, n_total, parent, membership, coverage.")
+        }, "Per thick level: rest centres, decoded axes and radii, density, n_total, parent, membership, coverage.")
         .def("arrays", &asset_arrays, "Every stored array by name (flat [n] or [n, components]); 'levels' holds one dict per thick level.")
-        .def("scalars", &asset_scalars, "control_points, and coverage and mean_area per thick level.")
+        .def("scalars", &asset_scalars, "control_points, radius_exponent, and coverage and mean_area per thick level.")
         .def_static("from_arrays", &asset_from, py::arg("scalars"), py::arg("arrays"),
                     "Rebuilds an asset from scalars() and arrays(); raises ValueError naming an inconsistent array.")
         .def("skin", [](const LodAsset& a, const FloatArray& guides) {

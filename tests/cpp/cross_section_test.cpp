@@ -32,9 +32,19 @@ TEST(CrossSection, AnisotropicSpreadCoversTheRequestedFraction) {
     EXPECT_EQ(inside, s.covered);
     EXPECT_GE(inside, 380);  // 95% of 400
     EXPECT_LE(inside, 385);  // the quantile, not everything
-    // Corners are the members closest to the axis endpoints.
-    const glm::vec3 end = s.centre + s.major_radius * s.major_axis;
-    for (const auto& p : points) EXPECT_GE(glm::distance(p, end) + 1e-6f, glm::distance(points[static_cast<size_t>(s.corners[0])], end));
+}
+
+TEST(CrossSection, GrowthToCoverIsTheQuantileOfEllipticalDistances) {
+    CrossSection unit;  // radius 1 about the origin in the xy plane
+    unit.major_radius = unit.minor_radius = 1.0f;
+    const std::vector<glm::vec3> points{{0.5f, 0, 0}, {0, 2, 0}, {3, 0, 7}, {0, 0, -4}};
+    std::vector<float> scratch;
+    EXPECT_NEAR(growth_to_cover(unit, points, 2, scratch), 1.0, 2e-5);  // two inside already: no growth
+    EXPECT_NEAR(growth_to_cover(unit, points, 3, scratch), 2.0, 1e-4);
+    EXPECT_NEAR(growth_to_cover(unit, points, 4, scratch), 3.0, 1e-4);
+    CrossSection grown = unit;
+    grown.major_radius = grown.minor_radius = static_cast<float>(growth_to_cover(unit, points, 4, scratch));
+    for (const glm::vec3& p : points) EXPECT_TRUE(inside_ellipse(grown, p));
 }
 
 TEST(CrossSection, SingleMemberHasTheStrandRadius) {

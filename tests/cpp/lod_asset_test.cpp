@@ -71,15 +71,17 @@ TEST_F(LodAssetTest, LevelsPartitionTheStrands) {
     for (size_t l = 0; l < a.thick_levels.size(); ++l) {
         const ThickHairLevel& level = a.thick_levels[l];
         int64_t total = 0;
-        std::vector<int32_t> counted(level.hair_count(), 0);
-        for (int32_t n : level.n_total) total += n;
+        std::vector<int32_t> counted(level.hair_count(), 0), n_total(level.hair_count());
+        for (size_t h = 0; h < level.hair_count(); ++h) total += n_total[h] = level.n_total(h);
         EXPECT_EQ(total, 3000) << "level " << l;
-        for (int32_t h : level.strand_hair) ++counted[static_cast<size_t>(h)];
-        EXPECT_EQ(counted, level.n_total);
+        const std::vector<int32_t> strand_hairs = a.strand_hairs(l);
+        for (int32_t h : strand_hairs) ++counted[static_cast<size_t>(h)];
+        EXPECT_EQ(counted, n_total);
         EXPECT_EQ(level.cluster_first.back(), static_cast<int32_t>(level.hair_count()));
         // Every strand's hair lies inside the hair of the level above that holds the strand.
+        const std::vector<int32_t> coarser = l > 0 ? a.strand_hairs(l - 1) : std::vector<int32_t>{};
         for (size_t s = 0; l > 0 && s < 3000; ++s)
-            EXPECT_EQ(level.parent[static_cast<size_t>(level.strand_hair[s])], a.thick_levels[l - 1].strand_hair[s]);
+            EXPECT_EQ(level.parent[static_cast<size_t>(strand_hairs[s])], coarser[s]);
     }
     EXPECT_EQ(a.thick_levels[0].hair_count(), a.cluster_count());
 }
@@ -87,6 +89,7 @@ TEST_F(LodAssetTest, LevelsPartitionTheStrands) {
 TEST_F(LodAssetTest, L0ClustersShareTheirThreeNearestGuides) {
     const LodAsset& a = *asset_;
     const StrandSet resampled = lod_resampled(*strands_, 8);
+    const std::vector<int32_t> strand_clusters = a.strand_hairs(0);
     for (size_t s = 0; s < 3000; s += 97) {
         std::vector<std::pair<double, int32_t>> distances;
         for (size_t g = 0; g < a.guide_count(); ++g) {
@@ -100,7 +103,7 @@ TEST_F(LodAssetTest, L0ClustersShareTheirThreeNearestGuides) {
         std::sort(distances.begin(), distances.end());
         std::array<int32_t, 3> expected{distances[0].second, distances[1].second, distances[2].second};
         std::sort(expected.begin(), expected.end());
-        EXPECT_EQ(a.cluster_guides[static_cast<size_t>(a.thick_levels[0].strand_hair[s])], expected) << "strand " << s;
+        EXPECT_EQ(a.cluster_guides[static_cast<size_t>(strand_clusters[s])], expected) << "strand " << s;
     }
 }
 
@@ -116,11 +119,11 @@ TEST_F(LodAssetTest, CoverageAndAreaRatioPerLevel) {
     }
     // Independent recount on L0 from the rest geometry: member points inside their ellipse.
     const LodGeometry rest = a.rest_geometry();
-    const ThickHairLevel& level = a.thick_levels[0];
+    const std::vector<int32_t> strand_hairs = a.strand_hairs(0);
     int64_t inside = 0;
     for (size_t s = 0; s < 3000; ++s)
         for (size_t k = 0; k < 8; ++k) {
-            const size_t at = static_cast<size_t>(level.strand_hair[s]) * 8 + k;
+            const size_t at = static_cast<size_t>(strand_hairs[s]) * 8 + k;
             const glm::vec3 d = rest.strands.points[s * 8 + k] - rest.levels[0].centre[at];
             const float u = glm::dot(d, rest.levels[0].major[at]) / glm::dot(rest.levels[0].major[at], rest.levels[0].major[at]);
             const float v = glm::dot(d, rest.levels[0].minor[at]) / glm::dot(rest.levels[0].minor[at], rest.levels[0].minor[at]);
@@ -134,6 +137,11 @@ TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
     const StrandSet resampled = lod_resampled(*strands_, 8);
     const LodGeometry rest = a.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, resampled.points), 1e-5f);
+    // Radii are stored rounded up, by at most 2^-10 of their value.
+    for (size_t i = 0; i < resampled.radius.size(); ++i) {
+        ASSERT_GE(rest.strands.radius[i], resampled.radius[i]);
+        ASSERT_LE(rest.strands.radius[i], resampled.radius[i] * (1.0f + std::exp2(-10.0f)));
+    }
 
     const glm::mat4 motion = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -2.0f, 3.0f)), 0.7f,
                                          glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f)));
@@ -152,6 +160,28 @@ TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
     }
 }
 
+TEST_F(LodAssetTest, DensityAndCornersFollowTheDecodedSections) {
+    const LodAsset& a = *asset_;
+    const LodGeometry rest = a.rest_geometry();
+    for (size_t l = 0; l < a.thick_levels.size(); ++l) {
+        const ThickHairLevel& level = a.thick_levels[l];
+        const std::vector<float> density = a.density(l);
+        for (size_t h = 0; h < level.hair_count(); ++h)
+            for (size_t k = 0; k < 8; ++k) {
+                const size_t at = h * 8 + k;
+                const RestSection section = a.section(l, h, k);
+                // Every test strand has radius 0.002 (stored rounded up to a half).
+                const float radius = rest.strands.radius[0];
+                ASSERT_NEAR(density[at], level.n_total(h) * radius * radius / (section.radii.x * section.radii.y), 1e-5f * density[at]);
+                ASSERT_NEAR(glm::length(rest.levels[l].major[at]), section.radii.x, 1e-5f * section.radii.x);
+                ASSERT_LT(std::abs(glm::dot(section.major_axis, section.minor_axis)), 1e-4f);
+                const std::array<glm::vec3, 4>& corners = rest.levels[l].corners[at];
+                ASSERT_LT(glm::distance(corners[0], rest.levels[l].centre[at] + rest.levels[l].major[at]), 1e-5f);
+                ASSERT_LT(glm::distance(corners[3], rest.levels[l].centre[at] - rest.levels[l].minor[at]), 1e-5f);
+            }
+    }
+}
+
 TEST_F(LodAssetTest, DeterministicForASeedAndAnyThreadCount) {
     LodAsset single;
     {
@@ -161,7 +191,8 @@ TEST_F(LodAssetTest, DeterministicForASeedAndAnyThreadCount) {
     EXPECT_EQ(single.guide_strands, asset_->guide_strands);
     ASSERT_EQ(single.thick_levels.size(), asset_->thick_levels.size());
     for (size_t l = 0; l < single.thick_levels.size(); ++l)
-        EXPECT_EQ(single.thick_levels[l].strand_hair, asset_->thick_levels[l].strand_hair);
+        EXPECT_EQ(single.strand_hairs(l), asset_->strand_hairs(l));
+    EXPECT_EQ(single.strand_order, asset_->strand_order);
     const LodAsset other = build_lod(*strands_, {.guides = 24, .levels = 6, .control_points = 8, .seed = 4});
     EXPECT_NE(other.guide_strands, asset_->guide_strands);
 }
@@ -170,7 +201,7 @@ TEST(LodAssetHardCases, OneStrandAndFewerStrandsThanGuides) {
     const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 256});
     EXPECT_EQ(one.guide_count(), 1u);
     EXPECT_EQ(one.cluster_count(), 1u);
-    EXPECT_EQ(one.thick_levels[0].n_total[0], 1);
+    EXPECT_EQ(one.thick_levels[0].n_total(0), 1);
     const LodAsset few = build_lod(test_hair(10, 5, 2), {.guides = 256});
     EXPECT_EQ(few.guide_count(), 10u);
     EXPECT_LT(max_relative_error(few.rest_geometry().strands.points,
@@ -184,7 +215,7 @@ TEST(LodAssetHardCases, IdenticalStrands) {
     for (int i = 0; i < 50; ++i) strands.add_curve(one.curve_points(0), one.radius);
     const LodAsset asset = build_lod(strands, {.guides = 8});
     EXPECT_EQ(asset.guide_count(), 1u);
-    EXPECT_EQ(asset.thick_levels[0].n_total[0], 50);
+    EXPECT_EQ(asset.thick_levels[0].n_total(0), 50);
     for (const glm::vec3& p : asset.rest_geometry().strands.points) EXPECT_TRUE(std::isfinite(p.x));
 }
 
@@ -205,8 +236,12 @@ TEST(LodAssetHardCases, HugeCoordinates) {
     const LodAsset asset = build_lod(strands, {.guides = 8, .control_points = 6});
     const LodGeometry rest = asset.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, lod_resampled(strands, 6).points), 1e-5f);
-    for (const ThickHairLevel& level : asset.thick_levels)
-        for (const glm::vec2& r : level.radii) ASSERT_TRUE(std::isfinite(r.x) && std::isfinite(r.y));
+    for (size_t l = 0; l < asset.thick_levels.size(); ++l)
+        for (size_t h = 0; h < asset.thick_levels[l].hair_count(); ++h)
+            for (size_t k = 0; k < 6; ++k) {
+                const glm::vec2 r = asset.section(l, h, k).radii;
+                ASSERT_TRUE(std::isfinite(r.x) && std::isfinite(r.y) && r.x > 0.0f && r.y > 0.0f);
+            }
 }
 
 TEST(LodAssetHardCases, ClearErrors) {

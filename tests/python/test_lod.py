@@ -150,8 +150,9 @@ def test_load_rejects_broken_folders(asset, tmp_path):
     with pytest.raises(ValueError, match="manifest.json"):
         lod.load(tmp_path)
     lod.save(asset, tmp_path / "asset")
-    np.save(tmp_path / "asset" / "level0_strand_hair.npy", np.full(asset.strand_count, 10**6, np.int32))
-    with pytest.raises(ValueError, match="strand_hair"):
+    member_first = np.load(tmp_path / "asset" / "level1_member_first.npy")
+    np.save(tmp_path / "asset" / "level1_member_first.npy", member_first[::-1].copy())
+    with pytest.raises(ValueError, match="member_first"):
         lod.load(tmp_path / "asset")
 
 

@@ -17,33 +17,26 @@ namespace {
 // despite rounding.
 constexpr double kBoundaryInflation = 1.0 + 1e-5;
 
-// The members closest to the four axis endpoints, in one pass over the points.
-std::array<int, 4> corner_members(std::span<const glm::vec3> points, const CrossSection& s) {
-    const glm::vec3 targets[4] = {s.centre + s.major_radius * s.major_axis, s.centre - s.major_radius * s.major_axis,
-                                  s.centre + s.minor_radius * s.minor_axis, s.centre - s.minor_radius * s.minor_axis};
-    std::array<int, 4> corners{0, 0, 0, 0};
-    float best[4] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
-                     std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
-    for (size_t i = 0; i < points.size(); ++i)
-        for (int c = 0; c < 4; ++c) {
-            const glm::vec3 d = points[i] - targets[c];
-            const float distance = glm::dot(d, d);
-            if (distance < best[c]) {
-                best[c] = distance;
-                corners[c] = static_cast<int>(i);
-            }
-        }
-    return corners;
+// Squared elliptical distance of `point` projected onto the section's plane (1 on the ellipse).
+double ellipse_distance_squared(const CrossSection& s, const glm::vec3& point) {
+    const glm::dvec3 d = glm::dvec3(point) - glm::dvec3(s.centre);
+    const double u = glm::dot(d, glm::dvec3(s.major_axis)), v = glm::dot(d, glm::dvec3(s.minor_axis));
+    const double a = s.major_radius, b = s.minor_radius;
+    if (a <= 0.0 || b <= 0.0) return u == 0.0 && v == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+    return (u / a) * (u / a) + (v / b) * (v / b);
 }
 
 }  // namespace
 
-bool inside_ellipse(const CrossSection& s, const glm::vec3& point) {
-    const glm::dvec3 d = glm::dvec3(point) - glm::dvec3(s.centre);
-    const double u = glm::dot(d, glm::dvec3(s.major_axis)), v = glm::dot(d, glm::dvec3(s.minor_axis));
-    const double a = s.major_radius, b = s.minor_radius;
-    if (a <= 0.0 || b <= 0.0) return u == 0.0 && v == 0.0;
-    return (u / a) * (u / a) + (v / b) * (v / b) <= 1.0;
+bool inside_ellipse(const CrossSection& s, const glm::vec3& point) { return ellipse_distance_squared(s, point) <= 1.0; }
+
+double growth_to_cover(const CrossSection& section, std::span<const glm::vec3> points, size_t count,
+                       std::vector<float>& scratch) {
+    scratch.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) scratch[i] = static_cast<float>(ellipse_distance_squared(section, points[i]));
+    const auto nth = scratch.begin() + static_cast<std::ptrdiff_t>(std::clamp<size_t>(count, 1, points.size()) - 1);
+    std::nth_element(scratch.begin(), nth, scratch.end());
+    return std::max(1.0, std::sqrt(static_cast<double>(*nth))) * kBoundaryInflation;
 }
 
 CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<const glm::vec3> tangents,
@@ -81,26 +74,19 @@ CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<cons
     const double sigma_minor = std::max(std::sqrt(std::max(pca.values[minor], 0.0) + r2), floor);
     const glm::dvec3 axis_major = pca.vectors[major], axis_minor = pca.vectors[minor];
 
-    // The smallest scale that covers the requested fraction of points: the matching quantile of
-    // their Mahalanobis distances in the ellipse plane.
-    scratch.resize(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-        const glm::dvec3 d = glm::dvec3(points[i]) - centre;
-        const double u = glm::dot(d, axis_major) / sigma_major, v = glm::dot(d, axis_minor) / sigma_minor;
-        scratch[i] = static_cast<float>(std::sqrt(u * u + v * v));
-    }
-    const size_t needed = std::clamp<size_t>(static_cast<size_t>(std::ceil(coverage * count)), 1, points.size());
-    std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(needed - 1), scratch.end());
-    const double scale = std::max(1.0, static_cast<double>(scratch[needed - 1])) * kBoundaryInflation;
-
     CrossSection section;
     section.centre = glm::vec3(centre);
     section.tangent = glm::vec3(tangent);
     section.major_axis = glm::vec3(axis_major);
     section.minor_axis = glm::vec3(axis_minor);
+    section.major_radius = static_cast<float>(sigma_major);
+    section.minor_radius = static_cast<float>(sigma_minor);
+    // The smallest scale of the sigma ellipse that covers the requested fraction of points: the
+    // matching quantile of their Mahalanobis distances in the ellipse plane.
+    const size_t needed = static_cast<size_t>(std::ceil(coverage * count));
+    const double scale = growth_to_cover(section, points, needed, scratch);
     section.major_radius = static_cast<float>(scale * sigma_major);
     section.minor_radius = static_cast<float>(scale * sigma_minor);
-    section.corners = corner_members(points, section);
     for (const glm::vec3& p : points) section.covered += inside_ellipse(section, p) ? 1 : 0;
     return section;
 }

@@ -26,6 +26,9 @@ constexpr size_t kSplitFactor = 4;
 // Only groups whose children would average at least 2 strands are split: a thick hair of one
 // strand is the strand itself, which the finest level draws anyway.
 constexpr size_t kMinSplitMembers = 2 * kSplitFactor;
+// The largest radius is stored near 2^10 (LodAsset::radius_exponent): room above for the growth
+// that keeps coverage (the half's largest is about 2^16) and 24 binades below in full precision.
+constexpr int kRadiusHeadroomBits = 10;
 
 class Stopwatch {
 public:
@@ -150,20 +153,12 @@ std::vector<glm::vec3> unit_tangents(const StrandSet& resampled, int control_poi
     return tangents;
 }
 
-// Sec. 5.1 step 3 for every hair of a level; centres are returned in world space.
-std::vector<glm::vec3> fit_level(ThickHairLevel& level, const Groups& groups, const StrandSet& resampled,
-                                 const std::vector<glm::vec3>& tangents, int control_points, float coverage) {
+// Sec. 5.1 step 3 for every hair of a level: the exact cross-sections [hairs * n_c].
+std::vector<CrossSection> fit_level(const Groups& groups, const StrandSet& resampled, const std::vector<glm::vec3>& tangents,
+                                    int control_points, float coverage) {
     const auto nc = static_cast<size_t>(control_points);
-    const size_t hairs = groups.size();
-    std::vector<glm::vec3> centres(hairs * nc);
-    level.major_axis.resize(hairs * nc);
-    level.minor_axis.resize(hairs * nc);
-    level.radii.resize(hairs * nc);
-    level.density.resize(hairs * nc);
-    level.corner_strands.resize(hairs * nc);
-    std::vector<int64_t> covered(hairs, 0);
-    std::vector<double> area(hairs, 0.0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, hairs), [&](const tbb::blocked_range<size_t>& range) {
+    std::vector<CrossSection> sections(groups.size() * nc);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size()), [&](const tbb::blocked_range<size_t>& range) {
         // Member points gathered once per hair, control point k of member j at [k * members + j]:
         // each strand is read contiguously and each cross-section fit reads a contiguous span.
         std::vector<glm::vec3> points, point_tangents;
@@ -183,37 +178,73 @@ std::vector<glm::vec3> fit_level(ThickHairLevel& level, const Groups& groups, co
                     radius[k] += resampled.radius[first + k];
                 }
             }
+            for (size_t k = 0; k < nc; ++k)
+                sections[h * nc + k] = fit_cross_section(std::span(points).subspan(k * m, m), std::span(point_tangents).subspan(k * m, m),
+                                                         static_cast<float>(radius[k] / static_cast<double>(m)), coverage, scratch);
+        }
+    });
+    return sections;
+}
+
+CrossSection world_section(const RestSection& rest, const GuideFrame& frame) {
+    CrossSection section;
+    section.centre = frame.to_world(rest.centre_local);
+    section.major_axis = rest.major_axis;
+    section.minor_axis = rest.minor_axis;
+    section.major_radius = rest.radii.x;
+    section.minor_radius = rest.radii.y;
+    return section;
+}
+
+// Encodes the exact `sections` of thick level l into the asset. The decoded ellipse's radii grow
+// (before rounding up) until it holds as many members as the exact one, so storage never lowers
+// coverage; coverage and mean area are then measured on the decoded ellipses.
+void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sections, const StrandSet& resampled,
+                 const std::vector<GuideFrame>& frames) {
+    ThickHairLevel& level = asset.thick_levels[l];
+    const auto nc = static_cast<size_t>(asset.control_points);
+    const size_t hairs = level.hair_count();
+    level.centre_local.resize(hairs * nc);
+    level.major_axis.resize(hairs * nc);
+    level.minor_axis.resize(hairs * nc);
+    level.radii.resize(hairs * nc);
+    std::vector<int64_t> covered(hairs, 0);
+    std::vector<double> area(hairs, 0.0);
+    tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
+        std::vector<glm::vec3> points;
+        std::vector<float> scratch;
+        for (auto h = static_cast<size_t>(level.cluster_first[c]); h < static_cast<size_t>(level.cluster_first[c + 1]); ++h) {
+            const auto first = static_cast<size_t>(level.member_first[h]);
+            points.resize(static_cast<size_t>(level.n_total(h)));
             for (size_t k = 0; k < nc; ++k) {
-                const double mean_radius = radius[k] / static_cast<double>(m);
-                const CrossSection section = fit_cross_section(std::span(points).subspan(k * m, m),
-                                                               std::span(point_tangents).subspan(k * m, m),
-                                                               static_cast<float>(mean_radius), coverage, scratch);
+                for (size_t j = 0; j < points.size(); ++j)
+                    points[j] = resampled.points[static_cast<size_t>(asset.strand_order[first + j]) * nc + k];
+                const CrossSection& exact = sections[h * nc + k];
+                const GuideFrame& frame = frames[c * nc + k];
                 const size_t at = h * nc + k;
-                centres[at] = section.centre;
-                level.major_axis[at] = section.major_axis;
-                level.minor_axis[at] = section.minor_axis;
-                level.radii[at] = {section.major_radius, section.minor_radius};
-                // hair-lod-aggregated-bcsdf.txt Sec. 4: rho = n_total r^2 / (|r_A| |r_B|).
-                const double axes_product = static_cast<double>(section.major_radius) * section.minor_radius;
-                level.density[at] = axes_product > 0.0
-                                        ? static_cast<float>(static_cast<double>(m) * mean_radius * mean_radius / axes_product)
-                                        : 0.0f;
-                for (int c = 0; c < 4; ++c) level.corner_strands[at][c] = members[static_cast<size_t>(section.corners[c])];
-                covered[h] += section.covered;
-                area[h] += section.area();
+                level.centre_local[at] = asset.local_boxes[c * nc + k].encode(to_local(frame, exact.centre));
+                level.major_axis[at] = encode_octahedral(exact.major_axis);
+                level.minor_axis[at] = encode_perpendicular(decode_octahedral(level.major_axis[at]), exact.minor_axis);
+                CrossSection stored = world_section(asset.section(l, h, k), frame);
+                stored.major_radius = exact.major_radius;
+                stored.minor_radius = exact.minor_radius;
+                const double growth = growth_to_cover(stored, points, static_cast<size_t>(exact.covered), scratch);
+                level.radii[at] = {encode_half_up(static_cast<float>(growth * exact.major_radius), asset.radius_exponent),
+                                   encode_half_up(static_cast<float>(growth * exact.minor_radius), asset.radius_exponent)};
+                stored = world_section(asset.section(l, h, k), frame);
+                for (const glm::vec3& p : points) covered[h] += inside_ellipse(stored, p) ? 1 : 0;
+                area[h] += stored.area();
             }
         }
     });
-    int64_t covered_total = 0, points_total = 0;
+    int64_t covered_total = 0;
     double area_total = 0.0;
     for (size_t h = 0; h < hairs; ++h) {
         covered_total += covered[h];
-        points_total += static_cast<int64_t>(groups[h].size() * nc);
         area_total += area[h];
     }
-    level.coverage = static_cast<double>(covered_total) / static_cast<double>(points_total);
+    level.coverage = static_cast<double>(covered_total) / static_cast<double>(asset.strand_count() * nc);
     level.mean_area = area_total / static_cast<double>(hairs * nc);
-    return centres;
 }
 
 // Largest distance between the corners projected onto the plane through `centre` normal to
@@ -279,15 +310,13 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     std::vector<int32_t> strand_cluster(strand_count);
     for (size_t s = 0; s < strand_count; ++s) strand_cluster[s] = cluster_of_set[sets[s]];
     const ClusterMembers l0 = group_by_cluster(strand_cluster, cluster_count);
-    asset.strand_order.assign(l0.members.begin(), l0.members.end());
-    asset.cluster_strand_first.assign(l0.first.begin(), l0.first.end());
     asset.timings.clusters = watch.lap();
 
     // Finer levels by splitting L0, until the requested count or until nothing can split.
     std::vector<Groups> level_groups(1);
     std::vector<std::vector<int32_t>> level_parents(1, std::vector<int32_t>(cluster_count, -1));
     for (size_t c = 0; c < cluster_count; ++c)
-        level_groups[0].emplace_back(asset.strand_order.begin() + l0.first[c], asset.strand_order.begin() + l0.first[c + 1]);
+        level_groups[0].emplace_back(l0.members.begin() + l0.first[c], l0.members.begin() + l0.first[c + 1]);
     // A level is added only while most strands can still split: otherwise it would mostly copy
     // the previous one.
     auto splittable_strands = [](const Groups& groups) {
@@ -303,27 +332,13 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     }
     asset.timings.levels = watch.lap();
 
-    const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
-    std::vector<std::vector<glm::vec3>> level_centres;
-    for (size_t l = 0; l < level_groups.size(); ++l) {
-        ThickHairLevel& level = asset.thick_levels.emplace_back();
-        const Groups& groups = level_groups[l];
-        level.parent = std::move(level_parents[l]);
-        level.strand_hair.resize(strand_count);
-        level.n_total.resize(groups.size());
-        level.cluster_first.assign(cluster_count + 1, 0);
-        for (size_t h = 0; h < groups.size(); ++h) {
-            level.n_total[h] = static_cast<int32_t>(groups[h].size());
-            for (int32_t s : groups[h]) level.strand_hair[static_cast<size_t>(s)] = static_cast<int32_t>(h);
-            ++level.cluster_first[static_cast<size_t>(strand_cluster[static_cast<size_t>(groups[h][0])]) + 1];
-        }
-        for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
-        level_centres.push_back(fit_level(level, groups, resampled, tangents, options.control_points, options.ellipse_coverage));
-    }
-    asset.timings.fitting = watch.lap();
+    // Hierarchy order: the finest level's hairs one after another. Splits keep a parent's children
+    // adjacent and in parent order, so every coarser hair is a contiguous range as well.
+    for (const std::vector<int32_t>& group : level_groups.back())
+        asset.strand_order.insert(asset.strand_order.end(), group.begin(), group.end());
 
-    // Sec. 5.1 step 4: local coordinates of every strand control point and thick-hair centre in
-    // the frame of its L0 cluster's guides (corners are strand control points already).
+    // Sec. 5.1 step 4: the frame of each L0 cluster's guides per control point, in which strand
+    // control points and thick-hair centres keep local coordinates, quantised in the cluster's box.
     asset.frame_kinds.resize(cluster_count * nc);
     std::vector<GuideFrame> frames(cluster_count * nc);
     tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
@@ -333,33 +348,103 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
             frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
         }
     });
+    asset.local_boxes.resize(cluster_count * nc);
     asset.strand_local.resize(strand_count * nc);
-    asset.strand_radius = resampled.radius;
-    tbb::parallel_for(size_t{0}, strand_count, [&](size_t s) {
-        const size_t c = static_cast<size_t>(strand_cluster[s]);
-        for (size_t k = 0; k < nc; ++k)
-            asset.strand_local[s * nc + k] = to_local(frames[c * nc + k], resampled.points[s * nc + k]);
+    tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
+        const auto first = static_cast<size_t>(l0.first[c]), count = static_cast<size_t>(l0.first[c + 1]) - first;
+        std::vector<glm::vec3> local(count);
+        for (size_t k = 0; k < nc; ++k) {
+            for (size_t j = 0; j < count; ++j) {
+                const auto s = static_cast<size_t>(asset.strand_order[first + j]);
+                local[j] = to_local(frames[c * nc + k], resampled.points[s * nc + k]);
+            }
+            const QuantisationBox& box = asset.local_boxes[c * nc + k] = QuantisationBox::enclosing(local);
+            for (size_t j = 0; j < count; ++j) asset.strand_local[(first + j) * nc + k] = box.encode(local[j]);
+        }
     });
-    for (size_t l = 0; l < asset.thick_levels.size(); ++l) {
-        ThickHairLevel& level = asset.thick_levels[l];
-        level.centre_local.resize(level.hair_count() * nc);
-        tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
-            for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h)
-                for (size_t k = 0; k < nc; ++k) {
-                    const size_t at = static_cast<size_t>(h) * nc + k;
-                    level.centre_local[at] = to_local(frames[c * nc + k], level_centres[l][at]);
-                }
-        });
-    }
     asset.timings.weights = watch.lap();
+
+    const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
+    std::vector<std::vector<CrossSection>> level_sections;
+    float largest_radius = 0.0f;
+    for (size_t l = 0; l < level_groups.size(); ++l) {
+        ThickHairLevel& level = asset.thick_levels.emplace_back();
+        const Groups& groups = level_groups[l];
+        level.parent = std::move(level_parents[l]);
+        level.member_first.assign(1, 0);
+        level.cluster_first.assign(cluster_count + 1, 0);
+        for (size_t h = 0; h < groups.size(); ++h) {
+            level.member_first.push_back(level.member_first.back() + static_cast<int32_t>(groups[h].size()));
+            ++level.cluster_first[static_cast<size_t>(strand_cluster[static_cast<size_t>(groups[h][0])]) + 1];
+        }
+        for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
+        level_sections.push_back(fit_level(groups, resampled, tangents, options.control_points, options.ellipse_coverage));
+        for (const CrossSection& section : level_sections.back())
+            largest_radius = std::max({largest_radius, section.major_radius, section.minor_radius});
+    }
+    for (float r : resampled.radius) largest_radius = std::max(largest_radius, r);
+    std::frexp(largest_radius, &asset.radius_exponent);
+    asset.radius_exponent -= kRadiusHeadroomBits;
+    asset.strand_radius.resize(strand_count * nc);
+    tbb::parallel_for(size_t{0}, strand_count, [&](size_t i) {
+        const auto s = static_cast<size_t>(asset.strand_order[i]);
+        for (size_t k = 0; k < nc; ++k) asset.strand_radius[i * nc + k] = encode_half_up(resampled.radius[s * nc + k], asset.radius_exponent);
+    });
+    for (size_t l = 0; l < level_sections.size(); ++l) store_level(asset, l, level_sections[l], resampled, frames);
+    asset.timings.fitting = watch.lap();
     return asset;
 }
 
+std::vector<int32_t> LodAsset::strand_hairs(size_t level) const {
+    const ThickHairLevel& thick = thick_levels.at(level);
+    std::vector<int32_t> hairs(strand_order.size());
+    for (size_t h = 0; h < thick.hair_count(); ++h)
+        for (int32_t i = thick.member_first[h]; i < thick.member_first[h + 1]; ++i)
+            hairs[static_cast<size_t>(strand_order[static_cast<size_t>(i)])] = static_cast<int32_t>(h);
+    return hairs;
+}
+
+RestSection LodAsset::section(size_t level, size_t hair, size_t k) const {
+    const ThickHairLevel& thick = thick_levels[level];
+    const auto nc = static_cast<size_t>(control_points), at = hair * nc + k;
+    const auto cluster = static_cast<size_t>(
+        std::upper_bound(thick.cluster_first.begin(), thick.cluster_first.end(), static_cast<int32_t>(hair)) -
+        thick.cluster_first.begin() - 1);
+    RestSection section;
+    section.centre_local = local_boxes[cluster * nc + k].decode(thick.centre_local[at]);
+    section.major_axis = decode_octahedral(thick.major_axis[at]);
+    section.minor_axis = decode_perpendicular(section.major_axis, thick.minor_axis[at]);
+    section.radii = {decode_half(thick.radii[at].x, radius_exponent), decode_half(thick.radii[at].y, radius_exponent)};
+    return section;
+}
+
+std::vector<float> LodAsset::density(size_t level) const {
+    const ThickHairLevel& thick = thick_levels.at(level);
+    const auto nc = static_cast<size_t>(control_points);
+    std::vector<float> rho(thick.hair_count() * nc);
+    tbb::parallel_for(size_t{0}, thick.hair_count(), [&](size_t h) {
+        for (size_t k = 0; k < nc; ++k) {
+            double radius_sum = 0.0;
+            for (auto i = static_cast<size_t>(thick.member_first[h]); i < static_cast<size_t>(thick.member_first[h + 1]); ++i)
+                radius_sum += decode_half(strand_radius[i * nc + k], radius_exponent);
+            const double n_total = thick.n_total(h), mean_radius = radius_sum / n_total;
+            const glm::vec2 radii = section(level, h, k).radii;
+            const double axes_product = static_cast<double>(radii.x) * radii.y;
+            // hair-lod-aggregated-bcsdf.txt Sec. 4: rho = n_total r^2 / (|r_A| |r_B|).
+            rho[h * nc + k] = axes_product > 0.0 ? static_cast<float>(n_total * mean_radius * mean_radius / axes_product) : 0.0f;
+        }
+    });
+    return rho;
+}
+
 size_t LodAsset::memory_bytes() const {
-    size_t total = 0;
+    size_t total = sizeof(control_points) + sizeof(radius_exponent) + sizeof(timings);
     auto add = [&](const char*, const auto& array) { total += array.size() * sizeof(array[0]); };
     visit_arrays(*this, add);
-    for (const ThickHairLevel& level : thick_levels) ThickHairLevel::visit_arrays(level, add);
+    for (const ThickHairLevel& level : thick_levels) {
+        ThickHairLevel::visit_arrays(level, add);
+        total += sizeof(level.coverage) + sizeof(level.mean_area);
+    }
     return total;
 }
 
@@ -394,7 +479,9 @@ void require_indices(const std::vector<T>& indices, int64_t lowest, size_t count
 void LodAsset::validate() const {
     require(control_points >= 2, "control_points must be >= 2");
     const auto nc = static_cast<size_t>(control_points);
-    require(strand_radius.size() % nc == 0 && !strand_radius.empty(), "strand_radius must hold n_c values per strand");
+    require(!strand_order.empty(), "needs at least one strand");
+    // Within this range every decoded half stays finite or becomes 0 / inf, never undefined.
+    require(radius_exponent >= -200 && radius_exponent <= 200, "radius_exponent must be in [-200, 200]");
     const size_t strands = strand_count(), guides = guide_count(), clusters = cluster_count();
     require(guides > 0 && clusters > 0, "needs at least one guide and one cluster");
     require_size(rest_guides, guides * nc, "rest_guides");
@@ -405,11 +492,17 @@ void LodAsset::validate() const {
     }
     require_size(frame_kinds, clusters * nc, "frame_kinds");
     for (FrameKind kind : frame_kinds) require(kind <= FrameKind::World, "frame_kinds holds an unknown kind");
+    require_size(local_boxes, clusters * nc, "local_boxes");
     require_size(strand_local, strands * nc, "strand_local");
+    require_size(strand_radius, strands * nc, "strand_radius");
     require_size(strand_order, strands, "strand_order");
     require_indices(strand_order, 0, strands, "strand_order");
-    require_offsets(cluster_strand_first, clusters, strands, "cluster_strand_first");
-    require(!thick_levels.empty(), "needs at least one thick level");
+    std::vector<bool> seen(strands, false);
+    for (int32_t s : strand_order) {
+        require(!seen[static_cast<size_t>(s)], "strand_order must list every strand once");
+        seen[static_cast<size_t>(s)] = true;
+    }
+    require(!thick_levels.empty() && thick_levels[0].hair_count() == clusters, "level 0 needs one hair per cluster");
     for (size_t l = 0; l < thick_levels.size(); ++l) {
         const ThickHairLevel& level = thick_levels[l];
         const std::string name = "level " + std::to_string(l) + " ";
@@ -417,18 +510,22 @@ void LodAsset::validate() const {
         require_offsets(level.cluster_first, clusters, hairs, name + "cluster_first");
         require_size(level.parent, hairs, name + "parent");
         require_indices(level.parent, l == 0 ? -1 : 0, l == 0 ? 0 : thick_levels[l - 1].hair_count(), name + "parent");
-        require_size(level.strand_hair, strands, name + "strand_hair");
-        require_indices(level.strand_hair, 0, hairs, name + "strand_hair");
-        require_indices(level.n_total, 1, strands + 1, name + "n_total");
-        for (const char* array : {"centre_local", "major_axis", "minor_axis", "radii", "density", "corner_strands"}) {
+        require_offsets(level.member_first, hairs, strands, name + "member_first");
+        for (size_t h = 0; h < hairs; ++h) {
+            require(level.n_total(h) > 0, name + "member_first gives a hair no strands");
+            if (l == 0) continue;
+            const ThickHairLevel& coarser = thick_levels[l - 1];
+            const auto p = static_cast<size_t>(level.parent[h]);
+            require(coarser.member_first[p] <= level.member_first[h] && level.member_first[h + 1] <= coarser.member_first[p + 1],
+                    name + "member_first puts a hair's strands outside its parent");
+        }
+        for (const char* array : {"centre_local", "major_axis", "minor_axis", "radii"}) {
             size_t size = 0;
             ThickHairLevel::visit_arrays(level, [&](const char* n, const auto& values) {
                 if (std::string(n) == array) size = values.size();
             });
             require(size == hairs * nc, name + array + " must hold n_c entries per hair");
         }
-        for (const auto& corners : level.corner_strands)
-            for (int32_t s : corners) require(s >= 0 && static_cast<size_t>(s) < strands, name + "corner_strands holds an unknown strand");
     }
 }
 
@@ -462,27 +559,31 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
     LodGeometry geometry;
     StrandSet& out = geometry.strands;
     out.points.resize(strands * nc);
-    out.radius = strand_radius;
+    out.radius.resize(strands * nc);
     out.offsets.resize(strands + 1);
     for (size_t s = 0; s <= strands; ++s) out.offsets[s] = static_cast<int64_t>(s * nc);
     geometry.cluster_bounds.resize(clusters);
     tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
         glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
         float widest = 0.0f;
-        for (int32_t i = cluster_strand_first[c]; i < cluster_strand_first[c + 1]; ++i) {
-            const size_t s = static_cast<size_t>(strand_order[static_cast<size_t>(i)]);
+        const auto [first, end] = cluster_strands(c);
+        for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
+            const auto s = static_cast<size_t>(strand_order[i]);
             for (size_t k = 0; k < nc; ++k) {
-                const glm::vec3 p = frames[c * nc + k].to_world(strand_local[s * nc + k]);
+                const glm::vec3 p = frames[c * nc + k].to_world(local_boxes[c * nc + k].decode(strand_local[i * nc + k]));
+                const float radius = decode_half(strand_radius[i * nc + k], radius_exponent);
                 out.points[s * nc + k] = p;
+                out.radius[s * nc + k] = radius;
                 lower = glm::min(lower, p);
                 upper = glm::max(upper, p);
-                widest = std::max(widest, strand_radius[s * nc + k]);
+                widest = std::max(widest, radius);
             }
         }
         geometry.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest);
     });
 
-    for (const ThickHairLevel& level : thick_levels) {
+    for (size_t l = 0; l < thick_levels.size(); ++l) {
+        const ThickHairLevel& level = thick_levels[l];
         ThickHairGeometry& g = geometry.levels.emplace_back();
         const size_t count = level.hair_count() * nc;
         g.centre.resize(count);
@@ -496,11 +597,14 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
                 const size_t first = static_cast<size_t>(h) * nc;
                 for (size_t k = 0; k < nc; ++k) {
                     const size_t at = first + k;
-                    g.centre[at] = frames[c * nc + k].to_world(level.centre_local[at]);
-                    g.major[at] = vector_maps[c * nc + k] * (level.major_axis[at] * level.radii[at].x);
-                    g.minor[at] = vector_maps[c * nc + k] * (level.minor_axis[at] * level.radii[at].y);
-                    for (int corner = 0; corner < 4; ++corner)
-                        g.corners[at][corner] = out.points[static_cast<size_t>(level.corner_strands[at][corner]) * nc + k];
+                    const RestSection rest = section(l, static_cast<size_t>(h), k);
+                    g.centre[at] = frames[c * nc + k].to_world(rest.centre_local);
+                    g.major[at] = vector_maps[c * nc + k] * (rest.major_axis * rest.radii.x);
+                    g.minor[at] = vector_maps[c * nc + k] * (rest.minor_axis * rest.radii.y);
+                    // The axis ends skinned like the centre: linear skinning moves centre + axis
+                    // to the skinned centre plus the mapped axis.
+                    g.corners[at] = {g.centre[at] + g.major[at], g.centre[at] - g.major[at], g.centre[at] + g.minor[at],
+                                     g.centre[at] - g.minor[at]};
                 }
                 for (size_t k = 0; k < nc; ++k) {
                     const glm::vec3 step = g.centre[first + std::min(k + 1, nc - 1)] - g.centre[first + (k == 0 ? 0 : k - 1)];

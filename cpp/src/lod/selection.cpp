@@ -83,8 +83,9 @@ void collect_draws(const Context& context, Selection& selection) {
             draw.level = levels[s];
             draw.cluster = static_cast<int32_t>(c);
             if (draw.level == context.finest) {
-                draw.first = context.asset.cluster_strand_first[c];
-                draw.count = context.asset.cluster_strand_first[c + 1] - draw.first;
+                const auto [first, end] = context.asset.cluster_strands(c);
+                draw.first = first;
+                draw.count = end - first;
             } else {
                 const ThickHairLevel& level = context.asset.thick_levels[static_cast<size_t>(draw.level)];
                 draw.first = level.cluster_first[c];

@@ -1,7 +1,6 @@
 #pragma once
 // Elliptical cross-section of a thick hair at one control-point index, fitted to the members'
 // control points (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 3).
-#include <array>
 #include <span>
 #include <vector>
 
@@ -16,9 +15,6 @@ struct CrossSection {
     glm::vec3 minor_axis{0.0f, 1.0f, 0.0f};  // closest to the tangent
     float major_radius = 0.0f;
     float minor_radius = 0.0f;
-    // Members closest to centre + major, centre - major, centre + minor, centre - minor (the
-    // "corner control points"), as indices into the member points.
-    std::array<int, 4> corners{0, 0, 0, 0};
     int covered = 0;  // members inside the ellipse (projected onto its plane)
 
     float area() const { return 3.14159265f * major_radius * minor_radius; }
@@ -26,6 +22,11 @@ struct CrossSection {
 
 // True when `point` projected onto the section's plane lies inside the ellipse.
 bool inside_ellipse(const CrossSection& section, const glm::vec3& point);
+
+// The smallest factor >= 1 (times a tiny margin against rounding) by which the section's radii
+// must grow so that at least `count` (>= 1) of `points` lie inside. `scratch` is reused.
+double growth_to_cover(const CrossSection& section, std::span<const glm::vec3> points, size_t count,
+                       std::vector<float>& scratch);
 
 // Fits the ellipse to `points` (with unit `tangents`, one per point, and the strands' radius):
 // PCA of the points about their mean, the axis closest to the tangent dropped, and radii

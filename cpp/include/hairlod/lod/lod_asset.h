@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -12,6 +13,7 @@
 #include <glm/vec4.hpp>
 
 #include "hairlod/core/strand_set.h"
+#include "hairlod/lod/compact.h"
 #include "hairlod/lod/guide_frame.h"
 
 namespace hairlod {
@@ -29,38 +31,44 @@ struct LodOptions {
 
 // One level of thick hairs. Hairs are ordered by L0 cluster: cluster c owns hairs
 // [cluster_first[c], cluster_first[c + 1]). Per-control-point arrays hold hairs * n_c entries.
+// Strands are stored in hierarchy order (LodAsset::strand_order), so the members of hair h are the
+// contiguous positions [member_first[h], member_first[h + 1]) on every level.
+// Cross-sections are stored compactly (compact.h); LodAsset::section decodes them. Coverage and
+// mean_area are measured on the decoded ellipses. The 4 corner control points of Sec. 5.1 step 3
+// are the ends of the decoded axes, skinned like the centre, so they need no storage.
 struct ThickHairLevel {
     std::vector<int32_t> cluster_first;
-    std::vector<int32_t> parent;       // the hair one level coarser holding it (-1 on L0)
-    std::vector<int32_t> n_total;      // member strands
-    std::vector<int32_t> strand_hair;  // per strand: the hair of this level holding it
-    std::vector<glm::vec3> centre_local;  // cross-section centre in the L0 cluster's guide frame
-    std::vector<glm::vec3> major_axis;    // unit, rest pose
-    std::vector<glm::vec3> minor_axis;
-    std::vector<glm::vec2> radii;         // (major, minor)
-    std::vector<float> density;           // rho = n_total r^2 / (|r_A| |r_B|), Sec. 4
-    // The strands whose control point k is a corner control point (closest to centre +- major,
-    // centre +- minor), so corners skin exactly like strand points.
-    std::vector<std::array<int32_t, 4>> corner_strands;
+    std::vector<int32_t> parent;        // the hair one level coarser holding it (-1 on L0)
+    std::vector<int32_t> member_first;  // [hairs + 1] offsets into the hierarchy order
+    std::vector<glm::u16vec3> centre_local;  // in the L0 cluster's guide frame, LodAsset::local_boxes
+    std::vector<glm::i16vec2> major_axis;    // unit, rest pose, octahedral
+    std::vector<uint16_t> minor_axis;        // unit, perpendicular to the decoded major axis
+    std::vector<glm::u16vec2> radii;         // (major, minor), halves rounded up, LodAsset::radius_exponent
     double coverage = 0.0;    // fraction of member control points inside their ellipse
     double mean_area = 0.0;   // mean over hairs and control points of pi r_A r_B
 
-    size_t hair_count() const { return n_total.size(); }
+    size_t hair_count() const { return parent.size(); }
+    int32_t n_total(size_t hair) const { return member_first[hair + 1] - member_first[hair]; }
 
     // Calls visit(name, array) for every stored array, in a fixed order (serialisation, memory).
     template <typename Level, typename Visit>
     static void visit_arrays(Level& level, Visit&& visit) {
         visit("cluster_first", level.cluster_first);
         visit("parent", level.parent);
-        visit("n_total", level.n_total);
-        visit("strand_hair", level.strand_hair);
+        visit("member_first", level.member_first);
         visit("centre_local", level.centre_local);
         visit("major_axis", level.major_axis);
         visit("minor_axis", level.minor_axis);
         visit("radii", level.radii);
-        visit("density", level.density);
-        visit("corner_strands", level.corner_strands);
     }
+};
+
+// One decoded rest cross-section of a thick hair.
+struct RestSection {
+    glm::vec3 centre_local{0.0f};  // in the L0 cluster's guide frame
+    glm::vec3 major_axis{0.0f};    // unit, world
+    glm::vec3 minor_axis{0.0f};
+    glm::vec2 radii{0.0f};
 };
 
 // Positions of everything drawable, for the rest pose or deformed guides.
@@ -69,7 +77,7 @@ struct ThickHairGeometry {
     std::vector<glm::vec3> tangent;  // unit, from the centre curve
     std::vector<glm::vec3> major;    // semi-axis vectors (axis * radius)
     std::vector<glm::vec3> minor;
-    std::vector<std::array<glm::vec3, 4>> corners;
+    std::vector<std::array<glm::vec3, 4>> corners;  // centre +- major, centre +- minor
     // Per L0 cluster and control point [clusters * n_c]: the centre (xyz) and corner diameter (w)
     // of the cluster's widest hair there, the diameter measured between the corners projected onto
     // the plane normal to the tangent (Sec. 5.2). All the per-frame selection reads.
@@ -92,19 +100,37 @@ struct LodAsset {
     std::vector<glm::vec3> rest_guides;  // [guides * n_c], resampled guide strands
     std::vector<std::array<int32_t, 3>> cluster_guides;  // per L0 cluster, sorted, -1 padded
     std::vector<FrameKind> frame_kinds;  // [L0 clusters * n_c]
-    std::vector<glm::vec3> strand_local;  // [strands * n_c], coordinates in the L0 guide frame
-    std::vector<float> strand_radius;     // [strands * n_c]
-    // Strands ordered by L0 cluster: cluster c owns strand_order[cluster_strand_first[c] .. [c + 1]).
+    // Hierarchy order: position i holds input strand strand_order[i]; the finest thick level's
+    // hairs follow each other, so every hair of every level (and every L0 cluster) is a range of
+    // positions. Per-strand arrays below are indexed by position.
     std::vector<int32_t> strand_order;
-    std::vector<int32_t> cluster_strand_first;
+    // Per L0 cluster and control point [clusters * n_c]: the box of its strands' local coordinates
+    // (which holds its thick-hair centres too, their means) that quantises both.
+    std::vector<QuantisationBox> local_boxes;
+    std::vector<glm::u16vec3> strand_local;  // [strands * n_c], coordinates in the L0 guide frame
+    std::vector<uint16_t> strand_radius;     // [strands * n_c], halves rounded up
+    // Radii (strands' and thick hairs') are stored as halves of radius * 2^-radius_exponent, the
+    // exponent putting the largest radius near 2^10: ample range both ways within the half's.
+    int radius_exponent = 0;
     std::vector<ThickHairLevel> thick_levels;  // L0 first; the strands are level thick_levels.size()
     LodBuildTimings timings;
 
-    size_t strand_count() const { return strand_radius.size() / static_cast<size_t>(control_points); }
+    size_t strand_count() const { return strand_order.size(); }
     size_t guide_count() const { return guide_strands.size(); }
     size_t cluster_count() const { return cluster_guides.size(); }
     size_t level_count() const { return thick_levels.size() + 1; }
     size_t memory_bytes() const;
+    // Positions of the strands of L0 cluster c: [first, second).
+    std::pair<int32_t, int32_t> cluster_strands(size_t c) const {
+        return {thick_levels[0].member_first[c], thick_levels[0].member_first[c + 1]};
+    }
+    // Per input strand: the hair of thick level `level` holding it.
+    std::vector<int32_t> strand_hairs(size_t level) const;
+    // The rest cross-section of `hair` of thick level `level` at control point k.
+    RestSection section(size_t level, size_t hair, size_t k) const;
+    // Per hair and control point of thick level `level`: the density of Sec. 4,
+    // rho = n_total r^2 / (|r_A| |r_B|), r the members' mean radius there (derived, not stored).
+    std::vector<float> density(size_t level) const;
 
     // Calls visit(name, array) for every stored array outside the levels, in a fixed order.
     template <typename Asset, typename Visit>
@@ -113,10 +139,10 @@ struct LodAsset {
         visit("rest_guides", asset.rest_guides);
         visit("cluster_guides", asset.cluster_guides);
         visit("frame_kinds", asset.frame_kinds);
+        visit("strand_order", asset.strand_order);
+        visit("local_boxes", asset.local_boxes);
         visit("strand_local", asset.strand_local);
         visit("strand_radius", asset.strand_radius);
-        visit("strand_order", asset.strand_order);
-        visit("cluster_strand_first", asset.cluster_strand_first);
     }
 
     // Throws Error naming the first array whose size or indices are inconsistent (an asset read
