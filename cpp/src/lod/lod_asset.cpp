@@ -551,10 +551,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
         for (size_t k = 0; k < nc; ++k) {
             const FrameKind kind = frame_kinds[c * nc + k];
             frames[c * nc + k] = guide_frame(kind, deformed, static_cast<int>(k));
-            const glm::dmat3 rest_axes(guide_frame(kind, rest, static_cast<int>(k)).axes);
-            const double det = glm::determinant(rest_axes);
-            vector_maps[c * nc + k] =
-                det != 0.0 ? glm::mat3(glm::dmat3(frames[c * nc + k].axes) * glm::inverse(rest_axes)) : glm::mat3(1.0f);
+            vector_maps[c * nc + k] = frame_map(guide_frame(kind, rest, static_cast<int>(k)), frames[c * nc + k]);
         }
     });
 
