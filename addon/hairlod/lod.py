@@ -209,7 +209,7 @@ def save(asset, directory, extra=None):
                 # The cluster tree and per-hair data live in these arrays: parent (hair one kept level
                 # coarser), member_first (hair h holds the strands at positions [member_first[h],
                 # member_first[h + 1]) of strand_order), cluster_first, and the compact cross-sections
-                # centre_local (uint16 in local_boxes), major_axis (octahedral int16), minor_axis
+                # centre_offset (uint16 in offset_boxes), major_axis (octahedral int16), minor_axis
                 # (uint16 angle about the major axis), radii (halves x 2^radius_exponent). Density is
                 # derived: rho = n_total r^2 / (|r_A| |r_B|).
                 "arrays": level_entries,

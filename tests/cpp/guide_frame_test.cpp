@@ -32,6 +32,10 @@ std::vector<std::vector<glm::vec3>> moved(const std::vector<std::vector<glm::vec
     return out;
 }
 
+glm::vec3 skin(const GuideFrame& rest, const GuideFrame& deformed, const glm::vec3& point) {
+    return deformed.origin + frame_map(rest, deformed) * (point - rest.origin);
+}
+
 // A point stored in the rest frame lands on the rigidly moved point (1e-5 relative).
 void expect_rigid_exact(const std::vector<std::vector<glm::vec3>>& rest, FrameKind expected) {
     const glm::mat4 motion = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(3, -2, 1)), 1.1f, glm::normalize(glm::vec3(1, 2, -1)));
@@ -40,9 +44,9 @@ void expect_rigid_exact(const std::vector<std::vector<glm::vec3>>& rest, FrameKi
         const FrameKind kind = choose_frame_kind(set_of(rest), k);
         EXPECT_EQ(kind, expected) << "k " << k;
         const glm::vec3 point = rest[0][k] + glm::vec3(0.03f, -0.05f, 0.02f);
-        const glm::vec3 local = to_local(guide_frame(kind, set_of(rest), k), point);
-        EXPECT_LT(glm::distance(guide_frame(kind, set_of(rest), k).to_world(local), point), 1e-5f);
-        const glm::vec3 skinned = guide_frame(kind, set_of(deformed), k).to_world(local);
+        const GuideFrame rest_frame = guide_frame(kind, set_of(rest), k);
+        EXPECT_LT(glm::distance(skin(rest_frame, rest_frame, point), point), 1e-5f);
+        const glm::vec3 skinned = skin(rest_frame, guide_frame(kind, set_of(deformed), k), point);
         const glm::vec3 expected_point(motion * glm::vec4(point, 1.0f));
         EXPECT_LT(glm::distance(skinned, expected_point), 1e-5f * glm::length(expected_point)) << "k " << k;
     }
@@ -51,10 +55,12 @@ void expect_rigid_exact(const std::vector<std::vector<glm::vec3>>& rest, FrameKi
 TEST(GuideFrame, PrismIsBarycentricPlusNormalOffset) {
     const std::vector<std::vector<glm::vec3>> guides{curve({0, 0, 0}, {}), curve({1, 0, 0}, {}), curve({0, 1, 0}, {})};
     const GuideFrame frame = guide_frame(FrameKind::Prism, set_of(guides), 2);
-    const glm::vec3 local = to_local(frame, glm::vec3(0.25f, 0.5f, -0.4f + 0.1f));
-    EXPECT_NEAR(local.x, 0.25f, 1e-6f);  // weight of guide 1
-    EXPECT_NEAR(local.y, 0.5f, 1e-6f);   // weight of guide 2
-    EXPECT_NEAR(std::abs(local.z), 0.1f, 1e-6f);
+    // Barycentric weights (0.25, 0.25, 0.5) plus 0.1 along the normal: moving guide 1 within the
+    // guides' plane moves the point by its weight times the move, and keeps the normal offset.
+    const glm::vec3 point(0.25f, 0.5f, -0.4f + 0.1f), shift(0.2f, -0.4f, 0.0f);
+    auto shifted = guides;
+    for (glm::vec3& p : shifted[1]) p += shift;
+    EXPECT_LT(glm::distance(skin(frame, guide_frame(FrameKind::Prism, set_of(shifted), 2), point), point + 0.25f * shift), 1e-6f);
     expect_rigid_exact(guides, FrameKind::Prism);
 }
 
@@ -74,15 +80,15 @@ TEST(GuideFrame, StraightLoneGuideFallsBackToWorldAxes) {
     EXPECT_EQ(choose_frame_kind(set_of(guides), 1), FrameKind::World);
     const GuideFrame frame = guide_frame(FrameKind::World, set_of(guides), 1);
     const glm::vec3 point(0.3f, -0.1f, 0.2f);
-    EXPECT_LT(glm::distance(frame.to_world(to_local(frame, point)), point), 1e-6f);
+    EXPECT_LT(glm::distance(skin(frame, frame, point), point), 1e-6f);
 }
 
 TEST(GuideFrame, FullyDegenerateGuideStaysFinite) {
     const std::vector<std::vector<glm::vec3>> guides{std::vector<glm::vec3>(kPoints, glm::vec3(1, 2, 3))};
     const GuideFrame frame = guide_frame(choose_frame_kind(set_of(guides), 0), set_of(guides), 0);
-    const glm::vec3 local = to_local(frame, glm::vec3(1.5f, 2, 3));
-    EXPECT_TRUE(std::isfinite(local.x) && std::isfinite(local.y) && std::isfinite(local.z));
-    EXPECT_LT(glm::distance(frame.to_world(local), glm::vec3(1.5f, 2, 3)), 1e-6f);
+    const glm::vec3 skinned = skin(frame, frame, glm::vec3(1.5f, 2, 3));
+    EXPECT_TRUE(std::isfinite(skinned.x) && std::isfinite(skinned.y) && std::isfinite(skinned.z));
+    EXPECT_LT(glm::distance(skinned, glm::vec3(1.5f, 2, 3)), 1e-6f);
 }
 
 }  // namespace

@@ -137,6 +137,14 @@ TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
     const StrandSet resampled = lod_resampled(*strands_, 8);
     const LodGeometry rest = a.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, resampled.points), 1e-5f);
+    // Every point within the stated bound: half its cluster box's step, plus float rounding.
+    const std::vector<int32_t> strand_clusters = a.strand_hairs(0);
+    for (size_t s = 0; s < 3000; ++s)
+        for (size_t k = 0; k < 8; ++k) {
+            const QuantisationBox& box = a.offset_boxes[static_cast<size_t>(strand_clusters[s]) * 8 + k];
+            ASSERT_LE(glm::distance(rest.strands.points[s * 8 + k], resampled.points[s * 8 + k]),
+                      0.5f * glm::length(box.step) + 4e-7f * glm::length(resampled.points[s * 8 + k]));
+        }
     // Radii are stored rounded up, by at most 2^-10 of their value.
     for (size_t i = 0; i < resampled.radius.size(); ++i) {
         ASSERT_GE(rest.strands.radius[i], resampled.radius[i]);

@@ -118,11 +118,10 @@ GuideFrame guide_frame(FrameKind kind, const GuideSet& guides, int k) {
     return orthonormal_frame(g.centroid, tangent, least_aligned_world_axis(tangent));
 }
 
-glm::vec3 to_local(const GuideFrame& frame, const glm::vec3& point) {
-    const glm::dmat3 axes(frame.axes);
-    const double det = glm::determinant(axes);
-    if (det == 0.0) return glm::vec3(0.0f);
-    return glm::vec3(glm::inverse(axes) * (glm::dvec3(point) - glm::dvec3(frame.origin)));
+glm::mat3 frame_map(const GuideFrame& rest, const GuideFrame& deformed) {
+    const glm::dmat3 rest_axes(rest.axes);
+    if (glm::determinant(rest_axes) == 0.0) return glm::mat3(1.0f);
+    return glm::mat3(glm::dmat3(deformed.axes) * glm::inverse(rest_axes));
 }
 
 }  // namespace hairlod

@@ -188,7 +188,7 @@ std::vector<CrossSection> fit_level(const Groups& groups, const StrandSet& resam
 
 CrossSection world_section(const RestSection& rest, const GuideFrame& frame) {
     CrossSection section;
-    section.centre = frame.to_world(rest.centre_local);
+    section.centre = frame.origin + rest.centre_offset;
     section.major_axis = rest.major_axis;
     section.minor_axis = rest.minor_axis;
     section.major_radius = rest.radii.x;
@@ -204,7 +204,7 @@ void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sec
     ThickHairLevel& level = asset.thick_levels[l];
     const auto nc = static_cast<size_t>(asset.control_points);
     const size_t hairs = level.hair_count();
-    level.centre_local.resize(hairs * nc);
+    level.centre_offset.resize(hairs * nc);
     level.major_axis.resize(hairs * nc);
     level.minor_axis.resize(hairs * nc);
     level.radii.resize(hairs * nc);
@@ -222,7 +222,7 @@ void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sec
                 const CrossSection& exact = sections[h * nc + k];
                 const GuideFrame& frame = frames[c * nc + k];
                 const size_t at = h * nc + k;
-                level.centre_local[at] = asset.local_boxes[c * nc + k].encode(to_local(frame, exact.centre));
+                level.centre_offset[at] = asset.offset_boxes[c * nc + k].encode(exact.centre - frame.origin);
                 level.major_axis[at] = encode_octahedral(exact.major_axis);
                 level.minor_axis[at] = encode_perpendicular(decode_octahedral(level.major_axis[at]), exact.minor_axis);
                 CrossSection stored = world_section(asset.section(l, h, k), frame);
@@ -337,8 +337,10 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     for (const std::vector<int32_t>& group : level_groups.back())
         asset.strand_order.insert(asset.strand_order.end(), group.begin(), group.end());
 
-    // Sec. 5.1 step 4: the frame of each L0 cluster's guides per control point, in which strand
-    // control points and thick-hair centres keep local coordinates, quantised in the cluster's box.
+    // Sec. 5.1 step 4: the frame of each L0 cluster's guides per control point. Strand control
+    // points and thick-hair centres keep their offset from its rest origin, quantised in the
+    // cluster's box; skinning maps the offset by deformed axes x rest axes^-1, which equals the
+    // deformed axes applied to the prism coordinates rest axes^-1 x offset.
     asset.frame_kinds.resize(cluster_count * nc);
     std::vector<GuideFrame> frames(cluster_count * nc);
     tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
@@ -348,18 +350,18 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
             frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
         }
     });
-    asset.local_boxes.resize(cluster_count * nc);
-    asset.strand_local.resize(strand_count * nc);
+    asset.offset_boxes.resize(cluster_count * nc);
+    asset.strand_offset.resize(strand_count * nc);
     tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
         const auto first = static_cast<size_t>(l0.first[c]), count = static_cast<size_t>(l0.first[c + 1]) - first;
-        std::vector<glm::vec3> local(count);
+        std::vector<glm::vec3> offset(count);
         for (size_t k = 0; k < nc; ++k) {
             for (size_t j = 0; j < count; ++j) {
                 const auto s = static_cast<size_t>(asset.strand_order[first + j]);
-                local[j] = to_local(frames[c * nc + k], resampled.points[s * nc + k]);
+                offset[j] = resampled.points[s * nc + k] - frames[c * nc + k].origin;
             }
-            const QuantisationBox& box = asset.local_boxes[c * nc + k] = QuantisationBox::enclosing(local);
-            for (size_t j = 0; j < count; ++j) asset.strand_local[(first + j) * nc + k] = box.encode(local[j]);
+            const QuantisationBox& box = asset.offset_boxes[c * nc + k] = QuantisationBox::enclosing(offset);
+            for (size_t j = 0; j < count; ++j) asset.strand_offset[(first + j) * nc + k] = box.encode(offset[j]);
         }
     });
     asset.timings.weights = watch.lap();
@@ -411,7 +413,7 @@ RestSection LodAsset::section(size_t level, size_t hair, size_t k) const {
         std::upper_bound(thick.cluster_first.begin(), thick.cluster_first.end(), static_cast<int32_t>(hair)) -
         thick.cluster_first.begin() - 1);
     RestSection section;
-    section.centre_local = local_boxes[cluster * nc + k].decode(thick.centre_local[at]);
+    section.centre_offset = offset_boxes[cluster * nc + k].decode(thick.centre_offset[at]);
     section.major_axis = decode_octahedral(thick.major_axis[at]);
     section.minor_axis = decode_perpendicular(section.major_axis, thick.minor_axis[at]);
     section.radii = {decode_half(thick.radii[at].x, radius_exponent), decode_half(thick.radii[at].y, radius_exponent)};
@@ -492,8 +494,8 @@ void LodAsset::validate() const {
     }
     require_size(frame_kinds, clusters * nc, "frame_kinds");
     for (FrameKind kind : frame_kinds) require(kind <= FrameKind::World, "frame_kinds holds an unknown kind");
-    require_size(local_boxes, clusters * nc, "local_boxes");
-    require_size(strand_local, strands * nc, "strand_local");
+    require_size(offset_boxes, clusters * nc, "offset_boxes");
+    require_size(strand_offset, strands * nc, "strand_offset");
     require_size(strand_radius, strands * nc, "strand_radius");
     require_size(strand_order, strands, "strand_order");
     require_indices(strand_order, 0, strands, "strand_order");
@@ -519,7 +521,7 @@ void LodAsset::validate() const {
             require(coarser.member_first[p] <= level.member_first[h] && level.member_first[h + 1] <= coarser.member_first[p + 1],
                     name + "member_first puts a hair's strands outside its parent");
         }
-        for (const char* array : {"centre_local", "major_axis", "minor_axis", "radii"}) {
+        for (const char* array : {"centre_offset", "major_axis", "minor_axis", "radii"}) {
             size_t size = 0;
             ThickHairLevel::visit_arrays(level, [&](const char* n, const auto& values) {
                 if (std::string(n) == array) size = values.size();
@@ -549,10 +551,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
         for (size_t k = 0; k < nc; ++k) {
             const FrameKind kind = frame_kinds[c * nc + k];
             frames[c * nc + k] = guide_frame(kind, deformed, static_cast<int>(k));
-            const glm::dmat3 rest_axes(guide_frame(kind, rest, static_cast<int>(k)).axes);
-            const double det = glm::determinant(rest_axes);
-            vector_maps[c * nc + k] =
-                det != 0.0 ? glm::mat3(glm::dmat3(frames[c * nc + k].axes) * glm::inverse(rest_axes)) : glm::mat3(1.0f);
+            vector_maps[c * nc + k] = frame_map(guide_frame(kind, rest, static_cast<int>(k)), frames[c * nc + k]);
         }
     });
 
@@ -570,7 +569,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
         for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
             const auto s = static_cast<size_t>(strand_order[i]);
             for (size_t k = 0; k < nc; ++k) {
-                const glm::vec3 p = frames[c * nc + k].to_world(local_boxes[c * nc + k].decode(strand_local[i * nc + k]));
+                const glm::vec3 p = frames[c * nc + k].origin + vector_maps[c * nc + k] * offset_boxes[c * nc + k].decode(strand_offset[i * nc + k]);
                 const float radius = decode_half(strand_radius[i * nc + k], radius_exponent);
                 out.points[s * nc + k] = p;
                 out.radius[s * nc + k] = radius;
@@ -598,7 +597,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
                 for (size_t k = 0; k < nc; ++k) {
                     const size_t at = first + k;
                     const RestSection rest = section(l, static_cast<size_t>(h), k);
-                    g.centre[at] = frames[c * nc + k].to_world(rest.centre_local);
+                    g.centre[at] = frames[c * nc + k].origin + vector_maps[c * nc + k] * rest.centre_offset;
                     g.major[at] = vector_maps[c * nc + k] * (rest.major_axis * rest.radii.x);
                     g.minor[at] = vector_maps[c * nc + k] * (rest.minor_axis * rest.radii.y);
                     // The axis ends skinned like the centre: linear skinning moves centre + axis

@@ -31,8 +31,6 @@ struct GuideSet {
 struct GuideFrame {
     glm::vec3 origin{0.0f};
     glm::mat3 axes{1.0f};  // point = origin + axes * local
-
-    glm::vec3 to_world(const glm::vec3& local) const { return origin + axes * local; }
 };
 
 // The best-conditioned kind for the rest pose at control point k.
@@ -41,7 +39,9 @@ FrameKind choose_frame_kind(const GuideSet& guides, int k);
 // The frame of the given kind at control point k (rest or deformed guides).
 GuideFrame guide_frame(FrameKind kind, const GuideSet& guides, int k);
 
-// Local coordinates of `point` in `frame` (solved in double: prism axes need not be orthogonal).
-glm::vec3 to_local(const GuideFrame& frame, const glm::vec3& point);
+// deformed.axes * rest.axes^-1 (in double: prism axes need not be orthogonal; the identity for
+// singular rest axes). A rest point p skins to deformed.origin + map * (p - rest.origin): the
+// deformed frame at p's rest local coordinates. Rest vectors (cross-section axes) map alike.
+glm::mat3 frame_map(const GuideFrame& rest, const GuideFrame& deformed);
 
 }  // namespace hairlod

@@ -40,7 +40,7 @@ struct ThickHairLevel {
     std::vector<int32_t> cluster_first;
     std::vector<int32_t> parent;        // the hair one level coarser holding it (-1 on L0)
     std::vector<int32_t> member_first;  // [hairs + 1] offsets into the hierarchy order
-    std::vector<glm::u16vec3> centre_local;  // in the L0 cluster's guide frame, LodAsset::local_boxes
+    std::vector<glm::u16vec3> centre_offset;  // from the L0 cluster's rest frame origin, LodAsset::offset_boxes
     std::vector<glm::i16vec2> major_axis;    // unit, rest pose, octahedral
     std::vector<uint16_t> minor_axis;        // unit, perpendicular to the decoded major axis
     std::vector<glm::u16vec2> radii;         // (major, minor), halves rounded up, LodAsset::radius_exponent
@@ -56,7 +56,7 @@ struct ThickHairLevel {
         visit("cluster_first", level.cluster_first);
         visit("parent", level.parent);
         visit("member_first", level.member_first);
-        visit("centre_local", level.centre_local);
+        visit("centre_offset", level.centre_offset);
         visit("major_axis", level.major_axis);
         visit("minor_axis", level.minor_axis);
         visit("radii", level.radii);
@@ -65,7 +65,7 @@ struct ThickHairLevel {
 
 // One decoded rest cross-section of a thick hair.
 struct RestSection {
-    glm::vec3 centre_local{0.0f};  // in the L0 cluster's guide frame
+    glm::vec3 centre_offset{0.0f};  // from the L0 cluster's rest frame origin (world axes)
     glm::vec3 major_axis{0.0f};    // unit, world
     glm::vec3 minor_axis{0.0f};
     glm::vec2 radii{0.0f};
@@ -104,10 +104,12 @@ struct LodAsset {
     // hairs follow each other, so every hair of every level (and every L0 cluster) is a range of
     // positions. Per-strand arrays below are indexed by position.
     std::vector<int32_t> strand_order;
-    // Per L0 cluster and control point [clusters * n_c]: the box of its strands' local coordinates
-    // (which holds its thick-hair centres too, their means) that quantises both.
-    std::vector<QuantisationBox> local_boxes;
-    std::vector<glm::u16vec3> strand_local;  // [strands * n_c], coordinates in the L0 guide frame
+    // Per L0 cluster and control point [clusters * n_c]: the box of its strands' offsets (which
+    // holds its thick-hair centres too, their means) that quantises both. A decoded rest point is
+    // off by at most |step| / 2 (world units), 1/131070 of the box diagonal, plus float rounding; and
+    // a rigid motion moves the decoded point rigidly.
+    std::vector<QuantisationBox> offset_boxes;
+    std::vector<glm::u16vec3> strand_offset;  // [strands * n_c], from the L0 cluster's rest frame origin
     std::vector<uint16_t> strand_radius;     // [strands * n_c], halves rounded up
     // Radii (strands' and thick hairs') are stored as halves of radius * 2^-radius_exponent, the
     // exponent putting the largest radius near 2^10: ample range both ways within the half's.
@@ -140,8 +142,8 @@ struct LodAsset {
         visit("cluster_guides", asset.cluster_guides);
         visit("frame_kinds", asset.frame_kinds);
         visit("strand_order", asset.strand_order);
-        visit("local_boxes", asset.local_boxes);
-        visit("strand_local", asset.strand_local);
+        visit("offset_boxes", asset.offset_boxes);
+        visit("strand_offset", asset.strand_offset);
         visit("strand_radius", asset.strand_radius);
     }
 
