@@ -7,26 +7,18 @@ Prints one JSON object: median seconds of 5 runs each way.
 import argparse
 import json
 import os
-import statistics
 import sys
-import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "addon"))
 
 import bpy  # noqa: E402
+
+from hairlod.bench import median_seconds  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hairlod import Strands  # noqa: E402
 from hairlod.blender.curves import curves_to_strands, strands_to_curves  # noqa: E402
 
-
-def median_seconds(function, repeats):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def main():

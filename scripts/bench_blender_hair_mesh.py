@@ -10,24 +10,17 @@ and with the limit raised to --count.
 import argparse
 import json
 import os
-import statistics
 import sys
-import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "addon"))
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
+
 import numpy as np  # noqa: E402
 
+from hairlod.bench import median_seconds  # noqa: E402
 
-def median_seconds(function, repeats=3):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def main():

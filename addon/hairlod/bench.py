@@ -16,6 +16,16 @@ import numpy as np
 
 from . import _core, bcsdf
 
+def median_seconds(function, repeats=3):
+    """Median wall time of `repeats` calls of `function()`, in seconds."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return float(np.median(times))
+
+
 BROWN = {"sigma_a": [0.2, 0.5, 1.2]}
 LOSSLESS = {"sigma_a": 0.0}
 
