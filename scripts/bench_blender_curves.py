@@ -12,13 +12,11 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "addon"))
 
 import bpy  # noqa: E402
-
-from hairlod.bench import median_seconds  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hairlod import Strands  # noqa: E402
+from hairlod.bench import median_seconds  # noqa: E402
 from hairlod.blender.curves import curves_to_strands, strands_to_curves  # noqa: E402
-
 
 
 def main():
