@@ -1,0 +1,241 @@
+"""Real-time LoD preview of hair in the 3D viewport (hair-lod-aggregated-bcsdf.txt Sec. 5.2).
+
+For every object with an LoD asset attached (``attach``), a POST_VIEW draw handler selects levels for
+each viewport's camera with the C++ selection (the initial selection, then one step of Eq. 16 per
+redraw, kept per view) and draws camera-facing strips for the selected thick hairs and lines for the
+selected strands. Vertex buffers are built once per asset and level; a redraw only rebuilds the index
+buffers of a view whose selection changed. While the selection is still converging after a camera
+move the handler asks for another redraw, so Eq. 16 reaches its fixed point without popping.
+"""
+
+import time
+
+import bpy
+import gpu
+import numpy as np
+from mathutils import Vector
+
+from ... import lod, preview_buffers
+from .shaders import glsl_source
+
+# Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
+LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.35, 0.80, 0.30),
+                 (0.20, 0.70, 0.85), (0.35, 0.40, 0.95), (0.75, 0.40, 0.90), (0.85, 0.85, 0.85))
+
+_previews = {}     # object name -> LodPreview
+_handle = None     # the draw handler
+_shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
+
+
+def level_colour(level, level_count):
+    """The overlay colour of `level`; the strands take the last colour whatever their index."""
+    if level == level_count - 1:
+        return LEVEL_COLOURS[-1]
+    return LEVEL_COLOURS[min(level, len(LEVEL_COLOURS) - 2)]
+
+
+def _create_shader(kind):
+    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_interface")
+    interface.smooth('VEC3', "v_tangent")
+    interface.smooth('VEC3', "v_to_camera")
+    interface.smooth('FLOAT', "v_across")
+    interface.flat('VEC3', "v_ellipse")
+    interface.flat('VEC2', "v_cluster")
+    info = gpu.types.GPUShaderCreateInfo()
+    info.push_constant('MAT4', "view_projection")
+    info.push_constant('VEC4', "camera")
+    info.push_constant('VEC2', "viewport")
+    info.push_constant('VEC4', "level_colour")
+    info.vertex_in(0, 'VEC3', "position")
+    info.vertex_in(1, 'VEC3', "tangent")
+    if kind == "thick":
+        info.vertex_in(2, 'VEC3', "major")
+        info.vertex_in(3, 'VEC3', "minor")
+        info.vertex_in(4, 'VEC2', "cluster")
+    info.vertex_out(interface)
+    info.fragment_out(0, 'VEC4', "fragColor")
+    info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
+    info.fragment_source(glsl_source("hair.frag.glsl"))
+    return gpu.shader.create_from_info(info)
+
+
+def shader(kind):
+    if kind not in _shaders:
+        _shaders[kind] = _create_shader(kind)
+    return _shaders[kind]
+
+
+def _set_uniforms(program, **values):
+    for name, value in values.items():
+        try:
+            program.uniform_float(name, value)
+        except ValueError:
+            pass  # the GLSL compiler removed a uniform this shading mode does not read
+
+
+def _vertex_buffer(kind, arrays):
+    vertex_format = gpu.types.GPUVertFormat()
+    names = ("position", "tangent", "major", "minor", "cluster") if kind == "thick" else ("position", "tangent")
+    for name in names:
+        vertex_format.attr_add(id=name, comp_type='F32', len=arrays[name].shape[1], fetch_mode='FLOAT')
+    buffer = gpu.types.GPUVertBuf(vertex_format, len(arrays["position"]))
+    for name in names:
+        buffer.attr_fill(name, arrays[name])
+    return buffer
+
+
+class ViewState:
+    """The selection of one viewport and the batches that draw it."""
+
+    def __init__(self, selection):
+        self.selection = selection
+        self.batches = None  # per level: GPUBatch or None (nothing selected)
+
+
+class LodPreview:
+    """The GPU state of one object's LoD asset: vertex buffers per level and a ViewState per view."""
+
+    def __init__(self, asset):
+        self.asset = asset
+        self.views = {}  # RegionView3D pointer -> ViewState
+        self.vertex_buffers = None
+        self.stats = {}
+
+    @property
+    def level_count(self):
+        return len(self.asset.levels) + 1
+
+    def _build_vertex_buffers(self):
+        geometry = self.asset.skin(self.asset.rest_guides)
+        buffers = []
+        for level, geometry_level in zip(self.asset.levels, geometry["levels"]):
+            arrays = preview_buffers.thick_strip_vertices(geometry_level, level.n_total, level.density)
+            buffers.append(_vertex_buffer("thick", arrays))
+        strand_order = self.asset.arrays()["strand_order"]
+        arrays = preview_buffers.strand_line_vertices(geometry["strands"], strand_order, self.asset.control_points)
+        buffers.append(_vertex_buffer("strand", arrays))
+        self.vertex_buffers = buffers
+
+    def view_state(self, key):
+        if key not in self.views:
+            self.views[key] = ViewState(self.asset.view_selection())
+        return self.views[key]
+
+    def batches(self, state):
+        """Index buffers and batches for the current selection of `state`."""
+        batches = []
+        for level in range(self.level_count):
+            thick = level < self.level_count - 1
+            indices = state.selection.indices(level, "strips" if thick else "lines")
+            if indices.size == 0:
+                batches.append(None)
+                continue
+            elements = indices.astype(np.int32).reshape(-1, 3 if thick else 2)
+            index_buffer = gpu.types.GPUIndexBuf(type='TRIS' if thick else 'LINES', seq=elements)
+            batches.append(gpu.types.GPUBatch(type='TRIS' if thick else 'LINES', buf=self.vertex_buffers[level],
+                                              elem=index_buffer))
+        return batches
+
+    def draw(self, obj, region, region_3d, settings):
+        start = time.perf_counter()
+        if self.vertex_buffers is None:
+            self._build_vertex_buffers()
+        state = self.view_state(region_3d.as_pointer())
+        model_view = region_3d.view_matrix @ obj.matrix_world
+        projection = region_3d.window_matrix
+        changed = state.selection.update(np.array(model_view, dtype=np.float32), np.array(projection, dtype=np.float32),
+                                         (region.width, region.height), settings.width_px)
+        if changed or state.batches is None:
+            state.batches = self.batches(state)
+        selected = time.perf_counter()
+
+        view_projection = projection @ model_view
+        camera_to_object = obj.matrix_world.inverted_safe() @ region_3d.view_matrix.inverted_safe()
+        if region_3d.is_perspective:
+            camera = (*camera_to_object.translation, 1.0)
+        else:  # orthographic: the direction towards the viewer
+            camera = (*(camera_to_object.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
+        gpu.state.depth_test_set('LESS_EQUAL')
+        gpu.state.depth_mask_set(True)
+        for level, batch in enumerate(state.batches):
+            if batch is None:
+                continue
+            program = shader("thick" if level < self.level_count - 1 else "strand")
+            program.bind()
+            _set_uniforms(program, view_projection=view_projection, camera=camera,
+                          viewport=(float(region.width), float(region.height)),
+                          level_colour=(*level_colour(level, self.level_count), 1.0))
+            batch.draw(program)
+        gpu.state.depth_mask_set(False)
+        gpu.state.depth_test_set('NONE')
+
+        segments = state.selection.segments_per_level()
+        self.stats = {"segments": int(segments.sum()), "segments_per_level": segments.tolist(),
+                      "select_ms": 1e3 * (selected - start), "draw_ms": 1e3 * (time.perf_counter() - start),
+                      "converging": bool(changed)}
+        return changed
+
+
+def attach(obj, asset):
+    """Shows `asset` (an hairlod.lod.LodAsset in `obj`'s local space) in the viewport for `obj`."""
+    if not isinstance(asset, lod.LodAsset):
+        raise TypeError(f"asset must be an hairlod.lod.LodAsset, got {type(asset).__name__}")
+    _previews[obj.name] = LodPreview(asset)
+    _tag_viewports()
+
+
+def detach(obj_name):
+    _previews.pop(obj_name, None)
+    _tag_viewports()
+
+
+def preview_of(obj):
+    return _previews.get(obj.name)
+
+
+def _tag_viewports():
+    window_manager = getattr(bpy.context, "window_manager", None)
+    for window in window_manager.windows if window_manager else ():
+        for area in window.screen.areas:
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+
+def _draw():
+    context = bpy.context
+    region, region_3d = context.region, context.region_data
+    if region is None or region_3d is None:
+        return
+    converging = False
+    for name, preview in list(_previews.items()):
+        obj = bpy.data.objects.get(name)
+        if obj is None:
+            _previews.pop(name)
+            continue
+        settings = obj.hairlod_lod_preview
+        if not settings.enabled or not obj.visible_get():
+            continue
+        converging |= preview.draw(obj, region, region_3d, settings)
+    if converging:
+        # Eq. 16 moves one level per frame: redraw until the selection settles.
+        bpy.app.timers.register(_tag_viewports_once, first_interval=0.0)
+
+
+def _tag_viewports_once():
+    _tag_viewports()
+    return None
+
+
+def register_handler():
+    global _handle
+    if _handle is None and not bpy.app.background:
+        _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), 'WINDOW', 'POST_VIEW')
+
+
+def unregister_handler():
+    global _handle
+    if _handle is not None:
+        bpy.types.SpaceView3D.draw_handler_remove(_handle, 'WINDOW')
+        _handle = None
+    _previews.clear()
+    _shaders.clear()
