@@ -48,16 +48,16 @@ std::vector<BakedTable> bake_aggregated(const HairParams& params, const BakeOpti
         throw Error("max_hair_count must be finite and >= 1, got " + std::to_string(options.max_hair_count));
     const FiberRtdBcsdf fiber(params);
     const AggregatedTable per_hair = aggregated_table(fiber, options.table_samples);
-    const BakeAxis theta_half{"theta_d", 0.0, 0.5 * kPi, options.theta_samples};
+    const BakeAxis theta_outgoing{"theta_o", 0.0, 0.5 * kPi, options.theta_samples};
     const BakeAxis theta_full{"theta_d", -0.5 * kPi, 0.5 * kPi, options.theta_samples};
     // n = 1 is an exact node; a single-valued range still needs two texels.
     const BakeAxis count{"n", 1.0, std::max(options.max_hair_count, 1.0 + 1e-6), options.hair_count_samples};
 
     std::vector<BakedTable> tables;
     tables.push_back(make_table("fiber_attenuation",
-                                "A_R, A_TT, A_D(theta_d) of the R/TT/D fibre (Huang et al. 2025, Eq. 1; "
-                                "h-averaged attenuations, even in theta_d)",
-                                {theta_half}, rgb_channels({"A_R", "A_TT", "A_D"})));
+                                "A_R, A_TT, A_D(theta_o) of the R/TT/D fibre (Huang et al. 2025, Eq. 1; "
+                                "h-averaged attenuations, even in theta_o)",
+                                {theta_outgoing}, rgb_channels({"A_R", "A_TT", "A_D"})));
     tables.push_back(make_table("dual_scattering",
                                 "a_f, a_b (Xu et al. 2011, Eq. 32-33), A_1, A_3, Delta_b, sigma_b (Zinke et al. 2008, "
                                 "Sec. 4), sigma_f^2 (Huang et al. 2025, Eq. 9) of the fibre at theta_d",
@@ -68,7 +68,7 @@ std::vector<BakedTable> bake_aggregated(const HairParams& params, const BakeOpti
                                 {theta_full, count}, rgb_channels({"a_F_n", "A_1plus", "budget"})));
 
     tbb::parallel_for(0, options.theta_samples, [&](int x) {
-        const std::array<glm::dvec3, 3> a = fiber.lobe_attenuation(theta_half.at(x));
+        const std::array<glm::dvec3, 3> a = fiber.lobe_attenuation(theta_outgoing.at(x));
         for (int p = 0; p < 3; ++p) put(tables[0], x, 0, 3 * p, a[p]);
         const double theta_d = theta_full.at(x);
         const DualScatteringSample s = per_hair.sample(theta_d);
