@@ -243,8 +243,13 @@ def command_bake(args):
     except ValueError as error:
         raise UsageError(f"{args.params or 'params'}: {error}")
     start = time.perf_counter()
+    sets = [t for t in args.tables.split(",") if t]
+    for t in sets:
+        if t not in ("aggregated", "xu"):
+            raise UsageError(f"--tables: unknown table set '{t}' (aggregated, xu)")
     manifest = bcsdf.bake(params, args.out, theta_samples=args.theta_samples,
-                          hair_count_samples=args.hair_count_samples, max_hair_count=args.max_hair_count)
+                          hair_count_samples=args.hair_count_samples, max_hair_count=args.max_hair_count,
+                          table_samples=args.table_samples, tables=sets)
     seconds = time.perf_counter() - start
     tables = [{"name": t["name"], "file": t["file"], "resolution": t["resolution"], "channels": len(t["channels"]),
                "bytes": t["bytes"]} for t in manifest["tables"]]
@@ -356,6 +361,11 @@ def build_parser():
     bake.add_argument("--hair-count-samples", type=int, default=64, help="hair count n resolution (default 64)")
     bake.add_argument("--max-hair-count", type=float, default=64.0,
                       help="largest hair count n the tables cover (default 64; the densest cluster in use)")
+    bake.add_argument("--table-samples", type=int, default=65,
+                      help="theta_d nodes of the per-hair table the aggregated tables interpolate (default 65, "
+                           "bcsdf.DEFAULT_TABLE_SAMPLES)")
+    bake.add_argument("--tables", default="aggregated",
+                      help="comma-separated table sets: aggregated, xu (Xu et al. 2011 C_k, H_k) (default aggregated)")
     bake.add_argument("--json", action="store_true", help="print one JSON object")
     bake.set_defaults(run=command_bake)
 
