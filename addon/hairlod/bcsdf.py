@@ -128,6 +128,29 @@ def hairs_crossed(density, ray_length, hair_total, major_axis, minor_axis):
                                float(minor_axis))
 
 
+def lod_hair_count_range(asset):
+    """The hair counts a LodAsset's thick hairs need (Huang et al. 2025, Sec. 4 and 5.2): returns
+    (max_hairs_crossed, densest_n_total). A ray through a thick hair meets n = rho l sqrt(n_total /
+    (pi r_A r_B)) hairs (``hairs_crossed``); at the longest chord l = 2 r_A this is at most
+    2 rho sqrt(n_total r_A / (pi r_B)) (rho clamped to 1), and never more than the hair's n_total. Taken over every
+    control point of every level, at least 1: the largest n the aggregated tables must cover."""
+    crossed, densest = 1.0, 1
+    for level in asset.levels:
+        if len(level.n_total) == 0:
+            continue
+        n_total = level.n_total.astype(np.float64)[:, None]
+        r_a = level.radii[..., 0].astype(np.float64)
+        r_b = level.radii[..., 1].astype(np.float64)
+        area = r_a * r_b
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # rho is an area fraction: at most 1 (cluster_density), however tightly the ellipse fits.
+            rho = np.minimum(level.density, 1.0)
+            n = np.where(area > 0.0, rho * 2.0 * r_a * np.sqrt(n_total / (np.pi * area)), n_total)
+        crossed = max(crossed, float(np.max(np.minimum(n, n_total))))
+        densest = max(densest, int(level.n_total.max()))
+    return crossed, densest
+
+
 def _directions(value, name):
     array = np.ascontiguousarray(value, dtype=np.float32)
     if array.ndim != 2 or array.shape[1] != 3:
@@ -372,6 +395,7 @@ __all__ = [
     "bake",
     "cluster_density",
     "hairs_crossed",
+    "lod_hair_count_range",
     "lut_lookup",
     "dual_scattering",
     "equirectangular_directions",
