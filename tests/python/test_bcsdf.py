@@ -257,8 +257,15 @@ def test_bench_bcsdf_reports_every_tier(tmp_path):
     assert run.returncode == 0, run.stderr
     result = json.loads(run.stdout)
     tiers = {(r["model"], r["tier"]) for r in result["rows"]}
-    assert ("marschner", "circular gaussian") in tiers and ("aggregated", "lut 64") in tiers
+    assert ("marschner", "circular gaussian") in tiers and ("aggregated", "lut 64 (table 65)") in tiers
+    assert ("aggregated", "lut 128 (table 257)") in tiers
     assert all(r["ns_per_eval"] > 0 for r in result["rows"])
+    # Every tier with a furnace reports it, the Karis real-time tier included.
+    energy = {r["tier"]: r["energy_error"] for r in result["rows"] if r["model"] in ("marschner", "fiber_rtd")}
+    assert energy["realtime (karis)"] is not None and energy["exact"] is not None
+    # The LUT error falls as the per-hair table it is interpolated from gets finer.
+    lut = {r["tier"]: r["max_rel_error"] for r in result["rows"] if r["tier"].startswith("lut 128")}
+    assert lut["lut 128 (table 129)"] < lut["lut 128 (table 65)"] < lut["lut 128 (table 33)"]
     assert plot.stat().st_size > 0 and sorted(p.name for p in tmp_path.iterdir()) == ["bench.png"]
     bad = subprocess.run([sys.executable, "-m", "hairlod", "bench", "bcsdf", "--plot", str(tmp_path / "no" / "x.png")],
                          capture_output=True, text=True, env={"PYTHONPATH": "addon"})
