@@ -1,10 +1,10 @@
 #pragma once
 // Baking the lookup tables the viewport shader needs to evaluate the aggregated BCSDF
 // (hair-lod-aggregated-bcsdf.txt, Eq. 1 and 6-15) with a few texture fetches. The longitudinal and
-// azimuthal lobes M_p, N_p are closed-form Gaussians (Eq. 8) and are evaluated in the shader; only
-// the terms without a closed form are baked: the fibre's lobe attenuations A_R, A_TT, A_D over
-// theta_d, the dual-scattering terms over theta_d, and the aggregated attenuations over (theta_d, n)
-// for n up to the largest hair count in use.
+// azimuthal lobes M_p, N_p are closed forms (Eq. 8; M_p in the rough-cone form of fiber_rtd.h) and are
+// evaluated in the shader; only the terms without a closed form are baked: the fibre's lobe
+// attenuations A_R, A_TT, A_D over theta_o, the dual-scattering terms over theta_d, and the aggregated
+// attenuations over (theta_d, n) for n up to the largest hair count in use.
 #include <cmath>
 #include <string>
 #include <vector>
