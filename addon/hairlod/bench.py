@@ -62,10 +62,10 @@ def _ns_per_item(function, items, repeats):
     return float(np.median(times)) / items * 1e9
 
 
-def _energy(model):
+def _energy(model, **inputs):
     # The lossless fibre's white furnace at a few inclinations, grazing included (max |E - 1| and max E),
     # with the model's default inputs.
-    values = [bcsdf.white_furnace(model, LOSSLESS, wo=(np.sin(t), np.cos(t), 0.0), tolerance=1e-3)[0]
+    values = [bcsdf.white_furnace(model, LOSSLESS, wo=(np.sin(t), np.cos(t), 0.0), tolerance=1e-3, **inputs)[0]
               for t in (0.0, 1.0, 1.5)]
     return float(max(abs(v - 1.0) for v in values)), float(max(values))
 
@@ -81,27 +81,33 @@ def _chiang_brute_force(wi, wo, nodes=64):
     return total
 
 
-def _lut_rows(resolutions, repeats):
+def _lut_rows(resolutions, table_samples, repeats):
+    # LUT error against resolution: the baked texture's (theta_samples = n samples = resolution) and the
+    # per-hair table's it is interpolated from (table_samples), whose linear interpolation is the floor.
     theta = np.linspace(-1.55, 1.55, 257)
     direct = bcsdf.dual_scattering(BROWN, theta, model="fiber_rtd", tolerance=1e-6)
     reference = np.concatenate([direct["a_f"], direct["a_b"]], axis=1)
     rows = []
-    for resolution in resolutions:
+    default_table = bcsdf.DEFAULT_TABLE_SAMPLES
+    for resolution, per_hair in ([(r, default_table) for r in resolutions] +
+                                 [(max(resolutions), t) for t in table_samples if t != default_table]):
         tables = {t["name"]: t for t in _core.bcsdf_bake(bcsdf.as_params(BROWN), theta_samples=resolution,
-                                                          hair_count_samples=resolution, max_hair_count=64.0)}
+                                                          hair_count_samples=resolution, max_hair_count=64.0,
+                                                          table_samples=per_hair)}
         table = tables["dual_scattering"]
         axes = [dict(a, range=list(a["range"])) for a in table["axes"]]
         looked_up = bcsdf.lut_lookup(table["values"], axes, theta[:, None])[:, 0:6]
         max_error, mean_error = _relative_error(looked_up, reference)
         ns = _ns_per_item(lambda: bcsdf.lut_lookup(table["values"], axes, theta[:, None]), len(theta), repeats)
-        rows.append({"model": "aggregated", "tier": f"lut {resolution}", "ns_per_eval": ns, "max_rel_error": max_error,
+        rows.append({"model": "aggregated", "tier": f"lut {resolution} (table {per_hair})", "ns_per_eval": ns,
+                     "max_rel_error": max_error,
                      "mean_rel_error": mean_error, "energy_error": None,
                      "bytes": int(sum(t["values"].nbytes for t in tables.values())),
                      "reference": "a_f, a_b by direct quadrature (numpy bilinear lookup)"})
     return rows
 
 
-def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128)):
+def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128), table_samples=(33, 65, 129, 257)):
     """Rows of {model, tier, ns_per_eval, max_rel_error, mean_rel_error, energy_error, bytes, reference}."""
     wi, wo = _grid(seed)
     count = len(wi)
@@ -124,8 +130,7 @@ def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128)):
     row("marschner", "circular gaussian", values, marschner, "marschner exact", ns, _energy("marschner_cg"))
     for tt in ("tafuri", "karis"):
         values, ns = run("realtime", tt=tt)
-        # white_furnace takes no model inputs: the furnace is the default (tafuri) variant's.
-        energy = _energy("realtime") if tt == "tafuri" else (None, None)
+        energy = _energy("realtime", tt=tt)
         row("marschner", f"realtime ({tt})", values, marschner, "marschner exact", ns, energy)
     values, ns = run("chiang")
     row("chiang", "exact", values, _chiang_brute_force(wi, wo), "64-node quadrature over h of the near field", ns,
@@ -134,7 +139,7 @@ def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128)):
     row("fiber_rtd", "exact", values, None, "itself", ns, _energy("fiber_rtd"))
     values, ns = run("aggregated", hair_count=4.0, density=0.5)
     row("aggregated", "exact (n = 4, rho = 0.5)", values, None, "itself", ns, _energy("aggregated"))
-    rows.extend(_lut_rows(lut_resolutions, repeats))
+    rows.extend(_lut_rows(lut_resolutions, table_samples, repeats))
     return {"pairs": count, "repeats": repeats, "rows": rows}
 
 

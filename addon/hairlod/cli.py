@@ -234,23 +234,74 @@ def _read_params(path):
     return params
 
 
+def _principled_hair_from_blend(path, material):
+    # Blender reads the node (addon/hairlod/blender/principled_hair.py) and prints one marked line.
+    import shutil
+    import subprocess
+
+    if not os.path.isfile(path):
+        raise UsageError(f"{path}: no such .blend file")
+    blender = os.environ.get("HAIRLOD_BLENDER") or shutil.which("blender")
+    if blender is None:
+        raise UsageError("--from-blend: blender not found on PATH (or set HAIRLOD_BLENDER)")
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "blender", "principled_hair.py")
+    run = subprocess.run([blender, "-b", "--factory-startup", path, "--python", script, "--", "--material", material],
+                         capture_output=True, text=True)
+    for line in run.stdout.splitlines():
+        if line.startswith("HAIRLOD_JSON "):
+            return json.loads(line[len("HAIRLOD_JSON "):])
+        if line.startswith("HAIRLOD_ERROR "):
+            raise UsageError(f"{path}: {line[len('HAIRLOD_ERROR '):]}")
+    last = (run.stderr.strip().splitlines() or run.stdout.strip().splitlines() or ["no output"])[-1]
+    raise UsageError(f"{path}: blender could not read the file ({last})")
+
+
 def command_bake(args):
     from . import bcsdf
 
-    params = _read_params(args.params)
+    if args.from_blend and args.params:
+        raise UsageError("--params and --from-blend are exclusive")
+    if bool(args.from_blend) != bool(args.material):
+        raise UsageError("--from-blend and --material go together")
+    source = args.params or (f"{args.from_blend}:{args.material}" if args.from_blend else "params")
     try:
-        params = bcsdf.as_params(params)
+        if args.from_blend:
+            node = _principled_hair_from_blend(args.from_blend, args.material)
+            params = bcsdf.from_principled_hair(**node)
+        else:
+            node = None
+            params = bcsdf.as_params(_read_params(args.params))
     except ValueError as error:
-        raise UsageError(f"{args.params or 'params'}: {error}")
+        raise UsageError(f"{source}: {error}")
+    max_hair_count, densest = args.max_hair_count, None
+    if args.lod:
+        from . import lod
+
+        try:
+            asset = lod.load(args.lod)
+        except ValueError as error:
+            raise UsageError(str(error))
+        crossed, densest = bcsdf.lod_hair_count_range(asset)
+        if max_hair_count is None:
+            max_hair_count = crossed
+    if max_hair_count is None:
+        max_hair_count = 64.0
+    sets = [t for t in args.tables.split(",") if t]
+    for t in sets:
+        if t not in ("aggregated", "xu"):
+            raise UsageError(f"--tables: unknown table set '{t}' (aggregated, xu)")
     start = time.perf_counter()
     manifest = bcsdf.bake(params, args.out, theta_samples=args.theta_samples,
-                          hair_count_samples=args.hair_count_samples, max_hair_count=args.max_hair_count)
+                          hair_count_samples=args.hair_count_samples, max_hair_count=max_hair_count,
+                          table_samples=args.table_samples, tables=sets)
     seconds = time.perf_counter() - start
     tables = [{"name": t["name"], "file": t["file"], "resolution": t["resolution"], "channels": len(t["channels"]),
                "bytes": t["bytes"]} for t in manifest["tables"]]
     if args.json:
-        print(json.dumps({"params": args.params, "out": args.out, "tables": tables,
-                          "bytes": sum(t["bytes"] for t in tables), "bake_seconds": seconds}))
+        print(json.dumps({"params": args.params, "from_blend": args.from_blend, "material": args.material,
+                          "principled_hair": node, "hair_params": manifest["params"], "lod": args.lod,
+                          "densest_cluster_strands": densest, "max_hair_count": max_hair_count, "out": args.out,
+                          "tables": tables, "bytes": sum(t["bytes"] for t in tables), "bake_seconds": seconds}))
     else:
         for t in tables:
             print(f"{os.path.join(args.out, t['file'])}: {t['resolution'][0]} x {t['resolution'][1]}, "
@@ -351,11 +402,21 @@ def build_parser():
 
     bake = commands.add_parser("bake", help="bake the aggregated BCSDF's lookup tables (OpenEXR + manifest.json)")
     bake.add_argument("--params", metavar="FILE.json", help="HairParams fields as a JSON object (default: defaults)")
+    bake.add_argument("--from-blend", metavar="FILE.blend", help="read the parameters from a material's Principled "
+                      "Hair BSDF (runs blender -b)")
+    bake.add_argument("--material", metavar="NAME", help="the material of --from-blend")
+    bake.add_argument("--lod", metavar="DIR", help="LoD folder (python3 -m hairlod lod): the n range covers the "
+                      "most hairs a ray crosses in its thick hairs")
     bake.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced atomically)")
     bake.add_argument("--theta-samples", type=int, default=64, help="theta_d resolution (default 64)")
     bake.add_argument("--hair-count-samples", type=int, default=64, help="hair count n resolution (default 64)")
-    bake.add_argument("--max-hair-count", type=float, default=64.0,
-                      help="largest hair count n the tables cover (default 64; the densest cluster in use)")
+    bake.add_argument("--max-hair-count", type=float, default=None,
+                      help="largest hair count n the tables cover (default: from --lod, else 64)")
+    bake.add_argument("--table-samples", type=int, default=65,
+                      help="theta_d nodes of the per-hair table the aggregated tables interpolate (default 65, "
+                           "bcsdf.DEFAULT_TABLE_SAMPLES)")
+    bake.add_argument("--tables", default="aggregated",
+                      help="comma-separated table sets: aggregated, xu (Xu et al. 2011 C_k, H_k) (default aggregated)")
     bake.add_argument("--json", action="store_true", help="print one JSON object")
     bake.set_defaults(run=command_bake)
 

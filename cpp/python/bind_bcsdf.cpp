@@ -53,15 +53,17 @@ RealtimeTT parse_realtime_tt(const std::string& name) {
 }
 
 std::array<double, 3> white_furnace_of(const std::string& model, const HairParams& params, const std::array<double, 3>& wo,
-                                       std::optional<double> h, double tolerance) {
+                                       std::optional<double> h, double tolerance, const std::string& tt) {
     const QuadratureTolerance tol{tolerance, tolerance, 30};
+    ModelOptions options;
+    options.realtime_tt = parse_realtime_tt(tt);
     py::gil_scoped_release release;
     const BcsdfModel kind = parse_bcsdf_model(model);
     if (h) {
         if (kind != BcsdfModel::Chiang) throw Error("h (near field) applies to the chiang model only");
         return to_array(white_furnace_near_field(ChiangBcsdf(params), to_dvec3(wo), *h, tol));
     }
-    return to_array(white_furnace(*make_bcsdf(kind, params), to_dvec3(wo), tol));
+    return to_array(white_furnace(*make_bcsdf(kind, params, options), to_dvec3(wo), tol));
 }
 
 }  // namespace
@@ -166,8 +168,8 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
           "Huang et al. 2025, Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)), at least 1.");
 
     m.def("bcsdf_white_furnace", &white_furnace_of, py::arg("model"), py::arg("params"), py::arg("wo"),
-          py::arg("h") = py::none(), py::arg("tolerance") = 1e-6,
-          "Integral of S(wi, wo) cos(theta_i) dw_i by adaptive quadrature (RGB).");
+          py::arg("h") = py::none(), py::arg("tolerance") = 1e-6, py::arg("tt") = "tafuri",
+          "Integral of S(wi, wo) cos(theta_i) dw_i by adaptive quadrature (RGB); tt picks the realtime TT variant.");
 
     m.def(
         "bcsdf_srbf_single_scattering",
@@ -210,7 +212,12 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
 
     m.def(
         "bcsdf_bake",
-        [](const HairParams& params, int theta_samples, int hair_count_samples, double max_hair_count) {
+        [](const HairParams& params, int theta_samples, int hair_count_samples, double max_hair_count,
+           int table_samples, const std::vector<std::string>& sets) {
+            for (const std::string& set : sets)
+                if (set != "aggregated" && set != "xu")
+                    throw Error("tables: unknown table set '" + set + "' (aggregated, xu)");
+            const auto wants = [&](const char* set) { return std::find(sets.begin(), sets.end(), set) != sets.end(); };
             std::vector<BakedTable> tables;
             {
                 py::gil_scoped_release release;
@@ -218,7 +225,11 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
                 options.theta_samples = theta_samples;
                 options.hair_count_samples = hair_count_samples;
                 options.max_hair_count = max_hair_count;
-                tables = bake_aggregated(params, options);
+                options.table_samples = table_samples;
+                if (wants("aggregated")) tables = bake_aggregated(params, options);
+                if (wants("xu"))
+                    for (BakedTable& t : bake_circular_gaussian(*default_circular_gaussian_tables()))
+                        tables.push_back(std::move(t));
             }
             py::list result;
             for (const BakedTable& table : tables) {
@@ -228,6 +239,7 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
                     a["name"] = axis.name;
                     a["range"] = py::make_tuple(axis.begin, axis.end);
                     a["samples"] = axis.samples;
+                    if (axis.log_scale) a["scale"] = "log";
                     axes.append(a);
                 }
                 py::dict entry;
@@ -245,8 +257,10 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         },
         py::arg("params"), py::arg("theta_samples") = BakeOptions{}.theta_samples,
         py::arg("hair_count_samples") = BakeOptions{}.hair_count_samples,
-        py::arg("max_hair_count") = BakeOptions{}.max_hair_count,
-        "Lookup tables of the aggregated BCSDF: a list of {name, equation, axes, channels, values [H, W, C] float32}.");
+        py::arg("max_hair_count") = BakeOptions{}.max_hair_count, py::arg("table_samples") = BakeOptions{}.table_samples,
+        py::arg("tables") = std::vector<std::string>{"aggregated"},
+        "Lookup tables of the aggregated BCSDF ('aggregated') and Xu et al. 2011's C_k, H_k ('xu'): a list of "
+        "{name, equation, axes, channels, values [H, W, C] float32}.");
 
     m.def(
         "write_exr",

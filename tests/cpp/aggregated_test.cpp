@@ -113,6 +113,27 @@ TEST(Aggregated, LosslessEnergyNeverExceedsOne) {
     EXPECT_GT(highest, 0.8);
 }
 
+// The paper's reduction (Sec. 4) in energy: one lossless hair (n = 1) in a full cluster (rho = 1, so
+// S = 1) returns what the fibre returns, 1 within 2e-3 (the B^ budget 1 - (a_f + a_b) is the
+// quadrature residue of the table), up to grazing theta_o and for several roughnesses.
+TEST(Aggregated, LosslessSingleHairFurnaceIsOne) {
+    for (double beta : {0.1, 0.3, 0.7}) {
+        HairParams lossless;
+        lossless.sigma_a = glm::dvec3(0.0);
+        lossless.beta_m = beta;
+        lossless.beta_n = beta;
+        const auto table = std::make_shared<const AggregatedTable>(aggregated_table(FiberRtdBcsdf(lossless)));
+        const AggregatedBcsdf aggregated(lossless, {1.0, 1.0}, table);
+        for (double theta_o : {0.0, 0.5, 1.0, 1.4, 1.55}) {
+            const double e = white_furnace(aggregated, fiber_frame_direction(theta_o, 0.0), {1e-5, 1e-5, 22}).x;
+            RecordProperty("energy_beta_" + std::to_string(beta) + "_theta_o_" + std::to_string(theta_o),
+                           std::to_string(e));
+            EXPECT_NEAR(e, 1.0, 2e-3) << beta << " " << theta_o;
+            EXPECT_LE(e, 1.0 + 1e-3) << beta << " " << theta_o;
+        }
+    }
+}
+
 TEST(Aggregated, ClusterGeometry) {
     EXPECT_NEAR(cluster_density(100.0, 0.01, 0.2, 0.1), 100.0 * 1e-4 / 0.02, 1e-15);
     EXPECT_DOUBLE_EQ(cluster_density(1e6, 1.0, 1.0, 1.0), 1.0);

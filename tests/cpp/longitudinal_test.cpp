@@ -82,7 +82,7 @@ TEST(Longitudinal, TiltKeepsTheNormalisationAndMovesThePeak) {
 }
 
 TEST(Longitudinal, FiniteForTinyAndHugeVariance) {
-    for (double v : {1e-7, longitudinal_variance(1e-3), 1.0, 10.0})
+    for (double v : {1e-7, longitudinal_variance(1e-3), 1.0, 10.0, 1e5})
         for (double theta_i : {-kHalfPi, -0.5, 0.0, 0.5, kHalfPi})
             for (double theta_o : {-kHalfPi, 0.0, 0.5, kHalfPi}) {
                 const double m = deon_longitudinal(std::sin(theta_i), std::cos(theta_i), std::sin(theta_o),
@@ -96,6 +96,24 @@ TEST(Longitudinal, GaussianLobeIsUnitAreaInThetaI) {
                                            10.0, {1e-12, 1e-12, 40});
     EXPECT_NEAR(area, 1.0, 1e-9);
     EXPECT_NEAR(gaussian_longitudinal(-0.06, 0.1, 0.02, 0.01), gaussian(0.0, 0.01), 1e-12);
+}
+
+// Wrapped onto the circle the Gaussian is a density for every variance (the aggregated model adds
+// (n - 1) sigma_f^2 up to n = 1e4), and matches the sum over 201 periods on both sides of the switch
+// to the Fourier series at variance 4.
+TEST(Longitudinal, WrappedGaussianIsADensityForEveryVariance) {
+    constexpr double kPi = std::numbers::pi;
+    for (double v : {1e-4, 0.1, 1.0, 3.999, 4.001, 10.0, 100.0, 1e4}) {
+        const double area =
+            integrate_adaptive([&](double x) { return wrapped_gaussian(x, v); }, -kPi, kPi, {1e-12, 1e-12, 40});
+        EXPECT_NEAR(area, 1.0, 1e-9) << v;
+        if (v > 100.0) continue;
+        for (double x : {-3.0, -1.0, 0.0, 0.4, 2.9}) {
+            double periods = 0.0;
+            for (int k = -100; k <= 100; ++k) periods += gaussian(x + 2.0 * kPi * k, v);
+            EXPECT_NEAR(wrapped_gaussian(x, v), periods, 1e-12 * std::max(1.0, periods)) << v << " " << x;
+        }
+    }
 }
 
 }  // namespace

@@ -33,9 +33,9 @@ FiberRtdBcsdf::FiberRtdBcsdf(const HairParams& params) : params_(params) {
     }
 }
 
-std::array<glm::dvec3, 3> FiberRtdBcsdf::lobe_attenuation(double theta_d) const {
-    // The attenuations are even in theta_d (they depend on sin^2 and cos).
-    const double x = std::min(std::abs(theta_d), 0.5 * kPi) / (0.5 * kPi) * (kAttenuationSamples - 1);
+std::array<glm::dvec3, 3> FiberRtdBcsdf::lobe_attenuation(double theta) const {
+    // The attenuations are even in theta (they depend on sin^2 and cos).
+    const double x = std::min(std::abs(theta), 0.5 * kPi) / (0.5 * kPi) * (kAttenuationSamples - 1);
     const int k = std::min(static_cast<int>(x), kAttenuationSamples - 2);
     const double t = x - k;
     std::array<glm::dvec3, 3> a;
@@ -51,19 +51,28 @@ LobeValues FiberRtdBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo,
     const FiberDirection di = fiber_direction(wi);
     const FiberDirection dout = fiber_direction(wo);
     const HalfAngles angles = half_angles(di, dout);
-    const std::array<glm::dvec3, 3> a = lobe_attenuation(angles.theta_d);
+    // A_p at theta_o, which is theta_d on the specular cone (Chiang et al. 2016 take it there too): with
+    // unit-energy lobes the lossless fibre then returns A_R + A_TT + A_D = 1 exactly.
+    const std::array<glm::dvec3, 3> a = lobe_attenuation(dout.theta);
 
+    // M_p is the rough-cone Gaussian of d'Eon et al. 2011 (tilted by the lobe's shift, Chiang et al.
+    // 2016, Sec. 4): close to G(variance, theta_i + theta_o - 2 shift) for narrow lobes, and unit-area
+    // under cos(theta_i) dtheta_i at every theta_o, so that with the 1/cos(theta_i) of the measure
+    // cos^2(theta_i) dtheta_i dphi_i each lobe returns exactly A_p. A plain Gaussian in theta_i lost the
+    // part of the cone cut by the poles and the cos^2(theta_i) weight (lossless furnace 0.10 at theta_o =
+    // 1.5). This makes the fibre non-reciprocal in theta (like Chiang's model), not in energy.
+    const double inv_cos = 1.0 / std::max(di.cos_theta, kMinCos);
     LobeValues out;
     out.count = 3;
     // Eq. 8, R: M = G(beta_R, theta_h), N = 1 / (2 pi).
-    const double m_r = gaussian_longitudinal(di.theta, dout.theta, lobes_[0].shift,
-                                             lobes_[0].variance + spread.longitudinal_variance);
-    out.value[0] = (m_r / (2.0 * kPi)) * (spread.attenuation * a[0]);
+    const double m_r = tilted_deon_longitudinal(di.sin_theta, di.cos_theta, dout.sin_theta, dout.cos_theta,
+                                                lobes_[0].shift, lobes_[0].variance + spread.longitudinal_variance);
+    out.value[0] = (m_r * inv_cos / (2.0 * kPi)) * (spread.attenuation * a[0]);
     // Eq. 8, TT: M = G(beta_TT^M, theta_h), N = G(beta_TT^N, phi - pi).
-    const double m_tt = gaussian_longitudinal(di.theta, dout.theta, lobes_[1].shift,
-                                              lobes_[1].variance + spread.longitudinal_variance);
+    const double m_tt = tilted_deon_longitudinal(di.sin_theta, di.cos_theta, dout.sin_theta, dout.cos_theta,
+                                                 lobes_[1].shift, lobes_[1].variance + spread.longitudinal_variance);
     const double n_tt = wrapped_gaussian(angles.phi - kPi, azimuthal_variance_ + spread.azimuthal_variance);
-    out.value[1] = (m_tt * n_tt) * (spread.attenuation * a[1]);
+    out.value[1] = (m_tt * n_tt * inv_cos) * (spread.attenuation * a[1]);
     // Eq. 8, D: uniform over the sphere.
     out.value[2] = (1.0 / (kPi * kPi)) * (spread.attenuation * a[2]);
     return out;

@@ -3,10 +3,12 @@
 // lobe shapes of Eq. 8 at n = 1): S = sum_p A_p M_p(theta_h) N_p(phi), p in {R, TT, D}.
 //
 // Choices the paper leaves open: A_R, A_TT and A_D are the fibre's attenuations averaged over the
-// offset h at theta_d (D gathers TRT and every higher order), so that the fibre follows HairParams;
-// they are tabulated over |theta_d| at construction (257 samples, linear interpolation, 1e-5);
-// the Gaussians G(beta, x) have variance beta (as Eq. 9 adds variances) and M_p is unit-area in
-// theta_i; the diffuse lobe is normalised to unit energy under the measure cos^2(theta_i) dtheta_i dphi_i
+// offset h at theta_o (theta_d on the specular cone; D gathers TRT and every higher order), so that
+// the fibre follows HairParams; they are tabulated over |theta_o| at construction (257 samples, linear
+// interpolation, 1e-5); the Gaussians G(beta, x) have variance beta (as Eq. 9 adds variances);
+// M_p is the rough-cone form of G (d'Eon et al. 2011), unit-area under cos(theta_i) dtheta_i, and
+// S carries 1/cos(theta_i), so the lossless fibre conserves energy at every theta_o (white furnace
+// within 1e-3) at the price of reciprocity in theta, as in Chiang et al. 2016; the diffuse lobe is normalised to unit energy under the measure cos^2(theta_i) dtheta_i dphi_i
 // of Sec. 3 (M_D N_D = 1/pi^2, where Eq. 8 prints M_D = 1/pi, N_D = 1/(2 pi)).
 #include <vector>
 
@@ -28,8 +30,8 @@ public:
 
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const RtdSpread& spread) const;
-    // A_R, A_TT, A_D at theta_d (lobe weights applied).
-    std::array<glm::dvec3, 3> lobe_attenuation(double theta_d) const;
+    // A_R, A_TT, A_D at inclination theta (lobe weights applied).
+    std::array<glm::dvec3, 3> lobe_attenuation(double theta) const;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "fiber_rtd"; }
 

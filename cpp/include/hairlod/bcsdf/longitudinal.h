@@ -30,8 +30,8 @@ double gaussian_longitudinal(double theta_i, double theta_o, double shift, doubl
 // Normalised Gaussian of variance `variance` at x.
 double gaussian(double x, double variance);
 
-// The same Gaussian wrapped onto the circle (x and the neighbouring periods x -+ 2 pi), for
-// azimuthal lobes of width well below 2 pi.
+// The same Gaussian wrapped onto the circle: a unit-area density on [-pi, pi) for every variance
+// (periods summed up to variance 4, its Fourier series above).
 double wrapped_gaussian(double x, double variance);
 
 }  // namespace hairlod::bcsdf

@@ -1,0 +1,71 @@
+"""The Principled Hair BSDF of a Blender material as hairlod BCSDF parameters.
+
+Inside Blender: ``params_from_material(material)`` (a HairParams) or ``principled_hair_inputs(material)``
+(the node's inputs as a dict). As a script it serves ``python3 -m hairlod bake --from-blend``:
+
+    blender -b --factory-startup FILE.blend --python principled_hair.py -- --material NAME
+
+prints one line ``HAIRLOD_JSON {...}`` with the inputs, or ``HAIRLOD_ERROR <message>``.
+"""
+import json
+import sys
+
+import bpy
+
+NODE_TYPE = "ShaderNodeBsdfHairPrincipled"
+JSON_MARKER = "HAIRLOD_JSON "
+ERROR_MARKER = "HAIRLOD_ERROR "
+
+
+def principled_hair_node(material):
+    """The material's Principled Hair BSDF node (the one feeding the output when there are several);
+    ValueError naming the material when it has none."""
+    tree = material.node_tree if material.use_nodes else None
+    nodes = [n for n in tree.nodes if n.bl_idname == NODE_TYPE] if tree else []
+    if not nodes:
+        raise ValueError(f"material '{material.name}' has no Principled Hair BSDF node")
+    linked = [n for n in nodes if any(link.is_valid for socket in n.outputs for link in socket.links)]
+    return (linked or nodes)[0]
+
+
+def principled_hair_inputs(material):
+    """The node's parametrization (and model, Blender 4.0+) and every enabled input socket's value,
+    in the snake-case names of ``hairlod.bcsdf.from_principled_hair`` (colours as RGB, Offset in
+    radians). Linked sockets (textures) contribute their unlinked default value."""
+    node = principled_hair_node(material)
+    inputs = {"parametrization": node.parametrization}
+    if hasattr(node, "model"):
+        inputs["model"] = node.model
+    for socket in node.inputs:
+        if not socket.enabled or not hasattr(socket, "default_value"):
+            continue
+        value = socket.default_value
+        name = socket.name.lower().replace(" ", "_")
+        inputs[name] = [float(v) for v in value][:3] if hasattr(value, "__len__") else float(value)
+    return inputs
+
+
+def params_from_material(material):
+    """hairlod HairParams of the material's Principled Hair BSDF (Cycles' Chiang model)."""
+    from ..bcsdf import from_principled_hair
+
+    return from_principled_hair(**principled_hair_inputs(material))
+
+
+def main(argv):
+    args = argv[argv.index("--") + 1:] if "--" in argv else []
+    if len(args) != 2 or args[0] != "--material":
+        print(ERROR_MARKER + "usage: -- --material NAME", flush=True)
+        return
+    material = bpy.data.materials.get(args[1])
+    if material is None:
+        print(ERROR_MARKER + f"no material named '{args[1]}'", flush=True)
+        return
+    try:
+        print(JSON_MARKER + json.dumps(principled_hair_inputs(material)), flush=True)
+    except ValueError as error:
+        print(ERROR_MARKER + str(error), flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv)

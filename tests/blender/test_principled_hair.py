@@ -1,0 +1,44 @@
+"""hairlod.blender.principled_hair: a material's Principled Hair BSDF as BCSDF parameters, headless."""
+
+import math
+
+import bpy
+import pytest
+
+from hairlod import bcsdf
+from hairlod.blender.principled_hair import params_from_material, principled_hair_inputs
+
+
+@pytest.fixture
+def hair_material():
+    material = bpy.data.materials.new("HairParamsTest")
+    material.use_nodes = True
+    nodes = material.node_tree.nodes
+    node = nodes.new("ShaderNodeBsdfHairPrincipled")
+    node.parametrization = "ABSORPTION"
+    node.inputs["Absorption Coefficient"].default_value = (0.3, 0.6, 1.4)
+    node.inputs["Roughness"].default_value = 0.35
+    node.inputs["Radial Roughness"].default_value = 0.5
+    node.inputs["IOR"].default_value = 1.5
+    node.inputs["Offset"].default_value = math.radians(-2.0)
+    material.node_tree.links.new(node.outputs[0], nodes["Material Output"].inputs["Surface"])
+    yield material
+    bpy.data.materials.remove(material)
+
+
+def test_params_from_material_follow_the_node(hair_material):
+    inputs = principled_hair_inputs(hair_material)
+    assert inputs["parametrization"] == "ABSORPTION"
+    assert inputs["absorption_coefficient"] == pytest.approx([0.3, 0.6, 1.4])
+    params = bcsdf.params_to_dict(params_from_material(hair_material))
+    assert params["sigma_a"] == pytest.approx([0.3, 0.6, 1.4])
+    assert params["eta"] == pytest.approx(1.5) and params["alpha"] == pytest.approx(math.radians(-2.0))
+    assert params["beta_m"] == pytest.approx(0.35) and params["beta_n"] == pytest.approx(0.5)
+
+
+def test_material_without_the_node_is_named():
+    plain = bpy.data.materials.new("PlainTest")
+    plain.use_nodes = True
+    with pytest.raises(ValueError, match="material 'PlainTest' has no Principled Hair BSDF node"):
+        params_from_material(plain)
+    bpy.data.materials.remove(plain)
