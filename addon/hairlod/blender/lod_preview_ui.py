@@ -17,8 +17,19 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                             "pixels (eps_w): smaller values draw finer levels", default=2.0, min=0.05,
                             soft_max=32.0, update=_redraw)
     overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
-                          items=(('LEVELS', "Levels", "Each LoD level in its own colour"),),
-                          default='LEVELS', update=_redraw)
+                          items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),
+                                 ('LEVELS', "Levels", "Each LoD level in its own colour")),
+                          default='SHADED', update=_redraw)
+    use_material: BoolProperty(name="Use Material", description="Shade with the Principled Hair BSDF of the "
+                               "object's material when it has one", default=True, update=_redraw)
+    melanin: FloatProperty(name="Melanin", description="Melanin concentration (Principled Hair BSDF)",
+                           default=0.5, min=0.0, max=1.0, subtype='FACTOR', update=_redraw)
+    melanin_redness: FloatProperty(name="Melanin Redness", description="Pheomelanin share of the melanin",
+                                   default=0.3, min=0.0, max=1.0, subtype='FACTOR', update=_redraw)
+    roughness: FloatProperty(name="Roughness", description="Longitudinal roughness", default=0.3, min=0.01,
+                             max=1.0, subtype='FACTOR', update=_redraw)
+    radial_roughness: FloatProperty(name="Radial Roughness", description="Azimuthal roughness", default=0.3,
+                                    min=0.01, max=1.0, subtype='FACTOR', update=_redraw)
     show_statistics: BoolProperty(name="Statistics", description="Show segments drawn per level and times",
                                   default=True)
 
@@ -82,6 +93,11 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
         column.prop(settings, "enabled")
         column.prop(settings, "width_px")
         column.prop(settings, "overlay")
+        if settings.overlay == 'SHADED':
+            column.prop(settings, "use_material")
+            material = column.column(align=True)
+            for key in ("melanin", "melanin_redness", "roughness", "radial_roughness"):
+                material.prop(settings, key)
         column.prop(settings, "show_statistics")
         if settings.show_statistics and preview.stats:
             stats = preview.stats

@@ -34,18 +34,48 @@ def level_colour(level, level_count):
     return LEVEL_COLOURS[min(level, len(LEVEL_COLOURS) - 2)]
 
 
+MAX_LIGHTS = 8
+# std140 layout of the per-frame uniform block; frame_block() fills it in this order.
+FRAME_BLOCK = f"""
+struct HairFrame {{
+  mat4 model;
+  mat4 view_projection;
+  vec4 camera;
+  vec4 viewport;
+  vec4 ambient;
+  vec4 counts;
+  vec4 light_vectors[{MAX_LIGHTS}];
+  vec4 light_colours[{MAX_LIGHTS}];
+}};
+"""
+
+
+def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours):
+    """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them)."""
+    data = np.concatenate([np.asarray(model, np.float32).T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
+                           np.asarray(camera, np.float32), (*viewport, 0.0, 0.0), np.asarray(ambient, np.float32),
+                           (float(light_count), 0.0, 0.0, 0.0), light_vectors.ravel(), light_colours.ravel()])
+    data = np.ascontiguousarray(data, dtype=np.float32)
+    return gpu.types.GPUUniformBuf(gpu.types.Buffer('FLOAT', data.size, data))
+
+
 def _create_shader(kind):
+    from . import bcsdf_textures
+
     interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_interface")
+    interface.smooth('VEC3', "v_position")
     interface.smooth('VEC3', "v_tangent")
     interface.smooth('VEC3', "v_to_camera")
     interface.smooth('FLOAT', "v_across")
     interface.flat('VEC3', "v_ellipse")
     interface.flat('VEC2', "v_cluster")
     info = gpu.types.GPUShaderCreateInfo()
-    info.push_constant('MAT4', "view_projection")
-    info.push_constant('VEC4', "camera")
-    info.push_constant('VEC2', "viewport")
+    # Per-frame data in a uniform block (push constants are limited to 128 bytes).
+    info.typedef_source(FRAME_BLOCK)
+    info.uniform_buf(0, "HairFrame", "frame")
     info.push_constant('VEC4', "level_colour")
+    info.push_constant('INT', "shading_mode")
+    bcsdf_textures.declare(info)
     info.vertex_in(0, 'VEC3', "position")
     info.vertex_in(1, 'VEC3', "tangent")
     if kind == "thick":
@@ -55,7 +85,7 @@ def _create_shader(kind):
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
-    info.fragment_source(glsl_source("hair.frag.glsl"))
+    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "hair.frag.glsl"))
     return gpu.shader.create_from_info(info)
 
 
@@ -63,14 +93,6 @@ def shader(kind):
     if kind not in _shaders:
         _shaders[kind] = _create_shader(kind)
     return _shaders[kind]
-
-
-def _set_uniforms(program, **values):
-    for name, value in values.items():
-        try:
-            program.uniform_float(name, value)
-        except ValueError:
-            pass  # the GLSL compiler removed a uniform this shading mode does not read
 
 
 def _vertex_buffer(kind, arrays):
@@ -100,6 +122,9 @@ class LodPreview:
         self.views = {}  # RegionView3D pointer -> ViewState
         self.vertex_buffers = None
         self.stats = {}
+        self.max_hair_count = None
+        self.textures = None
+        self.textures_key = None
 
     @property
     def level_count(self):
@@ -136,6 +161,22 @@ class LodPreview:
                                               elem=index_buffer))
         return batches
 
+    def bcsdf_textures(self, obj, settings):
+        """The BCSDF tables for the hair's current parameters, baked again only when they change;
+        n covers the asset's largest crossing count (tables cover only the range in use)."""
+        from ... import bcsdf, preview_luts
+        from . import bcsdf_textures
+
+        params = hair_params(obj, settings)
+        if self.max_hair_count is None:
+            self.max_hair_count = max(2.0, bcsdf.lod_hair_count_range(self.asset)[0])
+        key = (repr(bcsdf.params_to_dict(params)), self.max_hair_count)
+        if self.textures is None or self.textures_key != key:
+            tables = preview_luts.shader_tables(params, max_hair_count=self.max_hair_count)
+            self.textures = bcsdf_textures.BcsdfTextures(tables)
+            self.textures_key = key
+        return self.textures
+
     def draw(self, obj, region, region_3d, settings):
         start = time.perf_counter()
         if self.vertex_buffers is None:
@@ -149,12 +190,19 @@ class LodPreview:
             state.batches = self.batches(state)
         selected = time.perf_counter()
 
-        view_projection = projection @ model_view
-        camera_to_object = obj.matrix_world.inverted_safe() @ region_3d.view_matrix.inverted_safe()
+        textures = self.bcsdf_textures(obj, settings)
+        view_to_world = region_3d.view_matrix.inverted_safe()
         if region_3d.is_perspective:
-            camera = (*camera_to_object.translation, 1.0)
+            camera = (*view_to_world.translation, 1.0)
         else:  # orthographic: the direction towards the viewer
-            camera = (*(camera_to_object.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
+            camera = (*(view_to_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
+        light_count, light_vectors, light_colours = scene_lights(bpy.context.scene, camera)
+        world = bpy.context.scene.world
+        ambient = (*(world.color if world is not None else (0.05, 0.05, 0.05)), 0.0)
+        # Kept referenced until the batches are drawn.
+        frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
+                            (float(region.width), float(region.height)), ambient, light_count, light_vectors,
+                            light_colours)
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
         for level, batch in enumerate(state.batches):
@@ -162,9 +210,11 @@ class LodPreview:
                 continue
             program = shader("thick" if level < self.level_count - 1 else "strand")
             program.bind()
-            _set_uniforms(program, view_projection=view_projection, camera=camera,
-                          viewport=(float(region.width), float(region.height)),
-                          level_colour=(*level_colour(level, self.level_count), 1.0))
+            program.uniform_block("frame", frame)
+            program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))
+            program.uniform_int("shading_mode", 0 if settings.overlay == 'SHADED' else 1)
+            if settings.overlay == 'SHADED':
+                textures.bind(program)
             batch.draw(program)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')
@@ -174,6 +224,52 @@ class LodPreview:
                       "select_ms": 1e3 * (selected - start), "draw_ms": 1e3 * (time.perf_counter() - start),
                       "converging": bool(changed)}
         return changed
+
+
+def hair_params(obj, settings):
+    """HairParams of the preview: the Principled Hair BSDF of the object's first material that has
+    one when "Use Material" is on, else the panel's melanin and roughness."""
+    from ... import bcsdf
+
+    if settings.use_material:
+        from ..principled_hair import params_from_material, principled_hair_node
+
+        for slot in getattr(obj, "material_slots", ()):
+            if slot.material is not None and principled_hair_node(slot.material) is not None:
+                return params_from_material(slot.material)
+    return bcsdf.from_principled_hair(parametrization='MELANIN', melanin=settings.melanin,
+                                      melanin_redness=settings.melanin_redness, roughness=settings.roughness,
+                                      radial_roughness=settings.radial_roughness)
+
+
+def scene_lights(scene, camera):
+    """World-space lights for the shader: (count, vectors [MAX_LIGHTS, 4], colours [MAX_LIGHTS, 4]).
+    Suns give (direction towards the sun, 0) and their irradiance (strength x colour); point lights
+    give (position, 1) and their intensity, power / (4 pi) x colour, which the shader divides by the
+    squared distance. Other light types and hidden lights are skipped. With no light, a headlight at
+    the viewer (irradiance 3) keeps the hair visible."""
+    vectors = np.zeros((MAX_LIGHTS, 4), np.float32)
+    colours = np.zeros((MAX_LIGHTS, 4), np.float32)
+    count = 0
+    for obj in scene.objects:
+        if count == MAX_LIGHTS:
+            break
+        if obj.type != 'LIGHT' or not obj.visible_get() or obj.data.type not in {'SUN', 'POINT'}:
+            continue
+        light = obj.data
+        colour = np.array(light.color, np.float32) * light.energy
+        if light.type == 'SUN':
+            vectors[count] = (*(obj.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
+            colours[count, :3] = colour
+        else:
+            vectors[count] = (*obj.matrix_world.translation, 1.0)
+            colours[count, :3] = colour / (4.0 * np.pi)
+        count += 1
+    if count == 0:
+        vectors[0] = camera
+        colours[0, :3] = 3.0
+        count = 1
+    return count, vectors, colours
 
 
 def attach(obj, asset):
