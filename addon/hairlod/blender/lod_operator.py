@@ -216,6 +216,8 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
         return self._finish(job)
 
     def invoke(self, context, event):
+        if context.window is None:  # no window to run a modal timer in (background mode)
+            return self.execute(context)
         self._job = self._start(context)
         if self._job is None:
             return {'CANCELLED'}
