@@ -21,7 +21,7 @@ namespace hairlod {
 namespace {
 
 // Sec. 5.1 step 2: the thick-hair cross-section area shrinks about 4x per level. Area follows the
-// member count, so a level holds at most a quarter of the strands per hair of the level above.
+// member count, so the schedule of hair sizes shrinks at most 4x per level.
 constexpr double kMaxLevelShrink = 4.0;
 // The finest thick level aims at this many strands per hair: fewer (2 or 3 strands, often nearly
 // in a line) leave slivers, and the area would drop far more than 4x at the last level.
@@ -331,7 +331,7 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     asset.timings.clusters = watch.lap();
     report_step(options.progress);
 
-    // Finer levels by splitting L0, until the requested count or until nothing can split.
+    // Finer levels by splitting L0 (Sec. 5.1 step 2).
     std::vector<Groups> level_groups(1);
     std::vector<std::vector<int32_t>> level_parents(1, std::vector<int32_t>(cluster_count, -1));
     for (size_t c = 0; c < cluster_count; ++c)
