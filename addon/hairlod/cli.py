@@ -182,11 +182,7 @@ def command_lod(args):
     finest = len(asset.levels)
     selected = list(range(finest + 1))
     if cameras:
-        # Item 8: keep only the levels some camera selects; at least one thick level stays, as the
-        # asset's hierarchy and the strands' skinning are defined through the thick levels.
-        selected = lod.scene_levels(asset, cameras, args.width_px)
-        kept = [level for level in selected if level < finest] or [finest - 1]
-        asset = asset.with_levels(kept)
+        asset, selected = lod.keep_scene_levels(asset, cameras, args.width_px)
     options = {name: getattr(args, name) for name in ("guides", "levels", "control_points", "seed", "width_px")}
     start = time.perf_counter()
     manifest = lod.save(asset, args.out, extra={

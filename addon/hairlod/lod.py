@@ -7,13 +7,16 @@ import json
 import os
 import shutil
 import tempfile
+import zipfile
 from dataclasses import dataclass
+from io import BytesIO
 
 import numpy as np
 
 from . import _core
 
-__all__ = ["LodAsset", "ThickLevel", "build_lod", "load", "read_cameras", "save", "scene_levels"]
+__all__ = ["BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
+           "read_cameras", "save", "scene_levels", "unpack"]
 
 MANIFEST = "manifest.json"
 FORMAT = "hairlod-lod/2"  # 2: compact cross-sections and strand coordinates, hierarchy order
@@ -126,10 +129,16 @@ def level_report(asset):
             for level_id, level in zip(asset.level_ids, asset.levels)]
 
 
-def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_coverage=0.95):
-    """Builds an LodAsset from Strands (Sec. 5.1); raises ValueError on invalid input."""
+BuildProgress = _core.LodBuildProgress
+BuildCancelled = _core.BuildCancelled
+
+
+def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_coverage=0.95, progress=None):
+    """Builds an LodAsset from Strands (Sec. 5.1); raises ValueError on invalid input. The C++ build
+    releases the GIL: another thread may watch `progress` (BuildProgress: done / total steps) and
+    call its cancel(), after which this raises BuildCancelled."""
     return LodAsset(_core.build_lod(strands, guides=guides, levels=levels, control_points=control_points,
-                                    seed=seed, ellipse_coverage=ellipse_coverage))
+                                    seed=seed, ellipse_coverage=ellipse_coverage, progress=progress))
 
 
 def read_cameras(path):
@@ -168,6 +177,15 @@ def scene_levels(asset, cameras, width_px=2.0):
     return sorted(used)
 
 
+def keep_scene_levels(asset, cameras, width_px=2.0):
+    """Item 8: (asset with only the thick levels some camera selects, selected levels). L0 always
+    stays: its hairs are the clusters that selection and skinning are defined on."""
+    finest = len(asset.levels)
+    selected = scene_levels(asset, cameras, width_px)
+    kept = sorted({0} | {level for level in selected if level < finest})
+    return asset.with_levels(kept), selected
+
+
 def _level_strands(asset, level):
     """Thick hairs of one level as Strands: rest centre curves, radius = major radius (.hair
     thickness = 2 x major radius)."""
@@ -176,17 +194,51 @@ def _level_strands(asset, level):
                                      np.ascontiguousarray(level.radii[..., 0].reshape(-1)))
 
 
-def _write_array(folder, name, array, entries):
+# Per-hair data of each thick level written beside the stored arrays (derived from them, so
+# load() checks them instead of reading them): name -> what the manifest says it holds.
+PER_HAIR = {
+    "n_total": "int32 [hairs]: member strands of each thick hair",
+    "density": "float32 [hairs, n_c]: rho = n_total r^2 / (|r_A| |r_B|), Sec. 4, r the members' mean radius",
+    "major_axis": "float32 [hairs, n_c, 3]: unit major axis of the rest cross-section",
+    "minor_axis": "float32 [hairs, n_c, 3]: unit minor axis of the rest cross-section",
+    "radii": "float32 [hairs, n_c, 2]: (major, minor) radii of the rest cross-section",
+    "membership": "int32 [strands]: per input strand, the hair of this level holding it",
+}
+
+
+def _write_array(folder, name, array, entries, key=None, meaning=None):
     file_name = f"{name}.npy"
     np.save(os.path.join(folder, file_name), np.ascontiguousarray(array), allow_pickle=False)
-    entries[name] = {"file": file_name, "dtype": str(array.dtype), "shape": list(array.shape)}
+    entry = entries[key or name] = {"file": file_name, "dtype": str(array.dtype), "shape": list(array.shape)}
+    if meaning is not None:
+        entry["meaning"] = meaning
+
+
+def _header(asset):
+    """Everything of an asset but its arrays, as JSON-able data (shared by save() and pack())."""
+    scalars = asset.scalars()
+    levels = [{"level": asset.level_ids[position], "hairs": int(len(level.n_total)),
+               "coverage": scalars["coverage"][position], "mean_area": scalars["mean_area"][position]}
+              for position, level in enumerate(asset.levels)]
+    return {
+        "format": FORMAT,
+        "control_points": scalars["control_points"],
+        "radius_exponent": scalars["radius_exponent"],
+        "strands": asset.strand_count,
+        "guides": asset.guide_count,
+        "clusters": asset.cluster_count,
+        "thick_levels": levels,
+        "area_ratios": [levels[i]["mean_area"] / levels[i + 1]["mean_area"] for i in range(len(levels) - 1)],
+        "timings": asset.timings,
+        "memory_bytes": asset.memory_bytes,
+    }
 
 
 def save(asset, directory, extra=None):
     """Writes `asset` into folder `directory` atomically (a temporary sibling folder renamed when
-    complete; an existing folder is replaced): manifest.json, one .npy per stored array and one
-    .hair per thick level (thickness = 2 x major radius). `extra` (JSON-able dict) is stored in the
-    manifest under "extra". Returns the manifest."""
+    complete; an existing folder is replaced): manifest.json, one .npy per stored array, the
+    per-hair arrays of PER_HAIR and one .hair per thick level (thickness = 2 x major radius).
+    `extra` (JSON-able dict) is stored in the manifest under "extra". Returns the manifest."""
     from . import io
 
     directory = os.path.abspath(os.fspath(directory))
@@ -194,46 +246,32 @@ def save(asset, directory, extra=None):
     os.makedirs(parent, exist_ok=True)
     temporary = tempfile.mkdtemp(prefix=f".{os.path.basename(directory)}.", dir=parent)
     try:
-        arrays, scalars = asset.arrays(), asset.scalars()
+        arrays = asset.arrays()
+        manifest = _header(asset)
         entries = {}
         for name, array in arrays.items():
             if name != "levels":
                 _write_array(temporary, name, array, entries)
-        levels = []
         for position, (level, level_arrays) in enumerate(zip(asset.levels, arrays["levels"])):
-            level_entries = {}
+            level_entries, per_hair = {}, {}
             for name, array in level_arrays.items():
                 _write_array(temporary, f"level{position}_{name}", array, level_entries)
+            for name, meaning in PER_HAIR.items():
+                _write_array(temporary, f"level{position}_hair_{name}", getattr(level, name), per_hair, name, meaning)
             hair_file = f"level{position}.hair"
             io.write(os.path.join(temporary, hair_file), _level_strands(asset, level))
-            levels.append({
-                "level": asset.level_ids[position],
-                "hairs": int(len(level.n_total)),
+            manifest["thick_levels"][position].update({
                 "hair_file": hair_file,
-                "coverage": scalars["coverage"][position],
-                "mean_area": scalars["mean_area"][position],
-                # The cluster tree and per-hair data live in these arrays: parent (hair one kept level
-                # coarser), member_first (hair h holds the strands at positions [member_first[h],
-                # member_first[h + 1]) of strand_order), cluster_first, and the compact cross-sections
-                # centre_offset (uint16 in offset_boxes), major_axis (octahedral int16), minor_axis
-                # (uint16 angle about the major axis), radii (halves x 2^radius_exponent). Density is
-                # derived: rho = n_total r^2 / (|r_A| |r_B|).
+                # The stored (compact) arrays the asset is read back from: parent (hair one kept level
+                # coarser; the cluster tree), member_first (hair h holds the strands at positions
+                # [member_first[h], member_first[h + 1]) of strand_order), cluster_first, and the
+                # cross-sections centre_offset (uint16 in offset_boxes), major_axis (octahedral int16),
+                # minor_axis (uint16 angle about the major axis), radii (halves x 2^radius_exponent).
                 "arrays": level_entries,
+                # The same data decoded per thick hair, for readers without the decoder.
+                "per_hair": per_hair,
             })
-        manifest = {
-            "format": FORMAT,
-            "control_points": scalars["control_points"],
-            "radius_exponent": scalars["radius_exponent"],
-            "strands": asset.strand_count,
-            "guides": asset.guide_count,
-            "clusters": asset.cluster_count,
-            "thick_levels": levels,
-            "area_ratios": [levels[i]["mean_area"] / levels[i + 1]["mean_area"] for i in range(len(levels) - 1)],
-            "timings": asset.timings,
-            "memory_bytes": asset.memory_bytes,
-            "arrays": entries,
-            "extra": extra or {},
-        }
+        manifest.update(arrays=entries, extra=extra or {})
         with open(os.path.join(temporary, MANIFEST), "w", encoding="utf-8") as file:
             json.dump(manifest, file, indent=1)
         if os.path.exists(directory):
@@ -262,9 +300,33 @@ def _read_array(folder, entry, what):
     return array
 
 
+def _asset_from(header, read, where):
+    """An LodAsset from a header (_header()) and read(name) giving the stored array `name`
+    (level arrays as 'level{position}_{name}'); ValueError names `where` and the problem."""
+    if not isinstance(header, dict) or header.get("format") != FORMAT:
+        raise ValueError(f"{where}: not a hairlod LoD asset (format must be {FORMAT})")
+    try:
+        levels = header["thick_levels"]
+        arrays = {name: read(name, None) for name in header["array_names"]}
+        arrays["levels"] = [{name: read(f"level{position}_{name}", position) for name in header["level_array_names"]}
+                            for position in range(len(levels))]
+        scalars = {"control_points": int(header["control_points"]),
+                   "radius_exponent": int(header["radius_exponent"]),
+                   "coverage": [float(level["coverage"]) for level in levels],
+                   "mean_area": [float(level["mean_area"]) for level in levels]}
+        level_ids = [int(level["level"]) for level in levels]
+        timings = {str(stage): float(seconds) for stage, seconds in header["timings"].items()}
+    except (KeyError, TypeError, AttributeError, IndexError) as error:
+        raise ValueError(f"{where}: the asset description is missing or malforms an entry ({error})") from None
+    try:
+        return LodAsset(_core.LodAsset.from_arrays(scalars, arrays), level_ids, timings)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+
+
 def load(directory):
-    """Reads a folder written by save() back into an identical LodAsset; raises ValueError naming
-    the folder and the problem."""
+    """Reads a folder written by save() back into an identical LodAsset, checking the per-hair
+    arrays against the ones it decodes; raises ValueError naming the folder and the problem."""
     directory = os.fspath(directory)
     try:
         with open(os.path.join(directory, MANIFEST), encoding="utf-8") as file:
@@ -276,19 +338,49 @@ def load(directory):
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise ValueError(f"{directory}: not a hairlod LoD folder (format must be {FORMAT})")
     try:
-        arrays = {name: _read_array(directory, entry, name) for name, entry in manifest["arrays"].items()}
-        levels = manifest["thick_levels"]
-        arrays["levels"] = [{name.split("_", 1)[1]: _read_array(directory, entry, name)
-                             for name, entry in level["arrays"].items()} for level in levels]
-        scalars = {"control_points": int(manifest["control_points"]),
-                   "radius_exponent": int(manifest["radius_exponent"]),
-                   "coverage": [float(level["coverage"]) for level in levels],
-                   "mean_area": [float(level["mean_area"]) for level in levels]}
-        level_ids = [int(level["level"]) for level in levels]
-        timings = {str(stage): float(seconds) for stage, seconds in manifest["timings"].items()}
+        entries = dict(manifest["arrays"])
+        for level in manifest["thick_levels"]:
+            entries.update(level["arrays"])  # named level{position}_{array}
+        level_names = list(manifest["thick_levels"][0]["arrays"]) if manifest["thick_levels"] else []
+        header = dict(manifest, array_names=list(manifest["arrays"]),
+                      level_array_names=[name.split("_", 1)[1] for name in level_names])
     except (KeyError, TypeError, AttributeError, IndexError) as error:
         raise ValueError(f"{directory}: {MANIFEST} is missing or malforms an entry ({error})") from None
+    asset = _asset_from(header, lambda name, _: _read_array(directory, entries.get(name), name), directory)
+    for position, (level, entry) in enumerate(zip(asset.levels, manifest["thick_levels"])):
+        for name, file_entry in entry.get("per_hair", {}).items():
+            if name in PER_HAIR and not np.array_equal(_read_array(directory, file_entry, name), getattr(level, name)):
+                raise ValueError(f"{directory}: per-hair {name} of thick level {position} disagrees with the stored arrays")
+    return asset
+
+
+def pack(asset):
+    """The asset as one bytes object (a compressed .npz holding the stored arrays and the header),
+    to keep inside another file such as a .blend; unpack() reads it back identically."""
+    arrays = asset.arrays()
+    stored = {name: array for name, array in arrays.items() if name != "levels"}
+    for position, level_arrays in enumerate(arrays["levels"]):
+        stored.update({f"level{position}_{name}": array for name, array in level_arrays.items()})
+    header = dict(_header(asset), array_names=[name for name in arrays if name != "levels"],
+                  level_array_names=list(arrays["levels"][0]) if arrays["levels"] else [])
+    stored["header"] = np.frombuffer(json.dumps(header).encode("utf-8"), np.uint8)
+    buffer = BytesIO()
+    np.savez_compressed(buffer, **stored)
+    return buffer.getvalue()
+
+
+def unpack(data, where="packed LoD asset"):
+    """The LodAsset of pack()'s bytes; raises ValueError naming `where` and the problem."""
     try:
-        return LodAsset(_core.LodAsset.from_arrays(scalars, arrays), level_ids, timings)
-    except ValueError as error:
-        raise ValueError(f"{directory}: {error}") from None
+        with np.load(BytesIO(bytes(data)), allow_pickle=False) as archive:
+            stored = {name: archive[name] for name in archive.files}
+        header = json.loads(stored.pop("header").tobytes().decode("utf-8"))
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile, UnicodeDecodeError) as error:
+        raise ValueError(f"{where}: not a packed hairlod LoD asset ({error})") from None
+
+    def read(name, _):
+        if name not in stored:
+            raise ValueError(f"{where}: array {name} is missing")
+        return stored[name]
+
+    return _asset_from(header, read, where)

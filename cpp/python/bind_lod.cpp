@@ -328,13 +328,23 @@ void bind_lod(py::module_& m) {
             return to_numpy<uint32_t>(indices, {as_size(indices.size())});
         }, py::arg("level"), py::arg("primitive"), "Vertex indices of the selected ranges at `level`.");
 
+    // Cancellation is not bad input: its own exception, derived from RuntimeError.
+    py::register_exception<LodBuildCancelled>(m, "BuildCancelled", PyExc_RuntimeError);
+    py::class_<LodBuildProgress>(m, "LodBuildProgress", "Steps of a running build_lod, readable and cancellable from another thread.")
+        .def(py::init<>())
+        .def_property_readonly("done", [](const LodBuildProgress& p) { return p.done.load(); })
+        .def_property_readonly("total", [](const LodBuildProgress& p) { return p.total.load(); })
+        .def_property_readonly("cancelled", [](const LodBuildProgress& p) { return p.cancel.load(); })
+        .def("cancel", [](LodBuildProgress& p) { p.cancel = true; }, "Stops the build at its next step (it raises BuildCancelled).");
+
     m.def("build_lod", [](const StrandSet& strands, int guides, int levels, int control_points, uint64_t seed,
-                          float ellipse_coverage) {
+                          float ellipse_coverage, LodBuildProgress* progress) {
         py::gil_scoped_release release;
         return build_lod(strands, {.guides = guides, .levels = levels, .control_points = control_points, .seed = seed,
-                                   .ellipse_coverage = ellipse_coverage});
+                                   .ellipse_coverage = ellipse_coverage, .progress = progress});
     }, py::arg("strands"), py::arg("guides") = 256, py::arg("levels") = 6, py::arg("control_points") = 16,
-       py::arg("seed") = 0, py::arg("ellipse_coverage") = 0.95f);
+       py::arg("seed") = 0, py::arg("ellipse_coverage") = 0.95f, py::arg("progress") = nullptr,
+       "Builds an LodAsset (the GIL released); `progress` (LodBuildProgress) reports steps and cancels.");
 }
 
 }  // namespace hairlod::python

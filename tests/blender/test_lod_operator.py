@@ -8,7 +8,7 @@ import pytest
 
 from hairlod import Strands
 from hairlod.blender.curves import curves_to_strands, strands_to_curves
-from hairlod.blender.lod_operator import COLLECTION_NAME
+from hairlod.blender.lod_operator import COLLECTION_NAME, PACKED_PROPERTY, LodBuildJob, packed_asset, scene_cameras
 
 pytestmark = pytest.mark.usefixtures("addon")
 
@@ -52,6 +52,9 @@ def test_build_lod_creates_one_curves_object_per_level(hair_object):
         assert np.allclose(strands.radius, strands.attribute("major_radius"))
         assert np.all(strands.attribute("major_radius") >= strands.attribute("minor_radius"))
         assert np.all(np.diff(strands.offsets) == 6)
+    # The asset is packed into the source object, levels and all.
+    asset = packed_asset(hair_object)
+    assert asset.strand_count == 600 and asset.level_ids == list(range(len(objects)))
 
 
 def test_build_lod_needs_hair_curves():
@@ -68,4 +71,141 @@ def test_failed_build_leaves_nothing_behind(hair_object):
     with pytest.raises(RuntimeError, match="Cannot build"):
         bpy.ops.hairlod.build_lod(guides=4, levels=3, control_points=4)
     assert len(bpy.data.objects) == objects_before
+    assert COLLECTION_NAME not in bpy.data.collections
+
+
+def _assert_same_asset(a, b):
+    arrays_a, arrays_b = a.arrays(), b.arrays()
+    assert set(arrays_a) == set(arrays_b)
+    for name in arrays_a:
+        if name != "levels":
+            assert np.array_equal(arrays_a[name], arrays_b[name]), name
+    for level_a, level_b in zip(arrays_a["levels"], arrays_b["levels"]):
+        for name in level_a:
+            assert np.array_equal(level_a[name], level_b[name]), name
+    assert a.scalars() == b.scalars() and a.level_ids == b.level_ids
+
+
+def _lod_objects():
+    collection = bpy.data.collections.get(COLLECTION_NAME)
+    return [] if collection is None else list(collection.objects)
+
+
+def test_cancel_before_the_build_ends_leaves_nothing(hair_object):
+    objects, curves = len(bpy.data.objects), len(bpy.data.hair_curves)
+    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6)
+    job.cancel()  # what Esc in the modal operator calls
+    assert job.progress.cancelled
+    assert (len(bpy.data.objects), len(bpy.data.hair_curves)) == (objects, curves)
+    assert COLLECTION_NAME not in bpy.data.collections and PACKED_PROPERTY not in hair_object
+
+
+def test_cancel_after_some_levels_removes_them(hair_object):
+    objects, curves = len(bpy.data.objects), len(bpy.data.hair_curves)
+    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6)
+    fractions = []
+    while len(job.created) < 2:
+        assert not job.step()
+        fractions.append(job.fraction)
+    assert fractions == sorted(fractions) and 0 < fractions[-1] < 1
+    assert len(_lod_objects()) == 2
+    job.cancel()
+    assert (len(bpy.data.objects), len(bpy.data.hair_curves)) == (objects, curves)
+    assert COLLECTION_NAME not in bpy.data.collections and PACKED_PROPERTY not in hair_object
+
+
+def test_stepped_job_matches_the_operator(hair_object):
+    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6, seed=1)
+    while not job.step():
+        pass
+    assert job.fraction == 1.0 and len(_lod_objects()) == len(job.asset.levels)
+    _assert_same_asset(packed_asset(hair_object), job.asset)
+
+
+def test_packed_asset_survives_save_and_reopen(addon, tmp_path):
+    obj = strands_to_curves(hanging_hair(), "Packed Hair")
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=2) == {'FINISHED'}
+    before = packed_asset(obj)
+    path = str(tmp_path / "packed.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    reopened = bpy.data.objects["Packed Hair"]
+    after = packed_asset(reopened)
+    _assert_same_asset(before, after)
+    rest_before, rest_after = before.skin(before.rest_guides), after.skin(after.rest_guides)
+    assert np.array_equal(rest_before["strands"].points, rest_after["strands"].points)
+    assert sorted(o.name for o in bpy.data.collections[COLLECTION_NAME].objects) == [
+        f"Packed Hair LoD L{level}" for level in before.level_ids]
+    bpy.ops.wm.read_homefile(use_empty=True)
+
+
+def _animated_camera(locations, name="Camera"):
+    """A camera looking at the origin from `locations` at frames 1, 2, ... (keyframed)."""
+    from mathutils import Vector
+
+    camera = bpy.data.objects.new(name, bpy.data.cameras.new(name))
+    camera.data.clip_end = 10000.0
+    bpy.context.scene.collection.objects.link(camera)
+    for frame, location in enumerate(locations, start=1):
+        camera.location = location
+        camera.rotation_euler = (-Vector(location)).to_track_quat('-Z', 'Y').to_euler()
+        camera.keyframe_insert("location", frame=frame)
+        camera.keyframe_insert("rotation_euler", frame=frame)
+    return camera
+
+
+def test_scene_cameras_sample_every_camera_over_the_frame_range(addon, empty_scene):
+    scene = empty_scene
+    scene.frame_start, scene.frame_end, scene.frame_current = 1, 5, 3
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 800, 600, 50
+    source = strands_to_curves(hanging_hair(), "Hair")
+    source.location = (0.5, 0, 0)
+    moving = _animated_camera([(10 + 2 * f, 0, 1) for f in range(5)])
+    _animated_camera([(0, 8, 0)] * 5, name="Still")
+    cameras = scene_cameras(bpy.context, source, frame_step=2)
+    assert len(cameras) == 3 * 2  # frames 1, 3, 5 x two cameras
+    assert scene.frame_current == 3
+    assert all(camera["viewport"] == (400.0, 300.0) for camera in cameras)
+    # Frame 3 of the moving camera: view = camera^-1 x source, the camera at its frame-3 key.
+    scene.frame_set(3)
+    expected = np.array(moving.matrix_world.inverted()) @ np.array(source.matrix_world)
+    assert np.allclose(cameras[2]["view"], expected, atol=1e-5)
+    assert np.allclose(expected @ np.array([-0.5, 0, 0, 1]), np.array(moving.matrix_world.inverted()) @ [0, 0, 0, 1],
+                       atol=1e-5)
+
+
+def test_scene_cameras_option_drops_levels_no_camera_needs(addon, empty_scene):
+    scene = empty_scene
+    scene.frame_start, scene.frame_end = 1, 4
+    scene.render.resolution_x, scene.render.resolution_y = 640, 480
+    source = strands_to_curves(hanging_hair(curves=2000, points=8), "Hair")
+    bpy.context.view_layer.objects.active = source
+    options = {"guides": 12, "levels": 5, "control_points": 6, "seed": 1}
+    assert bpy.ops.hairlod.build_lod(**options) == {'FINISHED'}
+    every_level = packed_asset(source).level_ids
+    assert len(every_level) == 4
+    for obj in _lod_objects():
+        bpy.data.objects.remove(obj)
+    # A camera that only ever stays far away: the finest thick levels are not built.
+    camera = _animated_camera([(1500 + 500 * f, 0, 0) for f in range(4)])
+    assert bpy.ops.hairlod.build_lod(scene_cameras=True, frame_step=1, **options) == {'FINISHED'}
+    far_levels = packed_asset(source).level_ids
+    print("levels for the far camera", far_levels, "of", every_level)
+    assert far_levels[0] == 0 and max(far_levels) < max(every_level)
+    assert len(_lod_objects()) == len(far_levels)
+    for obj in _lod_objects():
+        bpy.data.objects.remove(obj)
+    # The same camera flying in close at the last frame needs finer levels.
+    bpy.data.objects.remove(camera)
+    _animated_camera([(1500, 0, 0), (100, 0, 0), (10, 0, 0), (3, 0, 0)])
+    assert bpy.ops.hairlod.build_lod(scene_cameras=True, frame_step=1, **options) == {'FINISHED'}
+    assert max(packed_asset(source).level_ids) > max(far_levels)
+
+
+def test_scene_cameras_option_needs_a_camera(addon, empty_scene):
+    source = strands_to_curves(hanging_hair(), "Hair")
+    bpy.context.view_layer.objects.active = source
+    with pytest.raises(RuntimeError, match="no camera"):
+        bpy.ops.hairlod.build_lod(guides=4, levels=3, control_points=4, scene_cameras=True)
     assert COLLECTION_NAME not in bpy.data.collections

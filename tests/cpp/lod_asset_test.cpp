@@ -114,7 +114,10 @@ TEST_F(LodAssetTest, CoverageAndAreaRatioPerLevel) {
         if (l == 0) continue;
         const double ratio = a.thick_levels[l - 1].mean_area / a.thick_levels[l].mean_area;
         RecordProperty("area_ratio_L" + std::to_string(l), std::to_string(ratio));
-        EXPECT_GT(ratio, 2.0) << "level " << l;
+        // The strand count shrinks evenly (about 2x here: clusters of about 30 strands over 5
+        // levels); the area follows it, faster at the finest levels where a few strands leave less
+        // of an ellipse (1.7, 1.9, 2.5, 4.0 measured).
+        EXPECT_GT(ratio, 1.5) << "level " << l;
         EXPECT_LT(ratio, 8.0) << "level " << l;
     }
     // Independent recount on L0 from the rest geometry: member points inside their ellipse.
@@ -130,6 +133,85 @@ TEST_F(LodAssetTest, CoverageAndAreaRatioPerLevel) {
             inside += u * u + v * v <= 1.0f + 1e-4f;
         }
     EXPECT_GE(static_cast<double>(inside) / (3000.0 * 8.0), 0.95);
+}
+
+// Hairs per level of each L0 cluster: counts[l][c].
+std::vector<std::vector<int32_t>> hairs_per_cluster(const LodAsset& a) {
+    std::vector<std::vector<int32_t>> counts;
+    for (const ThickHairLevel& level : a.thick_levels) {
+        std::vector<int32_t>& row = counts.emplace_back();
+        for (size_t c = 0; c < a.cluster_count(); ++c) row.push_back(level.cluster_first[c + 1] - level.cluster_first[c]);
+    }
+    return counts;
+}
+
+TEST_F(LodAssetTest, RequestedLevelsShrinkingGeometricallyAtMostFourfold) {
+    const LodAsset& a = *asset_;
+    ASSERT_EQ(a.thick_levels.size(), 5u);  // levels = 6: L0..L4 and the strands
+    const auto counts = hairs_per_cluster(a);
+    for (size_t c = 0; c < a.cluster_count(); ++c) {
+        const double n = a.thick_levels[0].n_total(c);
+        // The schedule of Sec. 5.1 step 2: hair sizes n / f^l, f = clamp((n / 4)^(1/4), 1, 4); a
+        // hair of m strands splits into max(1, round(m / size_l)) children, so a level holds at most
+        // n / size_l children plus one per coarser hair.
+        const double f = std::clamp(std::pow(n / 4.0, 1.0 / 4.0), 1.0, 4.0);
+        for (size_t l = 1; l < counts.size(); ++l) {
+            const double size = n / std::pow(f, static_cast<double>(l));
+            EXPECT_LE(counts[l][c], n / size + counts[l - 1][c]) << "cluster " << c << " level " << l;
+            EXPECT_GE(counts[l][c], counts[l - 1][c]);
+        }
+        // Large clusters end near 4 strands per finest hair (rounding and k-means imbalance aside).
+        if (n >= 40) {
+            const double finest = n / counts.back()[c];
+            EXPECT_GT(finest, 2.0) << "cluster " << c;
+            EXPECT_LT(finest, 8.0) << "cluster " << c;
+        }
+    }
+}
+
+TEST(LodAssetLevels, LargeClustersShrinkFourfoldPerLevel) {
+    // One guide: a single L0 cluster of 4000 strands; (4000 / 4)^(1/2) > 4, so the 4x cap holds the
+    // sizes to 4000, 1000, 250. The whole head is far from convex, so its ellipse is relatively
+    // larger than its parts': the area shrinks more than the count.
+    const LodAsset a = build_lod(test_hair(4000, 8, 9), {.guides = 1, .levels = 4, .control_points = 6});
+    ASSERT_EQ(a.thick_levels.size(), 3u);
+    EXPECT_EQ(a.thick_levels[0].hair_count(), 1u);
+    EXPECT_EQ(a.thick_levels[1].hair_count(), 4u);
+    EXPECT_GE(a.thick_levels[2].hair_count(), 12u);
+    EXPECT_LE(a.thick_levels[2].hair_count(), 20u);
+    for (size_t l = 1; l < a.thick_levels.size(); ++l) {
+        const double ratio = a.thick_levels[l - 1].mean_area / a.thick_levels[l].mean_area;
+        RecordProperty("area_ratio_L" + std::to_string(l), std::to_string(ratio));
+        EXPECT_GT(ratio, 2.5) << "level " << l;
+        EXPECT_LT(ratio, 8.0) << "level " << l;
+    }
+}
+
+TEST(LodAssetLevels, FewerLevelsOnlyWhenNothingSplits) {
+    // A single strand has nothing to split: L0 alone.
+    const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 4, .levels = 6});
+    EXPECT_EQ(one.thick_levels.size(), 1u);
+    // Three strands are already fewer than the finest hair's 4.
+    EXPECT_EQ(build_lod(test_hair(3, 5, 2), {.guides = 1, .levels = 6}).thick_levels.size(), 1u);
+    // Twelve strands in one cluster, sizes 12 / 3^(l/4) = 12, 9.1, 6.9, 5.3, 4: some splits round to
+    // one child, so levels that would copy the one above are not built.
+    const LodAsset twelve = build_lod(test_hair(12, 5, 2), {.guides = 1, .levels = 6});
+    ASSERT_GE(twelve.thick_levels.size(), 2u);
+    EXPECT_LT(twelve.thick_levels.size(), 5u);
+    EXPECT_EQ(twelve.thick_levels[1].hair_count(), 2u);  // 12 / 6.9 at the first split that happens
+    for (size_t l = 1; l < twelve.thick_levels.size(); ++l)
+        EXPECT_GT(twelve.thick_levels[l].hair_count(), twelve.thick_levels[l - 1].hair_count());
+    EXPECT_LE(twelve.thick_levels.back().hair_count(), 8u);  // at least 1.5 strands per hair
+}
+
+TEST(LodAssetLevels, ProgressCountsEveryStepAndCancels) {
+    LodBuildProgress progress;
+    const LodAsset a = build_lod(test_hair(500, 8, 4), {.guides = 8, .levels = 4, .control_points = 6, .progress = &progress});
+    EXPECT_EQ(progress.total.load(), 4 + 2 + 3);
+    EXPECT_EQ(progress.done.load(), progress.total.load());
+    LodBuildProgress cancelled;
+    cancelled.cancel = true;
+    EXPECT_THROW(build_lod(test_hair(500, 8, 4), {.guides = 8, .progress = &cancelled}), LodBuildCancelled);
 }
 
 TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {

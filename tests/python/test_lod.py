@@ -56,7 +56,7 @@ def test_levels_partition_strands_and_cover(asset):
         assert np.all(np.isfinite(level.radii)) and np.all(level.radii > 0)
     ratios = asset.area_ratios
     print("area ratios", ratios, "coverage", asset.coverage)
-    assert all(2.0 < r < 8.0 for r in ratios)
+    assert all(1.5 < r < 8.0 for r in ratios)
 
 
 def test_rigid_motion_skins_exactly(asset):
@@ -174,3 +174,92 @@ def test_scene_levels_follow_the_cameras(asset):
     near_levels, far_levels = lod.scene_levels(asset, [near]), lod.scene_levels(asset, [far])
     assert max(far_levels) <= min(near_levels) or max(far_levels) < max(near_levels)
     assert lod.scene_levels(asset, [near, far]) == sorted(set(near_levels) | set(far_levels))
+
+
+def test_default_levels_are_all_built(asset):
+    # levels=5: L0..L3 thick and the strands; the clusters here (about 90 strands) allow all of them.
+    assert len(asset.levels) == 4
+    mean_sizes = [level.n_total.mean() for level in asset.levels]
+    shrink = [coarse / fine for coarse, fine in zip(mean_sizes, mean_sizes[1:])]
+    print("mean hair sizes", mean_sizes, "area ratios", asset.area_ratios)
+    assert all(1.3 < s <= 4.5 for s in shrink)
+
+
+def test_manifest_states_per_hair_data_and_membership(asset, tmp_path):
+    from hairlod import lod
+
+    manifest = lod.save(asset, tmp_path / "asset")
+    for position, (level, entry) in enumerate(zip(asset.levels, manifest["thick_levels"])):
+        per_hair = entry["per_hair"]
+        assert set(per_hair) == {"n_total", "density", "major_axis", "minor_axis", "radii", "membership"}
+        assert all(per_hair[name]["meaning"] for name in per_hair)
+        arrays = {name: np.load(tmp_path / "asset" / e["file"]) for name, e in per_hair.items()}
+        for name, array in arrays.items():
+            assert np.array_equal(array, getattr(level, name)), (position, name)
+        # Independent checks of the side files: membership agrees with n_total and the parents,
+        # the axes are unit and orthogonal, rho follows Sec. 4 from the radii.
+        assert np.array_equal(np.bincount(arrays["membership"], minlength=entry["hairs"]), arrays["n_total"])
+        assert arrays["n_total"].sum() == asset.strand_count
+        if position:
+            coarser = np.load(tmp_path / "asset" / manifest["thick_levels"][position - 1]["per_hair"]["membership"]["file"])
+            assert np.array_equal(level.parent[arrays["membership"]], coarser)
+        assert np.allclose(np.linalg.norm(arrays["major_axis"], axis=2), 1, atol=1e-3)
+        assert np.allclose(np.sum(arrays["major_axis"] * arrays["minor_axis"], axis=2), 0, atol=1e-3)
+        rho = arrays["n_total"][:, None] * 0.002 ** 2 / (arrays["radii"][..., 0] * arrays["radii"][..., 1])
+        assert np.allclose(arrays["density"], rho, rtol=2e-3)
+    # A side file that disagrees with the stored arrays is named on load.
+    membership_file = tmp_path / "asset" / manifest["thick_levels"][1]["per_hair"]["membership"]["file"]
+    membership = np.load(membership_file)
+    np.save(membership_file, np.roll(membership, 1))
+    with pytest.raises(ValueError, match="membership of thick level 1"):
+        lod.load(tmp_path / "asset")
+
+
+def test_pack_unpack_gives_an_identical_asset(asset):
+    from hairlod import lod
+
+    data = lod.pack(asset)
+    assert isinstance(data, bytes) and len(data) < asset.memory_bytes
+    again = lod.unpack(data)
+    _assert_same_asset(asset, again)
+    kept = asset.with_levels([0, 2])
+    _assert_same_asset(kept, lod.unpack(lod.pack(kept)))
+    with pytest.raises(ValueError, match="not a packed hairlod LoD asset"):
+        lod.unpack(data[: len(data) // 2], where="half")
+
+
+def test_build_reports_progress_and_cancels_from_another_thread():
+    import threading
+
+    from hairlod import lod
+
+    hair = hanging_hair(curves=6000, points=12)
+    progress = lod.BuildProgress()
+    lod.build_lod(hair, guides=16, levels=5, control_points=8, progress=progress)
+    assert progress.done == progress.total == 4 + 3 + 4
+    progress, outcome = lod.BuildProgress(), {}
+
+    def build():
+        try:
+            outcome["asset"] = lod.build_lod(hair, guides=16, levels=5, control_points=8, progress=progress)
+        except lod.BuildCancelled as error:
+            outcome["cancelled"] = error
+
+    worker = threading.Thread(target=build)
+    worker.start()
+    progress.cancel()  # the build stops at its next step, at the latest
+    worker.join()
+    assert "cancelled" in outcome and "asset" not in outcome and progress.cancelled
+
+
+def test_keep_scene_levels_always_keeps_l0(asset):
+    from hairlod import lod
+
+    projection = perspective(math.radians(45), 4 / 3, 0.01, 1000)
+    near = {"view": look_at((1.6, 0.3, 0.2), (0, 0, -0.3)), "projection": projection, "viewport": (1600, 1200)}
+    selected = lod.scene_levels(asset, [near])
+    assert min(selected) > 0  # this close, no cluster is drawn at L0
+    kept, again = lod.keep_scene_levels(asset, [near])
+    assert again == selected
+    assert kept.level_ids == sorted({0} | {level for level in selected if level < len(asset.levels)})
+    assert np.array_equal(kept.levels[0].n_total, asset.levels[0].n_total)

@@ -20,15 +20,22 @@ namespace hairlod {
 
 namespace {
 
-// Children per split: a quarter of the strands gives about a quarter of the cross-section area
-// (Sec. 5.1 step 2: the area shrinks about 4x per level).
-constexpr size_t kSplitFactor = 4;
-// Only groups whose children would average at least 2 strands are split: a thick hair of one
-// strand is the strand itself, which the finest level draws anyway.
-constexpr size_t kMinSplitMembers = 2 * kSplitFactor;
+// Sec. 5.1 step 2: the thick-hair cross-section area shrinks about 4x per level. Area follows the
+// member count, so the schedule of hair sizes shrinks at most 4x per level.
+constexpr double kMaxLevelShrink = 4.0;
+// The finest thick level aims at this many strands per hair: fewer (2 or 3 strands, often nearly
+// in a line) leave slivers, and the area would drop far more than 4x at the last level.
+constexpr double kFinestHairStrands = 4.0;
 // The largest radius is stored near 2^10 (LodAsset::radius_exponent): room above for the growth
 // that keeps coverage (the half's largest is about 2^16) and 24 binades below in full precision.
 constexpr int kRadiusHeadroomBits = 10;
+
+// One step of the build done: cancels if asked, else counts it.
+void report_step(LodBuildProgress* progress) {
+    if (progress == nullptr) return;
+    if (progress->cancel.load(std::memory_order_relaxed)) throw LodBuildCancelled();
+    progress->done.fetch_add(1, std::memory_order_relaxed);
+}
 
 class Stopwatch {
 public:
@@ -107,12 +114,16 @@ GuideSet guide_set(const std::array<int32_t, 3>& guides, const glm::vec3* guide_
 // One group of strands per thick hair of a level, in hair order.
 using Groups = std::vector<std::vector<int32_t>>;
 
-// Splits every group into up to kSplitFactor children by k-means on the members' control points.
-Groups split_groups(const Groups& parents, const FeatureRows& rows, uint64_t seed, std::vector<int32_t>& parent_of) {
+// Splits group h into round(size / target_size[h]) children (at least 1) by k-means on the
+// members' control points.
+Groups split_groups(const Groups& parents, std::span<const double> target_size, const FeatureRows& rows, uint64_t seed,
+                    std::vector<int32_t>& parent_of) {
     std::vector<Groups> children(parents.size());
     tbb::parallel_for(size_t{0}, parents.size(), [&](size_t h) {
         const std::vector<int32_t>& members = parents[h];
-        if (members.size() < kMinSplitMembers) {
+        const auto k = static_cast<size_t>(std::clamp<double>(
+            std::round(static_cast<double>(members.size()) / target_size[h]), 1.0, static_cast<double>(members.size())));
+        if (k < 2) {
             children[h] = {members};
             return;
         }
@@ -121,10 +132,9 @@ Groups split_groups(const Groups& parents, const FeatureRows& rows, uint64_t see
             std::copy_n(rows.row(static_cast<size_t>(members[m])), rows.dim, local.begin() + static_cast<std::ptrdiff_t>(m * rows.dim));
         const FeatureRows local_rows{local, rows.dim};
         // A seed per group makes the result independent of scheduling.
-        std::vector<float> seeds = kmeans_plus_plus_seeds(local_rows, kSplitFactor, seed ^ (0x9E3779B97F4A7C15ull * (h + 1)));
+        std::vector<float> seeds = kmeans_plus_plus_seeds(local_rows, k, seed ^ (0x9E3779B97F4A7C15ull * (h + 1)));
         const KMeansResult split = kmeans(local_rows, std::move(seeds), 100);
-        const size_t k = split.centres.size() / rows.dim;
-        Groups result(k);
+        Groups result(split.centres.size() / rows.dim);
         for (size_t m = 0; m < members.size(); ++m) result[static_cast<size_t>(split.assignment[m])].push_back(members[m]);
         std::erase_if(result, [](const std::vector<int32_t>& g) { return g.empty(); });
         children[h] = std::move(result);
@@ -281,6 +291,12 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     if (strands.curve_count() == 0) throw Error("build_lod: no strands");
     if (strands.curve_count() > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
         throw Error("build_lod: too many strands");
+    if (options.progress != nullptr) {
+        if (options.progress->cancel) throw LodBuildCancelled();
+        // Steps: resample, k-means, clusters, each finer level, weights, each level's fitting.
+        options.progress->total = 4 + (options.levels - 2) + (options.levels - 1);
+        options.progress->done = 0;
+    }
     Stopwatch watch;
     LodAsset asset;
     asset.control_points = options.control_points;
@@ -289,6 +305,7 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     const StrandSet resampled = resample_strands(
         strands, {.points_per_curve = options.control_points, .subdivisions_per_segment = options.arc_length_subdivisions});
     asset.timings.resample = watch.lap();
+    report_step(options.progress);
 
     const std::vector<float> features = centred_features(resampled);
     const FeatureRows rows{features, 3 * nc};
@@ -297,6 +314,7 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         asset.rest_guides.insert(asset.rest_guides.end(), resampled.curve_points(static_cast<size_t>(g)).begin(),
                                  resampled.curve_points(static_cast<size_t>(g)).end());
     asset.timings.kmeans = watch.lap();
+    report_step(options.progress);
 
     // L0: strands sharing a guide set; clusters numbered in the sets' lexicographic order.
     const std::vector<std::array<int32_t, 3>> sets = nearest_guide_sets(rows, asset.guide_strands);
@@ -311,23 +329,37 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     for (size_t s = 0; s < strand_count; ++s) strand_cluster[s] = cluster_of_set[sets[s]];
     const ClusterMembers l0 = group_by_cluster(strand_cluster, cluster_count);
     asset.timings.clusters = watch.lap();
+    report_step(options.progress);
 
-    // Finer levels by splitting L0, until the requested count or until nothing can split.
+    // Finer levels by splitting L0 (Sec. 5.1 step 2).
     std::vector<Groups> level_groups(1);
     std::vector<std::vector<int32_t>> level_parents(1, std::vector<int32_t>(cluster_count, -1));
     for (size_t c = 0; c < cluster_count; ++c)
         level_groups[0].emplace_back(l0.members.begin() + l0.first[c], l0.members.begin() + l0.first[c + 1]);
-    // A level is added only while most strands can still split: otherwise it would mostly copy
-    // the previous one.
-    auto splittable_strands = [](const Groups& groups) {
-        size_t count = 0;
-        for (const auto& g : groups) count += g.size() >= kMinSplitMembers ? g.size() : 0;
-        return count;
-    };
-    while (level_groups.size() + 1 < static_cast<size_t>(options.levels) &&
-           2 * splittable_strands(level_groups.back()) >= strand_count) {
+    // Per L0 cluster of n strands, a geometric schedule of hair sizes n / f^l from L0 down to
+    // kFinestHairStrands at the finest thick level L_{n_L - 2}, f = (n / 4)^(1 / (n_L - 2)), but
+    // shrinking at most 4x per level (then the finest level keeps more strands per hair). Every
+    // group splits towards its cluster's size for the next level, so rounding does not accumulate.
+    const auto thick_wanted = static_cast<size_t>(options.levels - 1);
+    std::vector<double> shrink(cluster_count, 1.0);
+    for (size_t c = 0; thick_wanted > 1 && c < cluster_count; ++c) {
+        const double span = static_cast<double>(level_groups[0][c].size()) / kFinestHairStrands;
+        shrink[c] = std::clamp(std::pow(span, 1.0 / static_cast<double>(thick_wanted - 1)), 1.0, kMaxLevelShrink);
+    }
+    for (size_t depth = 1; depth < thick_wanted; ++depth) {
+        const Groups& coarser = level_groups.back();
+        std::vector<double> target_size(coarser.size());
+        for (size_t h = 0; h < coarser.size(); ++h) {
+            const auto c = static_cast<size_t>(strand_cluster[static_cast<size_t>(coarser[h][0])]);
+            target_size[h] = static_cast<double>(level_groups[0][c].size()) / std::pow(shrink[c], static_cast<double>(depth));
+        }
         std::vector<int32_t> parents;
-        level_groups.push_back(split_groups(level_groups.back(), rows, options.seed + level_groups.size(), parents));
+        Groups finer = split_groups(coarser, target_size, rows, options.seed + depth, parents);
+        report_step(options.progress);
+        // A level where no hair splits would copy the previous one: skipped (small inputs only,
+        // whose sizes round to the same counts); the schedule goes on.
+        if (finer.size() == coarser.size()) continue;
+        level_groups.push_back(std::move(finer));
         level_parents.push_back(std::move(parents));
     }
     asset.timings.levels = watch.lap();
@@ -365,6 +397,7 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         }
     });
     asset.timings.weights = watch.lap();
+    report_step(options.progress);
 
     const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
     std::vector<std::vector<CrossSection>> level_sections;
@@ -381,6 +414,7 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         }
         for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
         level_sections.push_back(fit_level(groups, resampled, tangents, options.control_points, options.ellipse_coverage));
+        report_step(options.progress);
         for (const CrossSection& section : level_sections.back())
             largest_radius = std::max({largest_radius, section.major_radius, section.minor_radius});
     }
@@ -394,6 +428,7 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     });
     for (size_t l = 0; l < level_sections.size(); ++l) store_level(asset, l, level_sections[l], resampled, frames);
     asset.timings.fitting = watch.lap();
+    if (options.progress != nullptr) options.progress->done = options.progress->total.load();
     return asset;
 }
 

@@ -3,6 +3,7 @@
 // sharing their 3 nearest guides, finer thick-hair levels split from L0, elliptical cross-sections
 // and linear-skinning coordinates, built from any StrandSet.
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -12,11 +13,25 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "hairlod/core/error.h"
 #include "hairlod/core/strand_set.h"
 #include "hairlod/lod/compact.h"
 #include "hairlod/lod/guide_frame.h"
 
 namespace hairlod {
+
+// Progress of a build that another thread watches and may cancel (Blender's modal operator).
+struct LodBuildProgress {
+    std::atomic<int> done{0};          // steps finished
+    std::atomic<int> total{1};         // steps of the whole build, set when it starts
+    std::atomic<bool> cancel{false};   // set to stop the build at its next step
+};
+
+// Thrown by build_lod when LodBuildProgress::cancel was set.
+class LodBuildCancelled : public Error {
+public:
+    LodBuildCancelled() : Error("build_lod: cancelled") {}
+};
 
 struct LodOptions {
     int guides = 256;          // k of the guide k-means
@@ -27,6 +42,7 @@ struct LodOptions {
     double kmeans_stop_fraction = 1e-3;  // ... or fewer once an update moves at most this fraction of strands
     int arc_length_subdivisions = 4;     // per input segment when resampling (see ResampleOptions)
     float ellipse_coverage = 0.95f;  // fraction of member control points each ellipse must hold
+    LodBuildProgress* progress = nullptr;  // optional: steps reported, cancellation checked between them
 };
 
 // One level of thick hairs. Hairs are ordered by L0 cluster: cluster c owns hairs
@@ -157,8 +173,10 @@ struct LodAsset {
     LodGeometry rest_geometry() const { return skin(rest_guides); }
 };
 
-// Builds the asset; throws Error for invalid strands or options. Fewer thick levels than asked
-// are built when no cluster has enough strands left to split (8: children of about 2 strands).
+// Builds the asset; throws Error for invalid strands or options, LodBuildCancelled when cancelled.
+// Levels follow a per-cluster size schedule (at most 4x fewer strands per hair per level); a level
+// that would copy the one above (every L0 cluster too small to split there, e.g. 1 strand) is not
+// built, so only such inputs get fewer thick levels than asked.
 LodAsset build_lod(const StrandSet& strands, const LodOptions& options = {});
 
 }  // namespace hairlod

@@ -1,0 +1,126 @@
+"""Build Hair LoD runs modal in a real window (Blender under Xvfb, see scripts/run_ui_tests.sh).
+
+Invokes the operator as a click would: it must return RUNNING_MODAL, report progress from its
+timer and finish with one Curves object per level and the packed asset. Invoked again and sent Esc
+(simulated) while it builds, it must leave no object, hair data or collection behind. Exits 0 on
+success, 1 on failure.
+"""
+
+import math
+import os
+import sys
+import time
+import traceback
+
+import bpy
+import numpy as np
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+
+POLL_DELAY = 0.2
+TIMEOUT = 120.0
+
+
+def hanging_hair(curves, points=12, seed=3):
+    from hairlod import Strands
+
+    rng = np.random.default_rng(seed)
+    azimuth, polar = rng.uniform(0, 2 * math.pi, curves), rng.uniform(0, 1.4, curves)
+    roots = np.stack([np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], axis=1)
+    t = np.linspace(0, 1, points)
+    positions = roots[:, None, :] * (1 + 0.2 * t[None, :, None]) - np.array([0, 0, 1.0]) * t[None, :, None]
+    return Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(curves, points),
+                               np.full(curves * points, 0.002, np.float32))
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def counts():
+    return len(bpy.data.objects), len(bpy.data.hair_curves), len(bpy.data.collections)
+
+
+def steps():
+    import addon_utils
+
+    from hairlod.blender.curves import strands_to_curves
+    from hairlod.blender.lod_operator import COLLECTION_NAME, PACKED_PROPERTY, HAIRLOD_OT_build_lod
+
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    source = strands_to_curves(hanging_hair(40000), "Hair")
+    bpy.context.view_layer.objects.active = source
+    progress, escapes = [], []
+    modal = HAIRLOD_OT_build_lod.modal
+
+    def recording_modal(operator, context, event):
+        if event.type == 'TIMER':
+            progress.append(operator._job.fraction)
+        result = modal(operator, context, event)
+        if event.type == 'ESC':
+            escapes.append((operator._job.fraction, result))
+        return result
+
+    HAIRLOD_OT_build_lod.modal = recording_modal
+    before = counts()
+    with bpy.context.temp_override(window=window, area=area):
+        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8)
+    check(started == {'RUNNING_MODAL'}, f"the operator runs modal ({started})")
+    deadline = time.monotonic() + TIMEOUT
+    while PACKED_PROPERTY not in source and time.monotonic() < deadline:
+        yield POLL_DELAY
+    check(PACKED_PROPERTY in source, "the build finished and packed the asset")
+    check(len(progress) >= 3 and progress == sorted(progress), f"progress rose over {len(progress)} timer events")
+    levels = len(bpy.data.collections[COLLECTION_NAME].objects)
+    check(levels == 4, f"one Curves object per thick level ({levels})")
+    after = counts()
+
+    del source[PACKED_PROPERTY]
+    progress.clear()
+    with bpy.context.temp_override(window=window, area=area):
+        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8)
+    check(started == {'RUNNING_MODAL'}, "invoked again")
+    yield POLL_DELAY
+    window.event_simulate('ESC', 'PRESS')
+    yield POLL_DELAY
+    check(len(escapes) == 1 and escapes[0][1] == {'CANCELLED'} and escapes[0][0] < 1,
+          f"Esc reached the running operator and cancelled it ({escapes})")
+    timer_events = len(progress)
+    yield 2.0  # longer than the whole build: a build that went on would have finished by now
+    HAIRLOD_OT_build_lod.modal = modal
+    check(len(progress) == timer_events, "no timer events after the cancel")
+    check(PACKED_PROPERTY not in source, "Esc stopped the build before it packed an asset")
+    check(counts() == after, f"Esc left nothing behind ({counts()} vs {after})")
+    check(after[0] == before[0] + 4, "the first build's objects are still there")
+
+
+def run():
+    bpy.context.preferences.view.show_splash = False
+    step = steps()
+
+    def tick():
+        try:
+            return next(step)
+        except StopIteration:
+            finish(0)
+        except Exception:
+            traceback.print_exc()
+            finish(1)
+        return None
+
+    bpy.app.timers.register(tick, first_interval=1.0)
+
+
+def finish(status):
+    print("ui test:", "passed" if status == 0 else "FAILED")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
+
+
+run()
