@@ -12,6 +12,7 @@ import time
 
 import bpy
 import gpu
+from bpy.app.handlers import persistent
 import numpy as np
 from mathutils import Vector
 
@@ -126,6 +127,7 @@ class LodPreview:
         self.max_hair_count = None
         self.textures = None
         self.textures_key = None
+        self.packed = False
 
     @property
     def level_count(self):
@@ -280,12 +282,30 @@ def scene_lights(scene, camera):
     return count, vectors, colours
 
 
-def attach(obj, asset):
-    """Shows `asset` (an hairlod.lod.LodAsset in `obj`'s local space) in the viewport for `obj`."""
+def attach(obj, asset, packed=False):
+    """Shows `asset` (an hairlod.lod.LodAsset in `obj`'s local space) in the viewport for `obj`.
+    `packed`: the asset is the one packed into `obj` (Build Hair LoD), and goes when that does
+    (undo, or the property removed)."""
     if not isinstance(asset, lod.LodAsset):
         raise TypeError(f"asset must be an hairlod.lod.LodAsset, got {type(asset).__name__}")
-    _previews[obj.name] = LodPreview(asset)
+    preview = LodPreview(asset)
+    preview.packed = packed
+    _previews[obj.name] = preview
     _tag_viewports()
+
+
+def attach_packed_assets():
+    """Previews the asset packed into every object that has one and no preview yet (after loading a
+    .blend or enabling the add-on). An asset that cannot be read is reported once and skipped."""
+    from ..lod_operator import PACKED_PROPERTY, packed_asset
+
+    for obj in bpy.data.objects:
+        if PACKED_PROPERTY not in obj or obj.name in _previews:
+            continue
+        try:
+            attach(obj, packed_asset(obj), packed=True)
+        except ValueError as error:
+            print(f"hairlod: no LoD preview for '{obj.name}': {error}")
 
 
 def detach(obj_name):
@@ -306,6 +326,8 @@ def _tag_viewports():
 
 
 def _draw():
+    from ..lod_operator import PACKED_PROPERTY
+
     context = bpy.context
     region, region_3d = context.region, context.region_data
     if region is None or region_3d is None:
@@ -315,6 +337,9 @@ def _draw():
         obj = bpy.data.objects.get(name)
         if obj is None:
             _previews.pop(name)
+            continue
+        if preview.packed and PACKED_PROPERTY not in obj:
+            _previews.pop(name)  # undone or removed
             continue
         settings = obj.hairlod_lod_preview
         if not settings.enabled or not obj.visible_get():
@@ -330,14 +355,36 @@ def _tag_viewports_once():
     return None
 
 
+@persistent
+def _on_load(_):
+    _previews.clear()
+    attach_packed_assets()
+
+
+def _attach_after_register():
+    attach_packed_assets()
+    return None
+
+
 def register_handler():
+    """Draws previews in every 3D viewport; nothing in background mode (no GPU, nothing to see)."""
     global _handle
-    if _handle is None and not bpy.app.background:
+    if bpy.app.background:
+        return
+    if _handle is None:
         _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), 'WINDOW', 'POST_VIEW')
+    if _on_load not in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.append(_on_load)
+    # bpy.data is not readable while add-ons register: look for packed assets just after.
+    bpy.app.timers.register(_attach_after_register, first_interval=0.0)
 
 
 def unregister_handler():
     global _handle
+    if _on_load in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_on_load)
+    if bpy.app.timers.is_registered(_attach_after_register):
+        bpy.app.timers.unregister(_attach_after_register)
     if _handle is not None:
         bpy.types.SpaceView3D.draw_handler_remove(_handle, 'WINDOW')
         _handle = None
