@@ -5,6 +5,7 @@ import bpy
 from .hair_mesh_operators import (HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces,
                                   HAIRLOD_PG_strand_settings, register_properties, unregister_properties)
 from .hair_mesh_preview import register_handler, unregister_handler
+from .lod_export import HAIRLOD_OT_export_lod
 from .lod_operator import HAIRLOD_OT_build_lod
 from .lod_preview_ui import (HAIRLOD_OT_load_lod_preview, HAIRLOD_PG_lod_preview, VIEW3D_PT_hairlod_lod_preview)
 from .lod_preview_ui import register_properties as register_lod_preview_properties
@@ -22,6 +23,7 @@ classes = (
     HAIRLOD_OT_build_lod,
     HAIRLOD_PG_lod_preview,
     HAIRLOD_OT_load_lod_preview,
+    HAIRLOD_OT_export_lod,
     VIEW3D_PT_hairlod,
     VIEW3D_PT_hairlod_hair_mesh,
     VIEW3D_PT_hairlod_lod_preview,

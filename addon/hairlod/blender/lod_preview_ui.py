@@ -81,7 +81,9 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
 
         layout = self.layout
         obj = context.active_object
-        layout.operator(HAIRLOD_OT_load_lod_preview.bl_idname, icon='FILEBROWSER')
+        row = layout.row(align=True)
+        row.operator(HAIRLOD_OT_load_lod_preview.bl_idname, icon='FILEBROWSER')
+        row.operator("hairlod.export_lod", icon='EXPORT')
         preview = lod_preview.preview_of(obj) if obj is not None else None
         if preview is None:
             layout.label(text="No LoD asset on the active object", icon='INFO')

@@ -242,11 +242,11 @@ def hair_params(obj, settings):
     from ... import bcsdf
 
     if settings.use_material:
-        from ..principled_hair import params_from_material, principled_hair_node
+        from ..pipeline import material_params
 
-        for slot in getattr(obj, "material_slots", ()):
-            if slot.material is not None and principled_hair_node(slot.material) is not None:
-                return params_from_material(slot.material)
+        params = material_params(obj)
+        if params is not None:
+            return params
     return bcsdf.from_principled_hair(parametrization='MELANIN', melanin=settings.melanin,
                                       melanin_redness=settings.melanin_redness, roughness=settings.roughness,
                                       radial_roughness=settings.radial_roughness)
