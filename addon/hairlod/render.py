@@ -150,6 +150,7 @@ def write_image(path, image):
         else:
             import matplotlib.image
             matplotlib.image.imsave(temporary, to_srgb8(image))
+        os.chmod(temporary, 0o644)
         os.replace(temporary, path)
     except BaseException:
         os.unlink(temporary)
