@@ -217,6 +217,38 @@ def command_lod(args):
     return 0
 
 
+def command_render(args):
+    from . import lod, render
+
+    _positive("spp", args.spp)
+    _positive("width", args.width)
+    if not args.out.lower().endswith((".exr", ".png")):
+        raise UsageError(f"--out {args.out}: must end in .exr or .png")
+    if args.method.startswith("lod") and not args.lod:
+        raise UsageError(f"--method {args.method} needs --lod DIR (an LoD asset from 'hairlod lod')")
+    strands, read_seconds = _read_timed(args.input)
+    asset = lod.load(args.lod) if args.lod else None
+    bar = None
+    if sys.stderr.isatty() or args.progress:
+        def bar(fraction):
+            done = int(30 * fraction)
+            print(f"\rrender [{'#' * done}{'.' * (30 - done)}] {100 * fraction:5.1f}%", end="" if fraction < 1 else "\n",
+                  file=sys.stderr, flush=True)
+    result = render.render(strands, method=args.method, view=args.view, width=args.width, spp=args.spp, asset=asset,
+                           seed=args.seed, params=_read_params(args.params), progress=bar)
+    render.write_image(args.out, result["image"])
+    summary = {key: result[key] for key in ("seconds", "setup_seconds", "rays", "rays_per_second", "segments",
+                                            "strand_segments", "thick_segments", "camera")}
+    summary.update(input=args.input, lod=args.lod, output=args.out, method=args.method, view=args.view, spp=args.spp,
+                   width=args.width, read_seconds=read_seconds)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(f"{args.input} -> {args.out}: {args.method}, {args.view} view, {summary['segments']} segments, "
+              f"{result['seconds']:.2f} s, {result['rays_per_second'] / 1e6:.2f} M rays/s")
+    return 0
+
+
 def _read_params(path):
     if path is None:
         return {}
@@ -415,6 +447,22 @@ def build_parser():
                       help="comma-separated table sets: aggregated, xu (Xu et al. 2011 C_k, H_k) (default aggregated)")
     bake.add_argument("--json", action="store_true", help="print one JSON object")
     bake.set_defaults(run=command_bake)
+
+    rend = commands.add_parser("render", help="render hair with the Embree reference renderer (EXR or PNG)")
+    rend.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
+    rend.add_argument("--lod", metavar="DIR", help="LoD asset folder (needed by the lod methods)")
+    rend.add_argument("--method", choices=["pt", "ds", "lod", "lod-single", "lod-no-s"], default="pt",
+                      help="pt (reference), ds (dual scattering), lod (aggregated BCSDF), lod-single, lod-no-s")
+    rend.add_argument("--view", choices=["near", "mid", "far"], default="mid",
+                      help="hair covering about 60%%, 20%% or 2%% of the image (default mid)")
+    rend.add_argument("--out", required=True, help="image to write (.exr linear or .png sRGB)")
+    rend.add_argument("--spp", type=int, default=16, help="samples per pixel (default 16)")
+    rend.add_argument("--width", type=int, default=256, help="image width and height in pixels (default 256)")
+    rend.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    rend.add_argument("--params", help="HairParams JSON (default: the BCSDF defaults)")
+    rend.add_argument("--progress", action="store_true", help="progress bar on stderr even when not a terminal")
+    rend.add_argument("--json", action="store_true", help="print one JSON object")
+    rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
     bench.add_argument("component", choices=["bcsdf", "lod"], help="what to benchmark")

@@ -12,4 +12,5 @@ PYBIND11_MODULE(_core, m) {
     hairlod::python::bind_lod(m);
     hairlod::python::bind_bcsdf(m);
     hairlod::python::bind_hairmesh(m);
+    hairlod::python::bind_render(m);
 }

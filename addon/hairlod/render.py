@@ -1,0 +1,171 @@
+"""Reference renderer over the C++ core (Embree, hair-lod-aggregated-bcsdf.txt Sec. 6): views framed on
+the hair, default lights, LoD geometry from a selection, images out (EXR, PNG) and error metrics.
+
+Methods: 'pt' path-traced full geometry with the Chiang BCSDF (the reference), 'ds' full geometry with
+dual scattering, 'lod' LoD geometry with the aggregated BCSDF, 'lod-single' LoD geometry with the
+single-fibre BCSDF, 'lod-no-s' aggregated BCSDF without the shadowing-masking S (ablations).
+"""
+
+import os
+import tempfile
+
+import numpy as np
+
+from . import _core
+from .bcsdf import as_params
+from .camera import look_at, perspective
+
+__all__ = ["METHODS", "VIEWS", "default_lights", "frame_view", "lod_geometry", "psnr", "render", "ssim",
+           "to_srgb8", "write_image"]
+
+METHODS = ("pt", "ds", "lod", "lod-single", "lod-no-s")
+# Fraction of the image the hair covers: (bounding-sphere diameter on screen / image height)^2.
+VIEWS = {"near": 0.6, "mid": 0.2, "far": 0.02}
+FOV_Y = np.radians(30.0)
+
+
+def frame_view(points, view, width, height=None, fov_y=FOV_Y):
+    """Camera dict (eye, target, up, fov_y, width, height) looking at the hair from the front (-y),
+    slightly above, at the distance where its bounding sphere covers VIEWS[view] of the image."""
+    if view not in VIEWS:
+        raise ValueError(f"view must be one of {', '.join(VIEWS)}, got {view!r}")
+    height = width if height is None else height
+    points = np.asarray(points, dtype=np.float64)
+    lower, upper = points.min(axis=0), points.max(axis=0)
+    centre, radius = (lower + upper) / 2.0, max(np.linalg.norm(upper - lower) / 2.0, 1e-12)
+    # The sphere's screen diameter over the image height is radius / (d tan(fov / 2)).
+    distance = radius / (np.tan(fov_y / 2.0) * np.sqrt(VIEWS[view]))
+    direction = np.array([0.0, -1.0, 0.35])
+    eye = centre + distance * direction / np.linalg.norm(direction)
+    return {"eye": eye.tolist(), "target": centre.tolist(), "up": [0.0, 0.0, 1.0], "fov_y": float(fov_y),
+            "width": int(width), "height": int(height)}
+
+
+def default_lights(camera):
+    """A key light from above the camera's left and a dim uniform sky."""
+    eye, target = np.asarray(camera["eye"]), np.asarray(camera["target"])
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    key = forward + np.array([0.4, 0.0, -0.6])
+    return {"directional": [(tuple(key / np.linalg.norm(key)), (3.0, 3.0, 3.0))], "points": [],
+            "environment": np.array([0.15, 0.15, 0.15], np.float32)}
+
+
+def _matrices(camera):
+    view = look_at(camera["eye"], camera["target"], camera["up"])
+    distance = np.linalg.norm(np.subtract(camera["eye"], camera["target"]))
+    projection = perspective(camera["fov_y"], camera["width"] / camera["height"], 1e-3 * distance, 1e3 * distance)
+    return view, projection
+
+
+def lod_geometry(asset, camera, width_px=2.0):
+    """The LoD selection (Sec. 5.1 step 5) for `camera` at the rest pose, as renderable geometry:
+    (Strands of the strand-level segments or None, thick-hair dict or None, segment counts)."""
+    view, projection = _matrices(camera)
+    selection = asset.select(view, projection, (camera["width"], camera["height"]), width_px)
+    skinned = asset.skin(asset.rest_guides)
+    nc = asset.control_points
+    strand_order = asset.arrays()["strand_order"]
+    thick = {"centres": [], "major_axis": [], "radii": [], "density": [], "counts": [], "n_total": []}
+    strand_points, strand_radius, strand_counts = [], [], []
+    rest = skinned["strands"]
+    rest_points, rest_radius = rest.points.reshape(-1, nc, 3), rest.radius.reshape(-1, nc)
+    for level, _cluster, first, count, first_segment, segment_count in selection.draws:
+        k = np.arange(first_segment, first_segment + segment_count + 1)
+        if level < len(asset.levels):
+            hairs = np.arange(first, first + count)
+            geometry, stored = skinned["levels"][level], asset.levels[level]
+            major = geometry["major"][hairs][:, k]
+            minor = geometry["minor"][hairs][:, k]
+            major_radius = np.linalg.norm(major, axis=-1)
+            minor_radius = np.minimum(np.linalg.norm(minor, axis=-1), major_radius)
+            thick["centres"].append(geometry["centres"][hairs][:, k].reshape(-1, 3))
+            thick["major_axis"].append((major / np.maximum(major_radius, 1e-30)[..., None]).reshape(-1, 3))
+            thick["radii"].append(np.stack([major_radius, np.maximum(minor_radius, 1e-6 * major_radius)], -1).reshape(-1, 2))
+            thick["density"].append(np.clip(stored.density[hairs][:, k], 1e-3, 1.0).reshape(-1))
+            thick["counts"].append(np.full(count, len(k)))
+            thick["n_total"].append(stored.n_total[hairs].astype(np.float32))
+        else:
+            strands = strand_order[first:first + count]
+            strand_points.append(rest_points[strands][:, k].reshape(-1, 3))
+            strand_radius.append(rest_radius[strands][:, k].reshape(-1))
+            strand_counts.append(np.full(count, len(k)))
+    strands = None
+    if strand_points:
+        strands = _core.Strands.from_counts(np.concatenate(strand_points), np.concatenate(strand_counts).astype(np.int64),
+                                            np.concatenate(strand_radius).astype(np.float32))
+    hairs = None
+    if thick["centres"]:
+        counts = np.concatenate(thick["counts"]).astype(np.int64)
+        hairs = {"centres": np.concatenate(thick["centres"]), "major_axis": np.concatenate(thick["major_axis"]),
+                 "radii": np.concatenate(thick["radii"]), "density": np.concatenate(thick["density"]),
+                 "offsets": np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+                 "n_total": np.concatenate(thick["n_total"])}
+    return strands, hairs
+
+
+def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, params=None, seed=0,
+           max_bounces=70, width_px=2.0, lights=None, camera=None, progress=None):
+    """Renders `strands` (full geometry; also frames the view) or, for the lod methods, the selection of
+    `asset` for the framed camera. Returns a dict: image [H, W, 3] float32 linear, camera, seconds,
+    setup_seconds, rays, rays_per_second, segments (Embree curve segments in the scene)."""
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if int(spp) < 1 or int(width) < 1:
+        raise ValueError(f"spp and width must be >= 1, got spp={spp}, width={width}")
+    camera = camera or frame_view(strands.points, view, width)
+    lights = lights or default_lights(camera)
+    params = as_params(params)
+    if method.startswith("lod"):
+        if asset is None:
+            raise ValueError(f"method {method!r} needs an LoD asset (--lod DIR)")
+        scene_strands, thick = lod_geometry(asset, camera, width_px)
+    else:
+        scene_strands, thick = strands, None
+    result = _core.render(scene_strands, thick, camera, lights, params, method=method, spp=int(spp),
+                          max_bounces=int(max_bounces), seed=int(seed), progress=progress)
+    result["camera"] = camera
+    result["segments"] = int(result["strand_segments"] + result["thick_segments"])
+    return result
+
+
+def to_srgb8(image, exposure=1.0):
+    """Linear RGB -> 8-bit sRGB (clamped; the sRGB transfer curve, IEC 61966-2-1)."""
+    x = np.clip(np.asarray(image, np.float64) * exposure, 0.0, 1.0)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+    return np.round(srgb * 255.0).astype(np.uint8)
+
+
+def write_image(path, image):
+    """Writes linear RGB as .exr (float32) or .png (sRGB 8-bit) atomically (temporary name, rename)."""
+    image = np.ascontiguousarray(image, dtype=np.float32)
+    extension = os.path.splitext(path)[1].lower()
+    if extension not in (".exr", ".png"):
+        raise ValueError(f"{path}: output must end in .exr or .png")
+    folder = os.path.dirname(os.path.abspath(path))
+    handle, temporary = tempfile.mkstemp(suffix=extension, dir=folder)
+    os.close(handle)
+    try:
+        if extension == ".exr":
+            _core.write_exr(temporary, image, ["R", "G", "B"])
+        else:
+            import matplotlib.image
+            matplotlib.image.imsave(temporary, to_srgb8(image))
+        os.chmod(temporary, 0o644)
+        os.replace(temporary, path)
+    except BaseException:
+        os.unlink(temporary)
+        raise
+
+
+def psnr(image, reference):
+    """PSNR in dB of tone-mapped (sRGB, clamped) images: 10 log10(1 / MSE) on [0, 1]."""
+    a, b = to_srgb8(image) / 255.0, to_srgb8(reference) / 255.0
+    mse = float(np.mean((a - b) ** 2))
+    return float("inf") if mse == 0.0 else 10.0 * np.log10(1.0 / mse)
+
+
+def ssim(image, reference):
+    """SSIM (scikit-image) of the tone-mapped images."""
+    from skimage.metrics import structural_similarity
+
+    return float(structural_similarity(to_srgb8(image), to_srgb8(reference), channel_axis=-1, data_range=255))

@@ -1,0 +1,395 @@
+#include "hairlod/render/integrator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include <glm/common.hpp>
+#include <glm/exponential.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "hairlod/bcsdf/aggregated.h"
+#include "hairlod/bcsdf/chiang.h"
+#include "hairlod/bcsdf/fiber_frame.h"
+#include "hairlod/bcsdf/fiber_rtd.h"
+#include "hairlod/bcsdf/longitudinal.h"
+#include "hairlod/core/error.h"
+#include "hairlod/render/chiang_sampling.h"
+#include "hairlod/render/random.h"
+
+namespace hairlod::render {
+
+namespace {
+
+using namespace hairlod::bcsdf;
+constexpr double kPi = std::numbers::pi;
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+// Probability of the Chiang proposal when sampling the aggregated BCSDF; the rest is uniform over the
+// sphere, which keeps the mixture density positive wherever the aggregated lobes are.
+constexpr double kAggregatedChiangFraction = 0.7;
+constexpr double kUniformSpherePdf = 1.0 / (4.0 * kPi);
+
+// The fibre frame at a hit seen from wo: x = tangent, z = wo's component normal to the fibre, y =
+// z x x (pbrt's curve frame), and the offset h in [-1, 1] of the hit across the fibre along y.
+struct Frame {
+    glm::dvec3 x, y, z;
+    glm::dvec3 local(const glm::dvec3& w) const { return {glm::dot(w, x), glm::dot(w, y), glm::dot(w, z)}; }
+    glm::dvec3 world(const glm::dvec3& w) const { return w.x * x + w.y * y + w.z * z; }
+};
+
+glm::dvec3 any_normal(const glm::dvec3& t) {
+    const glm::dvec3 helper = std::abs(t.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    return glm::normalize(glm::cross(t, helper));
+}
+
+Frame fibre_frame(const SurfaceHit& hit, const glm::dvec3& wo, double& h) {
+    Frame f;
+    f.x = glm::dvec3(hit.tangent);
+    const glm::dvec3 across = wo - glm::dot(wo, f.x) * f.x;
+    f.z = glm::length(across) > 1e-9 ? glm::normalize(across) : any_normal(f.x);
+    f.y = glm::cross(f.z, f.x);
+    // The tube's outward normal on the side the ray came from.
+    glm::dvec3 n = glm::dvec3(hit.normal);
+    n -= glm::dot(n, f.x) * f.x;
+    if (glm::dot(n, f.z) < 0.0) n = -n;
+    h = glm::length(n) > 1e-12 ? std::clamp(glm::dot(glm::normalize(n), f.y), -1.0, 1.0) : 0.0;
+    return f;
+}
+
+glm::dvec3 uniform_sphere(double u1, double u2) {
+    const double z = 1.0 - 2.0 * u1;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return {r * std::cos(2.0 * kPi * u2), r * std::sin(2.0 * kPi * u2), z};
+}
+
+double channel_max(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
+double channel_mean(const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; }
+
+double power_heuristic(double a, double b) {
+    const double a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+}
+
+// The aggregated BCSDF on a grid of hair counts n (geometric, ratio 1.5) and densities rho, bilinear
+// in (log n, rho): AggregatedBcsdf fixes its ClusterState at construction, while n varies per ray.
+// Without shadowing (the ablation) rho = 1, which makes Eq. 15's S = 1 (open fraction 0).
+class AggregatedGrid {
+public:
+    AggregatedGrid(const HairParams& params, std::shared_ptr<const AggregatedTable> table, bool shadowing) {
+        for (double n = 1.0; n < kMaxHairCount * 1.5; n *= 1.5) log_n_.push_back(std::log(std::min(n, kMaxHairCount)));
+        rho_ = shadowing ? std::vector<double>{0.05, 0.2, 0.4, 0.6, 0.8, 1.0} : std::vector<double>{1.0};
+        models_.resize(log_n_.size() * rho_.size());
+        tbb::parallel_for(size_t(0), models_.size(), [&](size_t k) {
+            const ClusterState state{std::exp(log_n_[k / rho_.size()]), rho_[k % rho_.size()]};
+            models_[k] = std::make_unique<AggregatedBcsdf>(params, state, table);
+        });
+    }
+
+    // S(wi, wo) for n hairs crossed at density rho.
+    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo, double n, double rho) const {
+        const double log_n = std::log(std::clamp(n, 1.0, kMaxHairCount));
+        const size_t i1 = std::clamp<size_t>(std::upper_bound(log_n_.begin(), log_n_.end(), log_n) - log_n_.begin(), 1,
+                                             log_n_.size() - 1);
+        const size_t i0 = i1 - 1;
+        const double tn = std::clamp((log_n - log_n_[i0]) / (log_n_[i1] - log_n_[i0]), 0.0, 1.0);
+        size_t j0 = 0, j1 = 0;
+        double tr = 0.0;
+        if (rho_.size() > 1) {
+            const double r = std::clamp(rho, rho_.front(), rho_.back());
+            j1 = std::min<size_t>(std::upper_bound(rho_.begin(), rho_.end(), r) - rho_.begin(), rho_.size() - 1);
+            j0 = j1 - 1;
+            tr = std::clamp((r - rho_[j0]) / (rho_[j1] - rho_[j0]), 0.0, 1.0);
+        }
+        auto at = [&](size_t a, size_t b) { return models_[a * rho_.size() + b]->eval(wi, wo); };
+        glm::dvec3 value = (1.0 - tn) * (1.0 - tr) * at(i0, j0) + tn * (1.0 - tr) * at(i1, j0);
+        if (tr > 0.0) value += (1.0 - tn) * tr * at(i0, j1) + tn * tr * at(i1, j1);
+        return value;
+    }
+
+private:
+    static constexpr double kMaxHairCount = 4096.0;
+    std::vector<double> log_n_, rho_;
+    std::vector<std::unique_ptr<AggregatedBcsdf>> models_;
+};
+
+// One shading point: its frame, wo in it, and which BCSDF applies there.
+struct Vertex {
+    Frame frame;
+    glm::dvec3 wo{0.0};
+    double h = 0.0;
+    bool aggregated = false;
+    double hair_count = 1.0, density = 1.0;
+};
+
+class Shader {
+public:
+    Shader(const HairParams& params, const RenderOptions& options) : chiang_(params), method_(options.method) {
+        const bool lod_aggregated = method_ == Method::LodAggregated || method_ == Method::LodNoShadowing;
+        if (lod_aggregated || method_ == Method::DualScattering) {
+            const FiberRtdBcsdf fiber(params);
+            table_ = std::make_shared<const AggregatedTable>(aggregated_table(fiber, 33, options.backscatter_density));
+        }
+        if (lod_aggregated) grid_ = std::make_unique<AggregatedGrid>(params, table_, method_ == Method::LodAggregated);
+        if (method_ == Method::DualScattering) fiber_ = std::make_unique<FiberRtdBcsdf>(params);
+    }
+
+    Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world, Random& rng) const {
+        Vertex v;
+        v.frame = fibre_frame(hit, wo_world, v.h);
+        v.wo = v.frame.local(wo_world);
+        if (hit.kind == CurveKind::Thick && grid_) {
+            v.aggregated = true;
+            // Sec. 4: n from the chord through the ellipse, rho = n_total r^2 / (|r_A| |r_B|).
+            v.density = std::clamp(static_cast<double>(hit.density), 1e-3, 1.0);
+            v.hair_count = hairs_crossed(v.density, hit.chord, hit.n_total, hit.radii.x, hit.radii.y);
+            v.h = 2.0 * rng.uniform() - 1.0;  // the Chiang proposal's offset (the aggregate has no h)
+        }
+        return v;
+    }
+
+    // S(wi, wo) cos(theta_i), wi in the vertex frame.
+    glm::dvec3 eval(const Vertex& v, const glm::dvec3& wi) const {
+        const double cos_i = std::sqrt(std::max(0.0, 1.0 - wi.x * wi.x));
+        if (v.aggregated) return grid_->eval(wi, v.wo, v.hair_count, v.density) * cos_i;
+        return chiang_.eval_lobes(wi, v.wo, v.h).sum() * std::max(cos_i, kMinCos);
+    }
+
+    double pdf(const Vertex& v, const glm::dvec3& wi) const {
+        const double chiang = chiang_pdf(chiang_, wi, v.wo, v.h);
+        if (!v.aggregated) return chiang;
+        return kAggregatedChiangFraction * chiang + (1.0 - kAggregatedChiangFraction) * kUniformSpherePdf;
+    }
+
+    BcsdfSample sample(const Vertex& v, Random& rng) const {
+        const std::array<double, 4> u{rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()};
+        if (!v.aggregated) return sample_chiang(chiang_, v.wo, v.h, u);
+        BcsdfSample s;
+        if (rng.uniform() < kAggregatedChiangFraction) s.wi = sample_chiang(chiang_, v.wo, v.h, u).wi;
+        else s.wi = uniform_sphere(u[0], u[1]);
+        s.pdf = pdf(v, s.wi);
+        s.value = eval(v, s.wi);
+        return s;
+    }
+
+    // Dual scattering (Zinke et al. 2008; Xu et al. 2011, Sec. 4.3) for light crossing `crossed`
+    // hairs before reaching the shading point, S cos(theta_i):
+    //   n = 0: f_s (near-field Chiang) + d_b f_back;
+    //   n > 0: d_f a_f^n (f_s broadened by n forward scatterings + d_b f_back broadened),
+    // with the broadening of hair-lod-aggregated-bcsdf.txt Eq. 7 and 9 (variances add per crossing:
+    // longitudinal 4 n beta_f^2 in theta_i, azimuthal n sigma_f^2) applied to the R, TT, D fibre,
+    // and f_back = A_b G(theta_i; 2 Delta_b - theta_o, 4 sigma_b^2 + 4 n beta_f^2) / pi over the
+    // backward half (|phi| < pi/2), the normalisation of the aggregated B^ lobe.
+    glm::dvec3 dual_scattering(const Vertex& v, const glm::dvec3& wi, int crossed, const RenderOptions& options) const {
+        const FiberDirection di = fiber_direction(wi), dout = fiber_direction(v.wo);
+        const HalfAngles angles = half_angles(di, dout);
+        const DualScatteringSample hair = table_->sample(angles.theta_d);
+        const double beta_f2 = channel_mean(hair.beta_f * hair.beta_f);
+        const double n = crossed;
+        glm::dvec3 back(0.0);
+        if (std::abs(angles.phi) < 0.5 * kPi) {
+            for (int c = 0; c < 3; ++c) {
+                const double variance = std::max(4.0 * hair.sigma_b[c] * hair.sigma_b[c] + 4.0 * n * beta_f2, 1e-12);
+                back[c] = hair.A_b[c] * gaussian_longitudinal(di.theta, dout.theta, hair.delta_b[c], variance) / kPi;
+            }
+        }
+        const double cos_i = std::max(di.cos_theta, kMinCos);
+        if (crossed == 0) return (chiang_.eval_lobes(wi, v.wo, v.h).sum() + options.backscatter_density * back) * cos_i;
+        RtdSpread spread;
+        spread.longitudinal_variance = 4.0 * n * beta_f2;
+        spread.azimuthal_variance = n * channel_mean(table_->azimuthal_variance(angles.theta_d));
+        const glm::dvec3 transmittance = options.forward_density * glm::pow(hair.a_f, glm::dvec3(n));
+        return transmittance * (fiber_->eval_lobes(wi, v.wo, spread).sum() + options.backscatter_density * back) * cos_i;
+    }
+
+private:
+    ChiangBcsdf chiang_;
+    Method method_;
+    std::shared_ptr<const AggregatedTable> table_;
+    std::unique_ptr<AggregatedGrid> grid_;
+    std::unique_ptr<FiberRtdBcsdf> fiber_;
+};
+
+struct Tracer {
+    const HairScene& scene;
+    const PinholeCamera& camera;
+    const Lights& lights;
+    const RenderOptions& options;
+    const Shader& shader;
+    bool environment_lit;
+
+    // Direct light at v (next-event estimation) with MIS against BCSDF sampling for the
+    // environment; delta lights by their shadow ray alone. `rays` counts Embree queries.
+    glm::dvec3 direct(const Vertex& v, const SurfaceHit& hit, Random& rng, uint64_t& rays) const {
+        glm::dvec3 sum(0.0);
+        const glm::vec3 p = hit.position;
+        for (const DirectionalLight& light : lights.directional) {
+            const glm::vec3 wi = -glm::normalize(light.direction);
+            const glm::dvec3 f = shader.eval(v, v.frame.local(glm::dvec3(wi)));
+            if (channel_max(f) <= 0.0) continue;
+            ++rays;
+            if (!scene.occluded(p, wi, kInfinity, scene.leaving(hit, wi))) sum += f * glm::dvec3(light.irradiance);
+        }
+        for (const PointLight& light : lights.points) {
+            const glm::vec3 to_light = light.position - p;
+            const float distance = glm::length(to_light);
+            if (!(distance > 0.0f)) continue;
+            const glm::vec3 wi = to_light / distance;
+            const glm::dvec3 f = shader.eval(v, v.frame.local(glm::dvec3(wi)));
+            if (channel_max(f) <= 0.0) continue;
+            ++rays;
+            if (!scene.occluded(p, wi, distance * (1.0f - 1e-5f), scene.leaving(hit, wi)))
+                sum += f * glm::dvec3(light.intensity) / double(distance * distance);
+        }
+        if (environment_lit) {
+            const glm::dvec3 wi_world = uniform_sphere(rng.uniform(), rng.uniform());
+            const glm::dvec3 wi = v.frame.local(wi_world);
+            const glm::dvec3 f = shader.eval(v, wi);
+            if (channel_max(f) > 0.0) {
+                const glm::vec3 w(wi_world);
+                ++rays;
+                if (!scene.occluded(p, w, kInfinity, scene.leaving(hit, w))) {
+                    const double weight = power_heuristic(kUniformSpherePdf, shader.pdf(v, wi));
+                    sum += f * glm::dvec3(lights.environment.radiance(w)) * (weight / kUniformSpherePdf);
+                }
+            }
+        }
+        return sum;
+    }
+
+    glm::dvec3 path(glm::vec3 origin, glm::vec3 direction, Random& rng, uint64_t& rays) const {
+        glm::dvec3 radiance(0.0), throughput(1.0);
+        RayOrigin from;
+        double previous_pdf = 0.0;  // of the BCSDF sample that made this ray; 0 for the camera ray
+        for (int bounce = 0;; ++bounce) {
+            SurfaceHit hit;
+            ++rays;
+            if (!scene.intersect(origin, direction, kInfinity, from, hit)) {
+                const glm::dvec3 env(lights.environment.radiance(direction));
+                const double weight = bounce == 0 ? 1.0 : power_heuristic(previous_pdf, kUniformSpherePdf);
+                radiance += throughput * env * (environment_lit ? weight : 1.0);
+                break;
+            }
+            const glm::dvec3 wo = -glm::dvec3(direction);
+            const Vertex v = shader.vertex(hit, wo, rng);
+            radiance += throughput * direct(v, hit, rng, rays);
+            if (bounce >= options.max_bounces) break;
+            const BcsdfSample s = shader.sample(v, rng);
+            if (!(s.pdf > 0.0) || channel_max(s.value) <= 0.0) break;
+            throughput *= s.value / s.pdf;
+            previous_pdf = s.pdf;
+            direction = glm::vec3(glm::normalize(v.frame.world(s.wi)));
+            origin = hit.position;
+            from = scene.leaving(hit, direction);
+            if (bounce + 1 >= options.roulette_start) {
+                const double survive = std::min(0.95, channel_max(throughput));
+                if (!(rng.uniform() < survive)) break;
+                throughput /= survive;
+            }
+        }
+        return radiance;
+    }
+
+    // Camera hit + every light through dual scattering; no further bounces (the multiple scattering
+    // is the dual-scattering approximation's).
+    glm::dvec3 dual(glm::vec3 origin, glm::vec3 direction, Random& rng, uint64_t& rays) const {
+        SurfaceHit hit;
+        ++rays;
+        if (!scene.intersect(origin, direction, kInfinity, {}, hit))
+            return glm::dvec3(lights.environment.radiance(direction));
+        const Vertex v = shader.vertex(hit, -glm::dvec3(direction), rng);
+        const glm::vec3 p = hit.position;
+        glm::dvec3 sum(0.0);
+        auto gather = [&](const glm::vec3& wi, float distance, const glm::dvec3& radiance) {
+            ++rays;
+            const int crossed = scene.count_crossings(p, wi, distance, scene.leaving(hit, wi));
+            sum += shader.dual_scattering(v, v.frame.local(glm::dvec3(wi)), crossed, options) * radiance;
+        };
+        for (const DirectionalLight& light : lights.directional)
+            gather(-glm::normalize(light.direction), kInfinity, glm::dvec3(light.irradiance));
+        for (const PointLight& light : lights.points) {
+            const glm::vec3 to_light = light.position - p;
+            const float distance = glm::length(to_light);
+            if (distance > 0.0f)
+                gather(to_light / distance, distance * (1.0f - 1e-5f), glm::dvec3(light.intensity) / double(distance * distance));
+        }
+        if (environment_lit) {
+            const glm::vec3 wi(uniform_sphere(rng.uniform(), rng.uniform()));
+            gather(wi, kInfinity, glm::dvec3(lights.environment.radiance(wi)) / kUniformSpherePdf);
+        }
+        return sum;
+    }
+};
+
+}  // namespace
+
+Method parse_method(std::string_view name) {
+    if (name == "pt") return Method::PathTrace;
+    if (name == "ds") return Method::DualScattering;
+    if (name == "lod") return Method::LodAggregated;
+    if (name == "lod-single") return Method::LodSingle;
+    if (name == "lod-no-s") return Method::LodNoShadowing;
+    throw Error("unknown render method '" + std::string(name) + "' (expected pt, ds, lod, lod-single or lod-no-s)");
+}
+
+Image render(const HairScene& scene, const PinholeCamera& camera, const Lights& lights, const HairParams& params,
+             const RenderOptions& options, RenderStats* stats, const Progress& progress) {
+    if (options.spp < 1) throw Error("spp must be >= 1, got " + std::to_string(options.spp));
+    if (options.max_bounces < 0) throw Error("max_bounces must be >= 0, got " + std::to_string(options.max_bounces));
+    if (options.tile_size < 1) throw Error("tile_size must be >= 1, got " + std::to_string(options.tile_size));
+    if (!(options.backscatter_density >= 0.0 && options.forward_density >= 0.0))
+        throw Error("backscatter and forward densities must be >= 0");
+    lights.validate();
+    params.validate();
+    auto start = std::chrono::steady_clock::now();
+    const Shader shader(params, options);
+    const double setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    start = std::chrono::steady_clock::now();
+    const Tracer tracer{scene, camera, lights, options, shader, !lights.environment.black()};
+
+    Image image;
+    image.width = camera.width();
+    image.height = camera.height();
+    image.pixels.assign(static_cast<size_t>(image.width) * image.height, glm::vec3(0.0f));
+    const int tiles_x = (image.width + options.tile_size - 1) / options.tile_size;
+    const int tiles_y = (image.height + options.tile_size - 1) / options.tile_size;
+    std::atomic<uint64_t> rays{0};
+    // One band of tile rows at a time, so that progress is reported from this thread.
+    for (int band = 0; band < tiles_y; ++band) {
+        tbb::parallel_for(0, tiles_x, [&](int tx) {
+            uint64_t tile_rays = 0;
+            const int x0 = tx * options.tile_size, y0 = band * options.tile_size;
+            for (int y = y0; y < std::min(y0 + options.tile_size, image.height); ++y)
+                for (int x = x0; x < std::min(x0 + options.tile_size, image.width); ++x) {
+                    const uint64_t pixel = static_cast<uint64_t>(y) * image.width + x;
+                    glm::dvec3 sum(0.0);
+                    for (int s = 0; s < options.spp; ++s) {
+                        Random rng(options.seed, pixel, static_cast<uint64_t>(s));
+                        const CameraRay ray = camera.ray(x + rng.uniform(), y + rng.uniform());
+                        const glm::dvec3 value = options.method == Method::DualScattering
+                                                     ? tracer.dual(ray.origin, ray.direction, rng, tile_rays)
+                                                     : tracer.path(ray.origin, ray.direction, rng, tile_rays);
+                        // A NaN from any single path would poison the pixel: drop it (counted as black).
+                        if (std::isfinite(value.x + value.y + value.z)) sum += value;
+                    }
+                    image.pixels[pixel] = glm::vec3(sum / double(options.spp));
+                }
+            rays += tile_rays;
+        });
+        if (progress) progress(double(band + 1) / tiles_y);
+    }
+    if (stats) {
+        stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        stats->rays = rays.load();
+        stats->setup_seconds = setup_seconds;
+    }
+    return image;
+}
+
+}  // namespace hairlod::render

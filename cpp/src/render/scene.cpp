@@ -1,0 +1,364 @@
+#include "hairlod/render/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <span>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod::render {
+
+// Buffers of one curve geometry. Each curve of m points is stored as m + 2 vertices (its ends
+// repeated) so that the Catmull-Rom segments, which interpolate their two middle control points,
+// pass through every point; segment s of a curve starts at its padded vertex s.
+struct HairScene::Geometry {
+    CurveKind kind = CurveKind::Strand;
+    std::vector<glm::vec4> vertices;          // x y z radius, padded (+1 for Embree's 16-byte reads)
+    std::vector<uint32_t> segment_first;      // first of the 4 control points of each segment (+3 padding)
+    std::vector<uint32_t> segment_curve;      // curve of each segment
+    std::vector<uint32_t> segment_point;      // the curve's (unpadded) point the segment starts at
+    // Thick hairs only, per unpadded point / per curve.
+    std::vector<glm::vec3> major_axis;
+    std::vector<glm::vec2> radii;
+    std::vector<float> density;
+    std::vector<float> n_total;
+    std::vector<int64_t> offsets;
+    size_t segments() const { return segment_curve.size(); }
+};
+
+namespace {
+
+void error_callback(void* user, RTCError code, const char* message) {
+    auto* error = static_cast<std::string*>(user);
+    if (error->empty()) error->assign("Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : ""));
+}
+
+// Uniform Catmull-Rom basis (Embree's) and its derivative at u in [0, 1].
+template <typename T>
+T catmull_rom(const T& p0, const T& p1, const T& p2, const T& p3, float u) {
+    const float u2 = u * u, u3 = u2 * u;
+    return 0.5f * ((-u3 + 2.0f * u2 - u) * p0 + (3.0f * u3 - 5.0f * u2 + 2.0f) * p1 +
+                   (-3.0f * u3 + 4.0f * u2 + u) * p2 + (u3 - u2) * p3);
+}
+template <typename T>
+T catmull_rom_derivative(const T& p0, const T& p1, const T& p2, const T& p3, float u) {
+    const float u2 = u * u;
+    return 0.5f * ((-3.0f * u2 + 4.0f * u - 1.0f) * p0 + (9.0f * u2 - 10.0f * u) * p1 +
+                   (-9.0f * u2 + 8.0f * u + 1.0f) * p2 + (3.0f * u2 - 2.0f * u) * p3);
+}
+
+void append_curves(HairScene::Geometry& g, std::span<const glm::vec3> points, std::span<const int64_t> offsets,
+                   const auto& radius_of) {
+    const size_t curves = offsets.size() - 1;
+    g.vertices.reserve(points.size() + 2 * curves + 1);
+    for (size_t c = 0; c < curves; ++c) {
+        const int64_t first = offsets[c], last = offsets[c + 1] - 1;
+        const uint32_t base = static_cast<uint32_t>(g.vertices.size());
+        g.vertices.emplace_back(points[first], radius_of(first));
+        for (int64_t i = first; i <= last; ++i) g.vertices.emplace_back(points[i], radius_of(i));
+        g.vertices.emplace_back(points[last], radius_of(last));
+        for (int64_t s = 0; s < last - first; ++s) {
+            g.segment_first.push_back(base + static_cast<uint32_t>(s));
+            g.segment_curve.push_back(static_cast<uint32_t>(c));
+            g.segment_point.push_back(static_cast<uint32_t>(first + s));
+        }
+    }
+    // Embree reads shared buffers 16 bytes at a time: pad both past their last item.
+    g.vertices.emplace_back(0.0f);
+    g.segment_first.insert(g.segment_first.end(), 3, 0u);
+}
+
+// The accepted part of a ray through a thick hair: the chord through the ellipse at the hit's
+// cross-section (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r).
+// Returns the chord length (0 if the ray misses the ellipse or the ellipse lies behind t_min).
+float ellipse_chord(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& centre, const glm::vec3& a,
+                    const glm::vec3& b, const glm::vec2& r) {
+    const glm::vec3 o = origin - centre;
+    const double x0 = glm::dot(o, a) / r.x, dx = glm::dot(direction, a) / r.x;
+    const double y0 = glm::dot(o, b) / r.y, dy = glm::dot(direction, b) / r.y;
+    const double qa = dx * dx + dy * dy, qb = 2.0 * (x0 * dx + y0 * dy), qc = x0 * x0 + y0 * y0 - 1.0;
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (qa <= 1e-20 || disc <= 0.0) return 0.0f;
+    const double root = std::sqrt(disc);
+    const double s_far = (-qb + root) / (2.0 * qa);
+    if (s_far <= 0.0) return 0.0f;
+    const double s_near = std::max(0.0, (-qb - root) / (2.0 * qa));
+    return static_cast<float>((s_far - s_near) * glm::length(direction));
+}
+
+struct Section {
+    glm::vec3 centre, tangent, major, minor;
+    glm::vec2 radii;
+    float density;
+};
+
+Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
+    const glm::vec4* v = g.vertices.data() + g.segment_first[segment];
+    Section s;
+    s.centre = catmull_rom(glm::vec3(v[0]), glm::vec3(v[1]), glm::vec3(v[2]), glm::vec3(v[3]), u);
+    s.tangent = catmull_rom_derivative(glm::vec3(v[0]), glm::vec3(v[1]), glm::vec3(v[2]), glm::vec3(v[3]), u);
+    const float length = glm::length(s.tangent);
+    s.tangent = length > 0.0f ? s.tangent / length : glm::vec3(1.0f, 0.0f, 0.0f);
+    const uint32_t k = g.segment_point[segment];
+    // The cross-section between the segment's two control points, linearly.
+    const glm::vec3 axis = (1.0f - u) * g.major_axis[k] + u * g.major_axis[k + 1];
+    s.minor = glm::cross(s.tangent, axis);
+    const float minor_length = glm::length(s.minor);
+    if (minor_length < 1e-12f) {  // axis along the tangent: any normal pair
+        const glm::vec3 helper = std::abs(s.tangent.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        s.minor = glm::normalize(glm::cross(s.tangent, helper));
+    } else {
+        s.minor /= minor_length;
+    }
+    s.major = glm::cross(s.minor, s.tangent);
+    s.radii = (1.0f - u) * g.radii[k] + u * g.radii[k + 1];
+    s.density = (1.0f - u) * g.density[k] + u * g.density[k + 1];
+    return s;
+}
+
+// What the context filter needs: the ray's origin record, the geometries and the counting state.
+struct RayContext {
+    RTCIntersectContext context;  // first member: Embree passes its address back
+    const std::vector<std::unique_ptr<HairScene::Geometry>>* geometries;
+    RayOrigin from;
+    bool counting = false;
+    int limit = 0;
+    int count = 0;
+    std::array<std::pair<unsigned, uint32_t>, 64> seen{};
+};
+
+void filter(const RTCFilterFunctionNArguments* args) {
+    auto* ctx = reinterpret_cast<RayContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned geom_id = RTCHitN_geomID(args->hit, args->N, i);
+        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const float t = RTCRayN_tfar(args->ray, args->N, i);
+        const HairScene::Geometry& g = *(*ctx->geometries)[geom_id];
+        const uint32_t curve = g.segment_curve[prim];
+        if (geom_id == ctx->from.geometry && curve == ctx->from.curve && t < ctx->from.skip_distance) {
+            args->valid[i] = 0;
+            continue;
+        }
+        if (g.kind == CurveKind::Thick) {
+            const glm::vec3 origin(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                                   RTCRayN_org_z(args->ray, args->N, i));
+            const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                                RTCRayN_dir_z(args->ray, args->N, i));
+            const Section s = thick_section(g, prim, RTCHitN_u(args->hit, args->N, i));
+            if (ellipse_chord(origin, dir, s.centre, s.major, s.minor, s.radii) <= 0.0f) {
+                args->valid[i] = 0;
+                continue;
+            }
+        }
+        if (ctx->counting) {
+            // Round curves may report a tube's entry and exit, and neighbouring segments overlap at
+            // joints: count each curve once.
+            const std::pair<unsigned, uint32_t> key{geom_id, curve};
+            const auto end = ctx->seen.begin() + std::min(ctx->count, static_cast<int>(ctx->seen.size()));
+            if (std::find(ctx->seen.begin(), end, key) == end) {
+                if (ctx->count < static_cast<int>(ctx->seen.size())) ctx->seen[ctx->count] = key;
+                ++ctx->count;
+            }
+            if (ctx->count < ctx->limit) args->valid[i] = 0;  // keep traversing
+        }
+    }
+}
+
+void init_context(RayContext& ctx, const std::vector<std::unique_ptr<HairScene::Geometry>>& geometries,
+                  const RayOrigin& from) {
+    rtcInitIntersectContext(&ctx.context);
+    ctx.context.filter = &filter;
+    ctx.geometries = &geometries;
+    ctx.from = from;
+}
+
+RTCRay make_ray(const glm::vec3& origin, const glm::vec3& direction, float t_max) {
+    RTCRay ray{};
+    ray.org_x = origin.x, ray.org_y = origin.y, ray.org_z = origin.z;
+    ray.dir_x = direction.x, ray.dir_y = direction.y, ray.dir_z = direction.z;
+    ray.tnear = 0.0f;
+    ray.tfar = t_max;
+    ray.mask = 0xffffffffu;
+    return ray;
+}
+
+}  // namespace
+
+Device::Device() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw Error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    rtcSetDeviceErrorFunction(device_, &error_callback, &error_);
+}
+
+Device::~Device() { rtcReleaseDevice(device_); }
+
+void Device::check(const char* what) {
+    if (error_.empty()) return;
+    std::string message = std::string(what) + ": " + error_;
+    error_.clear();
+    throw Error(message);
+}
+
+void ThickHairs::validate() const {
+    if (offsets.empty() || offsets.front() != 0) throw Error("thick hairs: offsets must start with 0");
+    for (size_t c = 0; c + 1 < offsets.size(); ++c)
+        if (offsets[c + 1] - offsets[c] < 2)
+            throw Error("thick hairs: hair " + std::to_string(c) + " has fewer than 2 control points");
+    const size_t points = static_cast<size_t>(offsets.back());
+    if (centres.size() != points || major_axis.size() != points || radii.size() != points || density.size() != points)
+        throw Error("thick hairs: centres, major_axis, radii and density need " + std::to_string(points) +
+                    " entries (offsets.back())");
+    if (n_total.size() != offsets.size() - 1)
+        throw Error("thick hairs: n_total needs one entry per hair (" + std::to_string(offsets.size() - 1) + ")");
+    for (size_t i = 0; i < points; ++i) {
+        const glm::vec2 r = radii[i];
+        if (!(std::isfinite(centres[i].x) && std::isfinite(centres[i].y) && std::isfinite(centres[i].z)))
+            throw Error("thick hairs: centre " + std::to_string(i) + " is not finite");
+        if (!(r.y > 0.0f && r.x >= r.y && std::isfinite(r.x)))
+            throw Error("thick hairs: radii " + std::to_string(i) + " must satisfy major >= minor > 0");
+        if (!(density[i] > 0.0f && density[i] <= 1.0f))
+            throw Error("thick hairs: density " + std::to_string(i) + " must be in (0, 1]");
+        if (!(glm::length(major_axis[i]) > 0.5f)) throw Error("thick hairs: major_axis " + std::to_string(i) + " is not unit");
+    }
+    for (size_t c = 0; c < n_total.size(); ++c)
+        if (!(n_total[c] >= 1.0f)) throw Error("thick hairs: n_total of hair " + std::to_string(c) + " must be >= 1");
+}
+
+HairScene::HairScene(std::shared_ptr<Device> device) : device_(std::move(device)) {
+    scene_ = rtcNewScene(device_->get());
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    device_->check("rtcNewScene");
+}
+
+HairScene::~HairScene() { rtcReleaseScene(scene_); }
+
+void HairScene::attach(std::unique_ptr<Geometry> g) {
+    if (committed_) throw Error("HairScene: geometry added after commit()");
+    if (g->segments() == 0) return;
+    RTCGeometry geometry = rtcNewGeometry(device_->get(), RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, g->vertices.data(), 0,
+                               sizeof(glm::vec4), g->vertices.size() - 1);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, g->segment_first.data(), 0,
+                               sizeof(uint32_t), g->segments());
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(scene_, geometry);
+    rtcReleaseGeometry(geometry);
+    device_->check("attaching hair curves");
+    if (geometries_.size() <= id) geometries_.resize(id + 1);
+    geometries_[id] = std::move(g);
+}
+
+void HairScene::add_strands(const StrandSet& strands) {
+    strands.validate();
+    for (size_t i = 0; i < strands.radius.size(); ++i)
+        if (!(strands.radius[i] > 0.0f))
+            throw Error("strands: radius of point " + std::to_string(i) + " must be > 0 to be rendered");
+    auto g = std::make_unique<Geometry>();
+    append_curves(*g, strands.points, strands.offsets, [&](int64_t i) { return strands.radius[i]; });
+    attach(std::move(g));
+}
+
+void HairScene::add_thick_hairs(const ThickHairs& hairs) {
+    hairs.validate();
+    auto g = std::make_unique<Geometry>();
+    g->kind = CurveKind::Thick;
+    append_curves(*g, hairs.centres, hairs.offsets, [&](int64_t i) { return hairs.radii[i].x; });
+    g->major_axis = hairs.major_axis;
+    for (glm::vec3& a : g->major_axis) a = glm::normalize(a);
+    g->radii = hairs.radii;
+    g->density = hairs.density;
+    g->n_total = hairs.n_total;
+    g->offsets = hairs.offsets;
+    attach(std::move(g));
+}
+
+void HairScene::commit() {
+    rtcCommitScene(scene_);
+    device_->check("building the hair BVH");
+    committed_ = true;
+}
+
+size_t HairScene::segment_count() const {
+    return segment_count(CurveKind::Strand) + segment_count(CurveKind::Thick);
+}
+
+size_t HairScene::segment_count(CurveKind kind) const {
+    size_t n = 0;
+    for (const auto& g : geometries_)
+        if (g && g->kind == kind) n += g->segments();
+    return n;
+}
+
+bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, float t_max, const RayOrigin& from,
+                          SurfaceHit& hit) const {
+    RayContext ctx;
+    init_context(ctx, geometries_, from);
+    RTCRayHit rh{};
+    rh.ray = make_ray(origin, direction, t_max);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &ctx.context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+    const Geometry& g = *geometries_[rh.hit.geomID];
+    const uint32_t prim = rh.hit.primID;
+    const float u = rh.hit.u;
+    const glm::vec4* v = g.vertices.data() + g.segment_first[prim];
+    hit.t = rh.ray.tfar;
+    hit.position = origin + hit.t * direction;
+    const glm::vec3 tangent = catmull_rom_derivative(glm::vec3(v[0]), glm::vec3(v[1]), glm::vec3(v[2]), glm::vec3(v[3]), u);
+    const float tangent_length = glm::length(tangent);
+    hit.tangent = tangent_length > 0.0f ? tangent / tangent_length : glm::vec3(1.0f, 0.0f, 0.0f);
+    glm::vec3 normal(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    const float normal_length = glm::length(normal);
+    hit.normal = normal_length > 0.0f ? normal / normal_length : -glm::normalize(direction);
+    hit.radius = catmull_rom(v[0].w, v[1].w, v[2].w, v[3].w, u);
+    hit.kind = g.kind;
+    hit.geometry = rh.hit.geomID;
+    hit.curve = g.segment_curve[prim];
+    if (g.kind == CurveKind::Thick) {
+        const Section s = thick_section(g, prim, u);
+        hit.chord = ellipse_chord(origin, direction, s.centre, s.major, s.minor, s.radii);
+        hit.n_total = g.n_total[hit.curve];
+        hit.density = s.density;
+        hit.radii = s.radii;
+    }
+    return true;
+}
+
+bool HairScene::occluded(const glm::vec3& origin, const glm::vec3& direction, float t_max, const RayOrigin& from) const {
+    RayContext ctx;
+    init_context(ctx, geometries_, from);
+    RTCRay ray = make_ray(origin, direction, t_max);
+    rtcOccluded1(scene_, &ctx.context, &ray);
+    return ray.tfar < 0.0f;
+}
+
+int HairScene::count_crossings(const glm::vec3& origin, const glm::vec3& direction, float t_max, const RayOrigin& from,
+                               int limit) const {
+    RayContext ctx;
+    init_context(ctx, geometries_, from);
+    ctx.counting = true;
+    ctx.limit = std::max(1, limit);
+    RTCRay ray = make_ray(origin, direction, t_max);
+    rtcOccluded1(scene_, &ctx.context, &ray);
+    return std::min(ctx.count, ctx.limit);
+}
+
+RayOrigin HairScene::leaving(const SurfaceHit& hit, const glm::vec3& direction) const {
+    // A ray leaving the tube may cross it again (transmission) over at most the chord of a tube of
+    // radius r at its inclination: 2 r / sin(angle to the tangent), with margin; capped for rays
+    // along the fibre.
+    const float along = std::abs(glm::dot(direction, hit.tangent));
+    const float across = std::sqrt(std::max(0.0f, 1.0f - along * along));
+    const float r = hit.kind == CurveKind::Thick ? hit.radii.x : hit.radius;
+    return RayOrigin{hit.geometry, hit.curve, 3.0f * r / std::max(across, 0.1f)};
+}
+
+}  // namespace hairlod::render

@@ -1,0 +1,105 @@
+#include "hairlod/render/scene.h"
+
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod::render {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+StrandSet straight_strands(const std::vector<glm::vec3>& starts, float radius) {
+    StrandSet s;
+    for (const glm::vec3& p : starts) {
+        const std::vector<glm::vec3> pts{p + glm::vec3(-2, 0, 0), p + glm::vec3(-0.5f, 0, 0), p + glm::vec3(1, 0, 0),
+                                         p + glm::vec3(2, 0, 0)};
+        s.add_curve(pts, std::vector<float>(4, radius));
+    }
+    return s;
+}
+
+TEST(HairScene, StrandHitsMatchTheTube) {
+    HairScene scene(std::make_shared<Device>());
+    scene.add_strands(straight_strands({glm::vec3(0.0f)}, 0.1f));
+    scene.commit();
+    EXPECT_EQ(scene.segment_count(CurveKind::Strand), 3u);
+    for (float y : {0.0f, 0.05f, -0.09f, 0.11f, 0.3f}) {
+        SurfaceHit hit;
+        const bool found = scene.intersect({0.2f, y, 5.0f}, {0, 0, -1}, kInf, {}, hit);
+        EXPECT_EQ(found, std::abs(y) < 0.1f) << y;
+        if (!found) continue;
+        EXPECT_NEAR(hit.t, 5.0f - std::sqrt(0.01f - y * y), 2e-3f) << y;
+        EXPECT_NEAR(std::abs(hit.tangent.x), 1.0f, 1e-4f);
+        EXPECT_NEAR(hit.radius, 0.1f, 1e-5f);
+        EXPECT_NEAR(glm::length(hit.normal), 1.0f, 1e-4f);
+    }
+}
+
+TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
+    ThickHairs hairs;
+    hairs.centres = {{-2, 0, 0}, {-0.5f, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    hairs.offsets = {0, 4};
+    hairs.major_axis.assign(4, glm::vec3(0, 1, 0));
+    hairs.radii.assign(4, glm::vec2(2.0f, 0.5f));
+    hairs.density.assign(4, 0.5f);
+    hairs.n_total = {40.0f};
+    HairScene scene(std::make_shared<Device>());
+    scene.add_thick_hairs(hairs);
+    scene.commit();
+    struct Ray { glm::vec3 origin, direction; float chord; };
+    const std::vector<Ray> rays{{{0.1f, 0.0f, 10.0f}, {0, 0, -1}, 1.0f},
+                                {{0.1f, 1.9f, 10.0f}, {0, 0, -1}, 2.0f * 0.5f * std::sqrt(1.0f - 0.95f * 0.95f)},
+                                {{0.1f, 10.0f, 0.4f}, {0, -1, 0}, 2.0f * 2.0f * std::sqrt(1.0f - 0.8f * 0.8f)},
+                                {{0.1f, 10.0f, 0.6f}, {0, -1, 0}, 0.0f}};  // inside the round tube, outside the ellipse
+    for (const Ray& r : rays) {
+        SurfaceHit hit;
+        const bool found = scene.intersect(r.origin, r.direction, kInf, {}, hit);
+        EXPECT_EQ(found, r.chord > 0.0f) << r.origin.y << " " << r.origin.z;
+        if (!found) continue;
+        EXPECT_EQ(hit.kind, CurveKind::Thick);
+        EXPECT_NEAR(hit.chord, r.chord, 2e-3f);
+        EXPECT_FLOAT_EQ(hit.n_total, 40.0f);
+        EXPECT_NEAR(hit.density, 0.5f, 1e-6f);
+        EXPECT_EQ(scene.occluded(r.origin, r.direction, kInf, {}), true);
+    }
+}
+
+TEST(HairScene, CountsEveryCrossedStrandOnce) {
+    std::vector<glm::vec3> starts;
+    for (int k = 0; k < 5; ++k) starts.emplace_back(0.0f, 0.0f, float(k));
+    HairScene scene(std::make_shared<Device>());
+    scene.add_strands(straight_strands(starts, 0.05f));
+    scene.commit();
+    EXPECT_EQ(scene.count_crossings({0.3f, 0.01f, 10.0f}, {0, 0, -1}, kInf, {}), 5);
+    EXPECT_EQ(scene.count_crossings({0.3f, 0.01f, 10.0f}, {0, 0, -1}, 8.5f, {}), 3);  // stops at t_max (z = 1.5)
+    EXPECT_EQ(scene.count_crossings({0.3f, 0.01f, 10.0f}, {0, 0, -1}, kInf, {}, 3), 3);
+    EXPECT_EQ(scene.count_crossings({0.3f, 0.5f, 10.0f}, {0, 0, -1}, kInf, {}), 0);
+    // Leaving the top strand downwards through itself: its own tube is skipped.
+    SurfaceHit hit;
+    ASSERT_TRUE(scene.intersect({0.3f, 0.01f, 10.0f}, {0, 0, -1}, kInf, {}, hit));
+    EXPECT_NEAR(hit.position.z, 4.05f, 2e-3f);
+    const glm::vec3 down(0, 0, -1);
+    EXPECT_EQ(scene.count_crossings(hit.position, down, kInf, scene.leaving(hit, down)), 4);
+    EXPECT_FALSE(scene.occluded(hit.position, -down, kInf, scene.leaving(hit, -down)));
+}
+
+TEST(HairScene, RejectsInvalidInput) {
+    HairScene scene(std::make_shared<Device>());
+    EXPECT_THROW(scene.add_strands(straight_strands({glm::vec3(0.0f)}, 0.0f)), Error);
+    ThickHairs hairs;
+    hairs.centres = {{0, 0, 0}, {1, 0, 0}};
+    hairs.offsets = {0, 2};
+    hairs.major_axis.assign(2, glm::vec3(0, 1, 0));
+    hairs.radii.assign(2, glm::vec2(0.5f, 1.0f));  // minor > major
+    hairs.density.assign(2, 0.5f);
+    hairs.n_total = {3.0f};
+    EXPECT_THROW(scene.add_thick_hairs(hairs), Error);
+}
+
+}  // namespace
+}  // namespace hairlod::render
