@@ -1,12 +1,19 @@
-"""The main job on the bundled inputs, end to end as far as the pipeline exists today.
+"""The main job on the bundled inputs, end to end.
 
 1. Read the bundled hair file examples/data/bob.hair and summarise it.
 2. Generate strands inside the bundled hair mesh examples/data/wavy_cap.hairmesh.json.
-3. Build the LoD hierarchy of the generated hair (guides, clusters, elliptical thick hairs).
+3. Build the LoD hierarchy of the generated hair (guides, clusters, elliptical thick hairs) and save
+   it (out/demo/lod: one .hair of thick hairs per level, manifest, arrays).
 4. Select levels for a near, a mid and a far camera and report the segments drawn against drawing
-   every strand: the speed side of the LoD (its error side needs the renderer, a later stage).
+   every strand.
+5. Bake the aggregated BCSDF's lookup tables for the asset's hair counts (out/demo/bcsdf, OpenEXR).
+6. Render preview images with the Embree renderer (out/demo/*.png) at the mid and far views: the
+   LoD with the aggregated BCSDF, and full geometry at the same samples per pixel, against a
+   full-geometry path-traced reference at more samples; print the speed-against-error summary
+   (segments, seconds, PSNR and FLIP).
 
-`make demo` runs this; later stages (bake, preview, render) extend it as they land.
+`make demo` runs this. The viewport preview of the same asset needs a Blender window: see the
+README (LoD Preview) and scripts/bench_lod_preview.py.
 """
 
 import sys
@@ -19,13 +26,17 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
 
 import hairlod  # noqa: E402
-from hairlod import hairmesh, io, lod  # noqa: E402
+from hairlod import bcsdf, flip, hairmesh, io, lod, render  # noqa: E402
 from hairlod.camera import look_at, perspective  # noqa: E402
 from hairlod.cli import strand_summary  # noqa: E402
 
 HAIR_FILE = REPO / "examples" / "data" / "bob.hair"
 HAIR_MESH = REPO / "examples" / "data" / "wavy_cap.hairmesh.json"
 VIEWPORT = (1280, 720)
+OUT = REPO / "out" / "demo"
+RENDER_WIDTH = 200
+RENDER_SPP = 16
+REFERENCE_SPP = 96
 
 
 def timed(function, *args, **kwargs):
@@ -83,11 +94,38 @@ def select_views(asset, strands):
               f"skinned and selected in {seconds * 1e3:.1f} ms")
 
 
+def bake_tables(asset):
+    crossed, densest = bcsdf.lod_hair_count_range(asset)
+    manifest, seconds = timed(bcsdf.bake, bcsdf.as_params(None), OUT / "bcsdf", max_hair_count=crossed)
+    size = sum(table["bytes"] for table in manifest["tables"])
+    print(f"5. BCSDF tables for n up to {crossed:.1f} (densest cluster: {densest} strands) baked in "
+          f"{seconds:.2f} s: {len(manifest['tables'])} tables, {size / 1024:.0f} KB in {(OUT / 'bcsdf').relative_to(REPO)}")
+
+
+def render_views(asset, strands):
+    print(f"6. Embree renders, {RENDER_WIDTH} px wide, {RENDER_SPP} spp (reference: path-traced full geometry, "
+          f"{REFERENCE_SPP} spp):")
+    for view in ("mid", "far"):
+        reference = render.render(strands, "pt", view, width=RENDER_WIDTH, spp=REFERENCE_SPP, seed=7)
+        render.write_image(str(OUT / f"{view}_reference.png"), reference["image"])
+        for method, label in (("pt", "full geometry"), ("lod", "LoD, aggregated BCSDF")):
+            result = render.render(strands, method, view, width=RENDER_WIDTH, spp=RENDER_SPP, asset=asset, seed=1)
+            render.write_image(str(OUT / f"{view}_{method}.png"), result["image"])
+            error = flip.flip(render.to_srgb8(result["image"]) / 255.0, render.to_srgb8(reference["image"]) / 255.0)
+            print(f"   {view:4s} {label:22s}: {result['segments']:7d} segments, {result['seconds']:6.2f} s, "
+                  f"PSNR {render.psnr(result['image'], reference['image']):5.1f} dB, FLIP {error:.3f}")
+    print(f"   images in {OUT.relative_to(REPO)}")
+
+
 def main():
+    OUT.mkdir(parents=True, exist_ok=True)
     summarise_file(HAIR_FILE)
     strands = generate(HAIR_MESH, 20000)
     asset = build(strands)
+    lod.save(asset, OUT / "lod")
     select_views(asset, strands)
+    bake_tables(asset)
+    render_views(asset, strands)
 
 
 if __name__ == "__main__":

@@ -110,6 +110,12 @@ class LodAsset:
         return self._core.select(guides, np.asarray(view, dtype=np.float32), np.asarray(projection, dtype=np.float32),
                                  tuple(float(v) for v in viewport_size), float(width_px), previous)
 
+    def view_selection(self, guides=None):
+        """Per-view selection state for drawing (initial selection, then one Eq. 16 step per
+        update), on the rest pose or the skinned guides [G, n_c, 3]."""
+        guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
+        return _core.ViewSelection(self._core, guides)
+
 
 def strand_bytes(strands):
     """Bytes of the strand data an asset's memory is compared with: points, radius, offsets."""

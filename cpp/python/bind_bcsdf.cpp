@@ -14,6 +14,7 @@
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/dual_scattering.h"
 #include "hairlod/bcsdf/exr_writer.h"
+#include "hairlod/bcsdf/fiber_rtd.h"
 #include "hairlod/bcsdf/furnace.h"
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/bcsdf/principled_hair.h"
@@ -309,6 +310,18 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         },
         py::arg("model"), py::arg("params"), py::arg("theta_d"), py::arg("backscatter_density") = kDefaultBackscatterDensity,
         py::arg("tolerance") = 1e-6, "Zinke et al. 2008 dual-scattering terms tabulated over theta_d ([K] and [K, 3]).");
+
+    m.def("fiber_rtd_lobes", [](const HairParams& params) {
+        const FiberRtdBcsdf fiber(params);
+        const auto lobes = fiber.lobe_shapes();
+        py::dict d;
+        d["r_shift"] = lobes[0].shift;
+        d["r_variance"] = lobes[0].variance;
+        d["tt_shift"] = lobes[1].shift;
+        d["tt_variance"] = lobes[1].variance;
+        d["tt_azimuthal_variance"] = fiber.azimuthal_variance();
+        return d;
+    }, py::arg("params"), "Lobe shapes of the R/TT/D fibre (Huang et al. 2025, Eq. 8): what a shader needs besides the baked tables.");
 }
 
 }  // namespace hairlod::python

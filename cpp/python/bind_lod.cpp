@@ -12,6 +12,7 @@
 #include "hairlod/core/error.h"
 #include "hairlod/lod/lod_asset.h"
 #include "hairlod/lod/selection.h"
+#include "hairlod/lod/view_selection.h"
 
 namespace py = pybind11;
 
@@ -293,6 +294,39 @@ void bind_lod(py::module_& m) {
         }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f,
            py::arg("previous") = py::none(),
            "Initial selection (Sec. 5.1 step 5), or Eq. 16 from `previous`, for guides [G, n_c, 3].");
+
+    py::class_<ViewSelection>(m, "ViewSelection",
+                              "Per-view LoD state: the initial selection, then one Eq. 16 step per update, and the index "
+                              "lists to draw it (vertex buffers item-major, strands in hierarchy order).")
+        .def(py::init([](const LodAsset& a, const FloatArray& guides) {
+                 const std::vector<glm::vec3> points = guides_from(guides, a);
+                 py::gil_scoped_release release;
+                 return ViewSelection(a, a.skin(points));
+             }),
+             py::arg("asset"), py::arg("guides"), py::keep_alive<1, 2>())
+        .def("update", [](ViewSelection& v, const FloatArray& view, const FloatArray& projection,
+                          std::pair<float, float> viewport, float width_px) {
+            const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
+            py::gil_scoped_release release;
+            return v.update(camera, width_px);
+        }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f,
+           "Selects for the camera; True when the selection changed.")
+        .def("reset", &ViewSelection::reset, "The next update starts from the initial selection.")
+        .def_property_readonly("level_count", &ViewSelection::level_count)
+        .def_property_readonly("selection", [](const ViewSelection& v) { return v.selection(); })
+        .def("geometry", [](const ViewSelection& v, const LodAsset& a) { return geometry_dict(a, v.geometry()); },
+             py::arg("asset"), "The geometry it selects on, as LodAsset.skin returns it.")
+        .def("segments_per_level", [](const ViewSelection& v) {
+            const std::vector<int64_t> s = v.segments_per_level();
+            return to_numpy<int64_t>(s, {as_size(s.size())});
+        })
+        .def("indices", [](const ViewSelection& v, int level, const std::string& primitive) {
+            if (primitive != "lines" && primitive != "strips")
+                throw Error("primitive must be 'lines' or 'strips', got '" + primitive + "'");
+            const std::vector<uint32_t> indices =
+                v.indices(level, primitive == "lines" ? DrawPrimitive::lines : DrawPrimitive::strips);
+            return to_numpy<uint32_t>(indices, {as_size(indices.size())});
+        }, py::arg("level"), py::arg("primitive"), "Vertex indices of the selected ranges at `level`.");
 
     // Cancellation is not bad input: its own exception, derived from RuntimeError.
     py::register_exception<LodBuildCancelled>(m, "BuildCancelled", PyExc_RuntimeError);

@@ -5,7 +5,12 @@ import bpy
 from .hair_mesh_operators import (HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces,
                                   HAIRLOD_PG_strand_settings, register_properties, unregister_properties)
 from .hair_mesh_preview import register_handler, unregister_handler
+from .lod_export import HAIRLOD_OT_export_lod
 from .lod_operator import HAIRLOD_OT_build_lod
+from .lod_preview_ui import (HAIRLOD_OT_load_lod_preview, HAIRLOD_PG_lod_preview, VIEW3D_PT_hairlod_lod_preview)
+from .lod_preview_ui import register_properties as register_lod_preview_properties
+from .lod_preview_ui import unregister_properties as unregister_lod_preview_properties
+from .preview import lod_preview
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair, menu_func_export, menu_func_import
 from .panels import VIEW3D_PT_hairlod, VIEW3D_PT_hairlod_hair_mesh
 
@@ -16,8 +21,12 @@ classes = (
     HAIRLOD_OT_hair_mesh_from_faces,
     HAIRLOD_OT_generate_strands,
     HAIRLOD_OT_build_lod,
+    HAIRLOD_PG_lod_preview,
+    HAIRLOD_OT_load_lod_preview,
+    HAIRLOD_OT_export_lod,
     VIEW3D_PT_hairlod,
     VIEW3D_PT_hairlod_hair_mesh,
+    VIEW3D_PT_hairlod_lod_preview,
 )
 
 
@@ -25,7 +34,9 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     register_properties()
+    register_lod_preview_properties()
     register_handler()
+    lod_preview.register_handler()
     bpy.types.TOPBAR_MT_file_import.append(menu_func_import)
     bpy.types.TOPBAR_MT_file_export.append(menu_func_export)
 
@@ -33,7 +44,9 @@ def register():
 def unregister():
     bpy.types.TOPBAR_MT_file_export.remove(menu_func_export)
     bpy.types.TOPBAR_MT_file_import.remove(menu_func_import)
+    lod_preview.unregister_handler()
     unregister_handler()
+    unregister_lod_preview_properties()
     unregister_properties()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

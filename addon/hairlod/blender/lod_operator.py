@@ -199,6 +199,10 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
             return None
 
     def _finish(self, job):
+        if not bpy.app.background:
+            from .preview import lod_preview
+
+            lod_preview.attach(job.source, job.asset, packed=True)
         coverage = ", ".join(f"{c:.3f}" for c in job.asset.coverage)
         self.report({'INFO'}, f"Built {len(job.created)} thick levels from {job.asset.strand_count:,} strands "
                               f"({job.asset.cluster_count} clusters; coverage {coverage})")

@@ -1,0 +1,119 @@
+"""Settings, operators and panel of the viewport LoD preview (preview/lod_preview.py)."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
+
+
+def _redraw(self, context):
+    from .preview import lod_preview
+
+    lod_preview._tag_viewports()
+
+
+class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
+    enabled: BoolProperty(name="LoD Preview", description="Draw the object's hair LoD in the viewport",
+                          default=True, update=_redraw)
+    width_px: FloatProperty(name="Width Threshold", description="Largest on-screen width of a thick hair, in "
+                            "pixels (eps_w): smaller values draw finer levels", default=2.0, min=0.05,
+                            soft_max=32.0, update=_redraw)
+    overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
+                          items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),
+                                 ('LEVELS', "Levels", "Each LoD level in its own colour")),
+                          default='SHADED', update=_redraw)
+    use_material: BoolProperty(name="Use Material", description="Shade with the Principled Hair BSDF of the "
+                               "object's material when it has one", default=True, update=_redraw)
+    melanin: FloatProperty(name="Melanin", description="Melanin concentration (Principled Hair BSDF)",
+                           default=0.5, min=0.0, max=1.0, subtype='FACTOR', update=_redraw)
+    melanin_redness: FloatProperty(name="Melanin Redness", description="Pheomelanin share of the melanin",
+                                   default=0.3, min=0.0, max=1.0, subtype='FACTOR', update=_redraw)
+    roughness: FloatProperty(name="Roughness", description="Longitudinal roughness", default=0.3, min=0.01,
+                             max=1.0, subtype='FACTOR', update=_redraw)
+    radial_roughness: FloatProperty(name="Radial Roughness", description="Azimuthal roughness", default=0.3,
+                                    min=0.01, max=1.0, subtype='FACTOR', update=_redraw)
+    show_statistics: BoolProperty(name="Statistics", description="Show segments drawn per level and times",
+                                  default=True)
+
+
+class HAIRLOD_OT_load_lod_preview(bpy.types.Operator):
+    """Load an LoD folder written by Build Hair LoD or `python3 -m hairlod lod` and preview it on
+    the active object"""
+
+    bl_idname = "hairlod.load_lod_preview"
+    bl_label = "Load LoD Asset"
+    bl_options = {'REGISTER'}
+
+    directory: StringProperty(subtype='DIR_PATH')
+
+    @classmethod
+    def poll(cls, context):
+        return context.active_object is not None
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {'RUNNING_MODAL'}
+
+    def execute(self, context):
+        from .. import lod
+        from .preview import lod_preview
+
+        try:
+            asset = lod.load(self.directory)
+        except (OSError, ValueError) as error:
+            self.report({'ERROR'}, f"Cannot load the LoD asset in {self.directory}: {error}")
+            return {'CANCELLED'}
+        obj = context.active_object
+        lod_preview.attach(obj, asset)
+        obj.hairlod_lod_preview.enabled = True
+        self.report({'INFO'}, f"Previewing {len(asset.levels)} thick levels of {asset.strand_count:,} strands "
+                              f"on {obj.name}")
+        return {'FINISHED'}
+
+
+class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "Hair LoD"
+    bl_label = "LoD Preview"
+    bl_parent_id = "VIEW3D_PT_hairlod"
+
+    def draw(self, context):
+        from .preview import lod_preview
+
+        layout = self.layout
+        obj = context.active_object
+        row = layout.row(align=True)
+        row.operator(HAIRLOD_OT_load_lod_preview.bl_idname, icon='FILEBROWSER')
+        row.operator("hairlod.export_lod", icon='EXPORT')
+        preview = lod_preview.preview_of(obj) if obj is not None else None
+        if preview is None:
+            layout.label(text="No LoD asset on the active object", icon='INFO')
+            return
+        settings = obj.hairlod_lod_preview
+        column = layout.column()
+        column.use_property_split = True
+        column.use_property_decorate = False
+        column.prop(settings, "enabled")
+        column.prop(settings, "width_px")
+        column.prop(settings, "overlay")
+        if settings.overlay == 'SHADED':
+            column.prop(settings, "use_material")
+            material = column.column(align=True)
+            for key in ("melanin", "melanin_redness", "roughness", "radial_roughness"):
+                material.prop(settings, key)
+        column.prop(settings, "show_statistics")
+        if settings.show_statistics and preview.stats:
+            stats = preview.stats
+            box = layout.box().column(align=True)
+            box.label(text=f"Segments drawn: {stats['segments']:,}")
+            for level, count in enumerate(stats["segments_per_level"]):
+                name = "strands" if level == preview.level_count - 1 else f"L{preview.asset.level_ids[level]}"
+                box.label(text=f"  {name}: {count:,}")
+            box.label(text=f"Selection {stats['select_ms']:.2f} ms, draw {stats['draw_ms']:.2f} ms")
+
+
+def register_properties():
+    bpy.types.Object.hairlod_lod_preview = PointerProperty(type=HAIRLOD_PG_lod_preview)
+
+
+def unregister_properties():
+    del bpy.types.Object.hairlod_lod_preview

@@ -1,0 +1,66 @@
+"""The add-on's pipeline as plain functions for `blender -b` scripts: build the LoD of a hair Curves
+object, and export it (LoD folder with one .hair per level, and the BCSDF lookup tables baked for the
+object's hair material and the asset's hair counts). The operators and examples/convert_blend_to_lod.py
+call these."""
+
+import os
+
+import bpy
+
+
+def material_params(obj):
+    """HairParams of the Principled Hair BSDF of the first material of `obj` that has one, or None."""
+    from .principled_hair import params_from_material, principled_hair_node
+
+    for slot in getattr(obj, "material_slots", ()):
+        if slot.material is None:
+            continue
+        try:
+            principled_hair_node(slot.material)
+        except ValueError:
+            continue
+        return params_from_material(slot.material)
+    return None
+
+
+def build_lod(obj, context=None, guides=256, levels=6, control_points=16, seed=0, scene_cameras_only=False,
+              frame_step=1, width_px=2.0):
+    """Builds the LoD of the hair Curves object `obj` as the Build Hair LoD operator does (one Curves
+    object per level in the "Hair LoD" collection, the asset packed into `obj`) and returns the
+    LodAsset. Raises ValueError on bad input; leaves nothing half-made."""
+    from .lod_operator import LodBuildJob
+
+    if obj is None or obj.type != 'CURVES':
+        raise ValueError(f"'{getattr(obj, 'name', obj)}' is not a hair Curves object")
+    job = LodBuildJob(context or bpy.context, obj, guides, levels, control_points, seed, scene_cameras_only,
+                      frame_step, width_px)
+    job.run()
+    return job.asset
+
+
+def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=64):
+    """Writes the LoD asset packed into `obj` to `directory`: <directory>/lod (lod.save: manifest,
+    arrays, one .hair of thick hairs per level) and, with `bake`, <directory>/bcsdf (bcsdf.bake:
+    OpenEXR tables + manifest) for the object's Principled Hair BSDF (the defaults without one), with
+    hair counts up to the asset's largest crossing count. Each folder appears complete or not at all.
+    Returns a summary dict (paths, counts, the material used)."""
+    from .. import bcsdf, lod
+    from .lod_operator import packed_asset
+
+    asset = packed_asset(obj)
+    if asset is None:
+        raise ValueError(f"'{obj.name}' has no LoD asset: build it first (Build Hair LoD)")
+    directory = os.path.abspath(bpy.path.abspath(os.fspath(directory)))
+    lod_dir = os.path.join(directory, "lod")
+    lod.save(asset, lod_dir, extra={"source_object": obj.name})
+    summary = {"object": obj.name, "strands": asset.strand_count, "levels": [len(l.n_total) for l in asset.levels],
+               "lod": lod_dir}
+    if bake:
+        params = material_params(obj)
+        crossed, _ = bcsdf.lod_hair_count_range(asset)
+        bake_dir = os.path.join(directory, "bcsdf")
+        bcsdf.bake(params if params is not None else bcsdf.as_params(None), bake_dir, theta_samples=theta_samples,
+                   hair_count_samples=hair_count_samples, max_hair_count=max(crossed, 1.0 + 1e-6))
+        summary.update(bcsdf=bake_dir, material="Principled Hair BSDF" if params is not None else "defaults",
+                       max_hair_count=crossed)
+    return summary

@@ -1,0 +1,36 @@
+"""GPU textures of the aggregated BCSDF's tables (hairlod.preview_luts) and the uniforms that go with
+them, for shaders that include shaders/aggregated_bcsdf.glsl."""
+
+import gpu
+import numpy as np
+
+
+def _texture(rows):
+    height, width = rows.shape[:2]
+    data = gpu.types.Buffer('FLOAT', width * height * 4, np.ascontiguousarray(rows, dtype=np.float32).ravel())
+    return gpu.types.GPUTexture((width, height), format='RGBA32F', data=data)
+
+
+class BcsdfTextures:
+    """Uploads ShaderTables once; bind() sets the samplers and constants on a bound shader."""
+
+    def __init__(self, tables):
+        self.tables = tables
+        self.fiber = _texture(tables.fiber)
+        self.dual = _texture(tables.dual)
+        self.aggregated = _texture(tables.aggregated)
+
+    def bind(self, shader):
+        shader.uniform_sampler("fiber_lut", self.fiber)
+        shader.uniform_sampler("dual_lut", self.dual)
+        shader.uniform_sampler("aggregated_lut", self.aggregated)
+        shader.uniform_float("lobe_shapes", self.tables.lobe_shapes)
+        shader.uniform_float("lut_constants", self.tables.lut_constants)
+
+
+def declare(info, first_slot=0):
+    """Declares the samplers and constants aggregated_bcsdf.glsl needs on a GPUShaderCreateInfo."""
+    for slot, name in enumerate(("fiber_lut", "dual_lut", "aggregated_lut"), start=first_slot):
+        info.sampler(slot, 'FLOAT_2D', name)
+    info.push_constant('VEC4', "lobe_shapes")
+    info.push_constant('VEC2', "lut_constants")

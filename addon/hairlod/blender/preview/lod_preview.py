@@ -1,0 +1,392 @@
+"""Real-time LoD preview of hair in the 3D viewport (hair-lod-aggregated-bcsdf.txt Sec. 5.2).
+
+For every object with an LoD asset attached (``attach``), a POST_VIEW draw handler selects levels for
+each viewport's camera with the C++ selection (the initial selection, then one step of Eq. 16 per
+redraw, kept per view) and draws camera-facing strips for the selected thick hairs and lines for the
+selected strands. Vertex buffers are built once per asset and level; a redraw only rebuilds the index
+buffers of a view whose selection changed. While the selection is still converging after a camera
+move the handler asks for another redraw, so Eq. 16 reaches its fixed point without popping.
+"""
+
+import time
+
+import bpy
+import gpu
+from bpy.app.handlers import persistent
+import numpy as np
+from mathutils import Vector
+
+from ... import lod, preview_buffers
+from .shaders import glsl_source
+
+# Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
+LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.35, 0.80, 0.30),
+                 (0.20, 0.70, 0.85), (0.35, 0.40, 0.95), (0.75, 0.40, 0.90), (0.85, 0.85, 0.85))
+
+_previews = {}     # object name -> LodPreview
+_handle = None     # the draw handler
+_shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
+
+
+def level_colour(level, level_count):
+    """The overlay colour of `level`; the strands take the last colour whatever their index."""
+    if level == level_count - 1:
+        return LEVEL_COLOURS[-1]
+    return LEVEL_COLOURS[min(level, len(LEVEL_COLOURS) - 2)]
+
+
+MAX_LIGHTS = 8
+# std140 layout of the per-frame uniform block; frame_block() fills it in this order.
+FRAME_BLOCK = f"""
+struct HairFrame {{
+  mat4 model;
+  mat4 view_projection;
+  vec4 camera;
+  vec4 viewport;
+  vec4 ambient;
+  vec4 counts;
+  vec4 light_vectors[{MAX_LIGHTS}];
+  vec4 light_colours[{MAX_LIGHTS}];
+}};
+"""
+
+
+def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours):
+    """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them)."""
+    data = np.concatenate([np.asarray(model, np.float32).T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
+                           np.asarray(camera, np.float32), (*viewport, 0.0, 0.0), np.asarray(ambient, np.float32),
+                           (float(light_count), 0.0, 0.0, 0.0), light_vectors.ravel(), light_colours.ravel()])
+    data = np.ascontiguousarray(data, dtype=np.float32)
+    return gpu.types.GPUUniformBuf(gpu.types.Buffer('FLOAT', data.size, data))
+
+
+def _create_shader(kind):
+    from . import bcsdf_textures
+
+    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_interface")
+    interface.smooth('VEC3', "v_position")
+    interface.smooth('VEC3', "v_tangent")
+    interface.smooth('VEC3', "v_to_camera")
+    interface.smooth('FLOAT', "v_across")
+    interface.flat('VEC3', "v_ellipse")
+    interface.flat('VEC2', "v_cluster")
+    info = gpu.types.GPUShaderCreateInfo()
+    # Per-frame data in a uniform block (push constants are limited to 128 bytes).
+    info.typedef_source(FRAME_BLOCK)
+    info.uniform_buf(0, "HairFrame", "frame")
+    info.push_constant('VEC4', "level_colour")
+    info.push_constant('INT', "shading_mode")
+    bcsdf_textures.declare(info)
+    info.vertex_in(0, 'VEC3', "position")
+    info.vertex_in(1, 'VEC3', "tangent")
+    if kind == "thick":
+        info.vertex_in(2, 'VEC3', "major")
+        info.vertex_in(3, 'VEC3', "minor")
+        info.vertex_in(4, 'VEC2', "cluster")
+    info.vertex_out(interface)
+    info.fragment_out(0, 'VEC4', "fragColor")
+    info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
+    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "hair.frag.glsl"))
+    return gpu.shader.create_from_info(info)
+
+
+def shader(kind):
+    if kind not in _shaders:
+        _shaders[kind] = _create_shader(kind)
+    return _shaders[kind]
+
+
+def _vertex_buffer(kind, arrays):
+    vertex_format = gpu.types.GPUVertFormat()
+    names = ("position", "tangent", "major", "minor", "cluster") if kind == "thick" else ("position", "tangent")
+    for name in names:
+        vertex_format.attr_add(id=name, comp_type='F32', len=arrays[name].shape[1], fetch_mode='FLOAT')
+    buffer = gpu.types.GPUVertBuf(vertex_format, len(arrays["position"]))
+    for name in names:
+        buffer.attr_fill(name, arrays[name])
+    return buffer
+
+
+class ViewState:
+    """The selection of one viewport and the batches that draw it."""
+
+    def __init__(self, selection):
+        self.selection = selection
+        self.batches = None    # per level: GPUBatch or None (nothing selected)
+        self.draw_keys = None  # per level: the draw ranges its batch was built for
+
+
+class LodPreview:
+    """The GPU state of one object's LoD asset: vertex buffers per level and a ViewState per view."""
+
+    def __init__(self, asset):
+        self.asset = asset
+        self.views = {}  # RegionView3D pointer -> ViewState
+        self.vertex_buffers = None
+        self.stats = {}
+        self.max_hair_count = None
+        self.textures = None
+        self.textures_key = None
+        self.packed = False
+
+    @property
+    def level_count(self):
+        return len(self.asset.levels) + 1
+
+    def _build_vertex_buffers(self):
+        geometry = self.asset.skin(self.asset.rest_guides)
+        buffers = []
+        for level, geometry_level in zip(self.asset.levels, geometry["levels"]):
+            arrays = preview_buffers.thick_strip_vertices(geometry_level, level.n_total, level.density)
+            buffers.append(_vertex_buffer("thick", arrays))
+        strand_order = self.asset.arrays()["strand_order"]
+        arrays = preview_buffers.strand_line_vertices(geometry["strands"], strand_order, self.asset.control_points)
+        buffers.append(_vertex_buffer("strand", arrays))
+        self.vertex_buffers = buffers
+
+    def view_state(self, key):
+        if key not in self.views:
+            self.views[key] = ViewState(self.asset.view_selection())
+        return self.views[key]
+
+    def update_batches(self, state):
+        """Rebuilds the index buffers of the levels whose draw ranges changed: Blender builds an index
+        buffer at about 12 ns per index, so a level that kept its ranges keeps its batch."""
+        if state.batches is None:
+            state.batches = [None] * self.level_count
+            state.draw_keys = [None] * self.level_count
+        draws = state.selection.selection.draws
+        for level in range(self.level_count):
+            key = draws[draws[:, 0] == level].tobytes()
+            if key == state.draw_keys[level]:
+                continue
+            state.draw_keys[level] = key
+            thick = level < self.level_count - 1
+            indices = state.selection.indices(level, "strips" if thick else "lines")
+            if indices.size == 0:
+                state.batches[level] = None
+                continue
+            elements = indices.view(np.int32).reshape(-1, 3 if thick else 2)
+            index_buffer = gpu.types.GPUIndexBuf(type='TRIS' if thick else 'LINES', seq=elements)
+            state.batches[level] = gpu.types.GPUBatch(type='TRIS' if thick else 'LINES', buf=self.vertex_buffers[level],
+                                                      elem=index_buffer)
+
+    def bcsdf_textures(self, obj, settings):
+        """The BCSDF tables for the hair's current parameters, baked again only when they change;
+        n covers the asset's largest crossing count (tables cover only the range in use)."""
+        from ... import bcsdf, preview_luts
+        from . import bcsdf_textures
+
+        params = hair_params(obj, settings)
+        if self.max_hair_count is None:
+            self.max_hair_count = max(2.0, bcsdf.lod_hair_count_range(self.asset)[0])
+        key = (repr(bcsdf.params_to_dict(params)), self.max_hair_count)
+        if self.textures is None or self.textures_key != key:
+            tables = preview_luts.shader_tables(params, max_hair_count=self.max_hair_count)
+            self.textures = bcsdf_textures.BcsdfTextures(tables)
+            self.textures_key = key
+        return self.textures
+
+    def draw(self, obj, region, region_3d, settings):
+        start = time.perf_counter()
+        if self.vertex_buffers is None:
+            self._build_vertex_buffers()
+        state = self.view_state(region_3d.as_pointer())
+        model_view = region_3d.view_matrix @ obj.matrix_world
+        projection = region_3d.window_matrix
+        changed = state.selection.update(np.array(model_view, dtype=np.float32), np.array(projection, dtype=np.float32),
+                                         (region.width, region.height), settings.width_px)
+        if changed or state.batches is None:
+            self.update_batches(state)
+        selected = time.perf_counter()
+
+        textures = self.bcsdf_textures(obj, settings)
+        view_to_world = region_3d.view_matrix.inverted_safe()
+        if region_3d.is_perspective:
+            camera = (*view_to_world.translation, 1.0)
+        else:  # orthographic: the direction towards the viewer
+            camera = (*(view_to_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
+        light_count, light_vectors, light_colours = scene_lights(bpy.context.scene, camera)
+        world = bpy.context.scene.world
+        ambient = (*(world.color if world is not None else (0.05, 0.05, 0.05)), 0.0)
+        # Kept referenced until the batches are drawn.
+        frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
+                            (float(region.width), float(region.height)), ambient, light_count, light_vectors,
+                            light_colours)
+        gpu.state.depth_test_set('LESS_EQUAL')
+        gpu.state.depth_mask_set(True)
+        for level, batch in enumerate(state.batches):
+            if batch is None:
+                continue
+            program = shader("thick" if level < self.level_count - 1 else "strand")
+            program.bind()
+            program.uniform_block("frame", frame)
+            program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))
+            program.uniform_int("shading_mode", 0 if settings.overlay == 'SHADED' else 1)
+            if settings.overlay == 'SHADED':
+                textures.bind(program)
+            batch.draw(program)
+        gpu.state.depth_mask_set(False)
+        gpu.state.depth_test_set('NONE')
+
+        segments = state.selection.segments_per_level()
+        self.stats = {"segments": int(segments.sum()), "segments_per_level": segments.tolist(),
+                      "select_ms": 1e3 * (selected - start), "draw_ms": 1e3 * (time.perf_counter() - start),
+                      "converging": bool(changed)}
+        return changed
+
+
+def hair_params(obj, settings):
+    """HairParams of the preview: the Principled Hair BSDF of the object's first material that has
+    one when "Use Material" is on, else the panel's melanin and roughness."""
+    from ... import bcsdf
+
+    if settings.use_material:
+        from ..pipeline import material_params
+
+        params = material_params(obj)
+        if params is not None:
+            return params
+    return bcsdf.from_principled_hair(parametrization='MELANIN', melanin=settings.melanin,
+                                      melanin_redness=settings.melanin_redness, roughness=settings.roughness,
+                                      radial_roughness=settings.radial_roughness)
+
+
+def scene_lights(scene, camera):
+    """World-space lights for the shader: (count, vectors [MAX_LIGHTS, 4], colours [MAX_LIGHTS, 4]).
+    Suns give (direction towards the sun, 0) and their irradiance (strength x colour); point lights
+    give (position, 1) and their intensity, power / (4 pi) x colour, which the shader divides by the
+    squared distance. Other light types and hidden lights are skipped. With no light, a headlight at
+    the viewer (irradiance 3) keeps the hair visible."""
+    vectors = np.zeros((MAX_LIGHTS, 4), np.float32)
+    colours = np.zeros((MAX_LIGHTS, 4), np.float32)
+    count = 0
+    for obj in scene.objects:
+        if count == MAX_LIGHTS:
+            break
+        if obj.type != 'LIGHT' or not obj.visible_get() or obj.data.type not in {'SUN', 'POINT'}:
+            continue
+        light = obj.data
+        colour = np.array(light.color, np.float32) * light.energy
+        if light.type == 'SUN':
+            vectors[count] = (*(obj.matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
+            colours[count, :3] = colour
+        else:
+            vectors[count] = (*obj.matrix_world.translation, 1.0)
+            colours[count, :3] = colour / (4.0 * np.pi)
+        count += 1
+    if count == 0:
+        vectors[0] = camera
+        colours[0, :3] = 3.0
+        count = 1
+    return count, vectors, colours
+
+
+def attach(obj, asset, packed=False):
+    """Shows `asset` (an hairlod.lod.LodAsset in `obj`'s local space) in the viewport for `obj`.
+    `packed`: the asset is the one packed into `obj` (Build Hair LoD), and goes when that does
+    (undo, or the property removed)."""
+    if not isinstance(asset, lod.LodAsset):
+        raise TypeError(f"asset must be an hairlod.lod.LodAsset, got {type(asset).__name__}")
+    preview = LodPreview(asset)
+    preview.packed = packed
+    _previews[obj.name] = preview
+    _tag_viewports()
+
+
+def attach_packed_assets():
+    """Previews the asset packed into every object that has one and no preview yet (after loading a
+    .blend or enabling the add-on). An asset that cannot be read is reported once and skipped."""
+    from ..lod_operator import PACKED_PROPERTY, packed_asset
+
+    for obj in bpy.data.objects:
+        if PACKED_PROPERTY not in obj or obj.name in _previews:
+            continue
+        try:
+            attach(obj, packed_asset(obj), packed=True)
+        except ValueError as error:
+            print(f"hairlod: no LoD preview for '{obj.name}': {error}")
+
+
+def detach(obj_name):
+    _previews.pop(obj_name, None)
+    _tag_viewports()
+
+
+def preview_of(obj):
+    return _previews.get(obj.name)
+
+
+def _tag_viewports():
+    window_manager = getattr(bpy.context, "window_manager", None)
+    for window in window_manager.windows if window_manager else ():
+        for area in window.screen.areas:
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+
+def _draw():
+    from ..lod_operator import PACKED_PROPERTY
+
+    context = bpy.context
+    region, region_3d = context.region, context.region_data
+    if region is None or region_3d is None:
+        return
+    converging = False
+    for name, preview in list(_previews.items()):
+        obj = bpy.data.objects.get(name)
+        if obj is None:
+            _previews.pop(name)
+            continue
+        if preview.packed and PACKED_PROPERTY not in obj:
+            _previews.pop(name)  # undone or removed
+            continue
+        settings = obj.hairlod_lod_preview
+        if not settings.enabled or not obj.visible_get():
+            continue
+        converging |= preview.draw(obj, region, region_3d, settings)
+    if converging:
+        # Eq. 16 moves one level per frame: redraw until the selection settles.
+        bpy.app.timers.register(_tag_viewports_once, first_interval=0.0)
+
+
+def _tag_viewports_once():
+    _tag_viewports()
+    return None
+
+
+@persistent
+def _on_load(_):
+    _previews.clear()
+    attach_packed_assets()
+
+
+def _attach_after_register():
+    attach_packed_assets()
+    return None
+
+
+def register_handler():
+    """Draws previews in every 3D viewport; nothing in background mode (no GPU, nothing to see)."""
+    global _handle
+    if bpy.app.background:
+        return
+    if _handle is None:
+        _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), 'WINDOW', 'POST_VIEW')
+    if _on_load not in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.append(_on_load)
+    # bpy.data is not readable while add-ons register: look for packed assets just after.
+    bpy.app.timers.register(_attach_after_register, first_interval=0.0)
+
+
+def unregister_handler():
+    global _handle
+    if _on_load in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_on_load)
+    if bpy.app.timers.is_registered(_attach_after_register):
+        bpy.app.timers.unregister(_attach_after_register)
+    if _handle is not None:
+        bpy.types.SpaceView3D.draw_handler_remove(_handle, 'WINDOW')
+        _handle = None
+    _previews.clear()
+    _shaders.clear()

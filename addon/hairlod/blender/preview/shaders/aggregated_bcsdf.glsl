@@ -1,0 +1,160 @@
+/* The aggregated BCSDF of a thick hair (hair-lod-aggregated-bcsdf.txt, Huang et al. 2025, Eq. 6-15)
+ * over the R, TT, D fibre of Eq. 1, as cpp/src/bcsdf/aggregated.cpp and fiber_rtd.cpp evaluate it,
+ * reading the baked tables (cpp/src/bcsdf/bake.cpp) instead of integrating:
+ *   fiber_lut:       rows A_R, A_TT, A_D over theta_o in [0, pi/2]
+ *   dual_lut:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2 over theta_d in [-pi/2, pi/2]
+ *   aggregated_lut:  blocks a_F^(n-1), A_1+, B^ budget, each over (theta_d in [-pi/2, pi/2], n in [1, n_max])
+ * Texel centres sit on the axis nodes; every lookup interpolates linearly with texelFetch, so the
+ * result does not depend on the sampler's filter. Directions are unit vectors; the fibre tangent is
+ * t, theta is measured from the normal plane (sin theta = dot(w, t)), as in pbrt and DESIGN.md.
+ * Needs: sampler2D fiber_lut, dual_lut, aggregated_lut; vec4 lobe_shapes (R shift, R variance,
+ * TT shift, TT variance); vec2 lut_constants (TT azimuthal variance, n_max). */
+
+#define HAIRLOD_PI 3.14159265358979
+#define HAIRLOD_SIDE_SCATTER 0.6  /* d_1+ of Eq. 10 */
+#define HAIRLOD_MULTIPLE_SHADOWING 0.2  /* c_m of Eq. 13 */
+
+/* Row `row` of a table whose x axis spans [lo, hi] with texel centres on the nodes. */
+vec3 lut_row(sampler2D lut, int row, float x, float lo, float hi)
+{
+  int samples = textureSize(lut, 0).x;
+  float position = clamp((x - lo) / (hi - lo), 0.0, 1.0) * float(samples - 1);
+  int k = min(int(position), samples - 2);
+  float t = position - float(k);
+  return mix(texelFetch(lut, ivec2(k, row), 0).rgb, texelFetch(lut, ivec2(k + 1, row), 0).rgb, t);
+}
+
+/* Block `block` of aggregated_lut at (theta_d, n): bilinear within the block. */
+vec3 aggregated_lookup(int block, float theta_d, float n)
+{
+  ivec2 size = textureSize(aggregated_lut, 0);
+  int n_samples = size.y / 3;
+  float y = clamp((n - 1.0) / max(lut_constants.y - 1.0, 1e-6), 0.0, 1.0) * float(n_samples - 1);
+  int j = min(int(y), n_samples - 2);
+  float u = y - float(j);
+  float x = clamp((theta_d + 0.5 * HAIRLOD_PI) / HAIRLOD_PI, 0.0, 1.0) * float(size.x - 1);
+  int k = min(int(x), size.x - 2);
+  float t = x - float(k);
+  int row = block * n_samples + j;
+  vec3 low = mix(texelFetch(aggregated_lut, ivec2(k, row), 0).rgb, texelFetch(aggregated_lut, ivec2(k + 1, row), 0).rgb, t);
+  vec3 high = mix(texelFetch(aggregated_lut, ivec2(k, row + 1), 0).rgb,
+                  texelFetch(aggregated_lut, ivec2(k + 1, row + 1), 0).rgb, t);
+  return mix(low, high, u);
+}
+
+/* log(I_0(x)) from the polynomial fits of Abramowitz & Stegun 9.8.1-9.8.2 (relative error < 2e-7). */
+float log_bessel_i0(float x)
+{
+  x = abs(x);
+  if (x < 3.75) {
+    float t = (x / 3.75) * (x / 3.75);
+    return log(1.0 + t * (3.5156229 + t * (3.0899424 + t * (1.2067492 + t * (0.2659732 + t * (0.0360768 +
+                                                                                              t * 0.0045813))))));
+  }
+  float u = 3.75 / x;
+  float scaled = 0.39894228 + u * (0.01328592 + u * (0.00225319 + u * (-0.00157565 + u * (0.00916281 +
+                 u * (-0.02057706 + u * (0.02635537 + u * (-0.01647633 + u * 0.00392377)))))));
+  return x + log(scaled) - 0.5 * log(x);
+}
+
+/* d'Eon et al. 2011 longitudinal lobe of variance v, tilted by `shift` (Chiang et al. 2016 Sec. 4),
+ * in log space so that narrow lobes (1/v ~ 1e3) neither overflow nor lose precision. */
+float tilted_deon_longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, float shift, float v)
+{
+  float sin_2s = sin(2.0 * shift), cos_2s = cos(2.0 * shift);
+  float sin_op = sin_o * cos_2s - cos_o * sin_2s;
+  float cos_op = abs(cos_o * cos_2s + sin_o * sin_2s);
+  float a = sin_i * sin_op / v;
+  float b = cos_i * cos_op / v;
+  float log_normalisation = log(v) + 1.0 / v + log(max(1.0 - exp(-2.0 / v), 1e-30));
+  return exp(log_bessel_i0(b) - a - log_normalisation);
+}
+
+float hairlod_gaussian(float x, float variance)
+{
+  return exp(-0.5 * x * x / variance) / sqrt(2.0 * HAIRLOD_PI * variance);
+}
+
+/* A Gaussian wrapped onto the circle: a unit-area density on [-pi, pi) for every variance. */
+float wrapped_gaussian(float x, float variance)
+{
+  if (variance <= 4.0) {
+    float sum = 0.0;
+    for (int k = -3; k <= 3; ++k) {
+      sum += hairlod_gaussian(x + 2.0 * HAIRLOD_PI * float(k), variance);
+    }
+    return sum;
+  }
+  float sum = 1.0;
+  for (int k = 1; k <= 7; ++k) {
+    sum += 2.0 * exp(-0.5 * float(k * k) * variance) * cos(float(k) * x);
+  }
+  return sum / (2.0 * HAIRLOD_PI);
+}
+
+/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Eq. 6-15; n = 1 and rho = 1 is the
+ * single fibre of Eq. 1 with every hair behind it). Returns RGB. */
+vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
+{
+  float sin_i = clamp(dot(wi, t), -1.0, 1.0), sin_o = clamp(dot(wo, t), -1.0, 1.0);
+  float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0)), cos_o = sqrt(max(1.0 - sin_o * sin_o, 0.0));
+  float theta_i = atan(sin_i, cos_i), theta_o = atan(sin_o, cos_o);
+  float theta_d = 0.5 * (theta_o - theta_i);
+  /* |phi|, the azimuth between the projections onto the normal plane (every lobe is even in phi). */
+  vec3 pi_ = wi - sin_i * t, po = wo - sin_o * t;
+  float projections = length(pi_) * length(po);
+  float cos_phi = projections > 1e-12 ? clamp(dot(pi_, po) / projections, -1.0, 1.0) : 1.0;
+  float phi = acos(cos_phi);
+
+  vec3 a_f = lut_row(dual_lut, 0, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+  vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+  float crossed = n - 1.0;
+  /* Eq. 7 and 9: n - 1 forward scatterings attenuate and widen R^, TT^, D^. */
+  vec3 attenuation = aggregated_lookup(0, theta_d, n);
+  float sigma_f2_mean = (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
+  float longitudinal_spread = 4.0 * crossed * sigma_f2_mean;
+  float azimuthal_spread = crossed * sigma_f2_mean;
+
+  /* A_p at theta_o (fiber_rtd.cpp): the lossless fibre then returns A_R + A_TT + A_D. */
+  float abs_theta_o = abs(theta_o);
+  vec3 a_r = lut_row(fiber_lut, 0, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  vec3 a_tt = lut_row(fiber_lut, 1, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  vec3 a_d = lut_row(fiber_lut, 2, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  float inv_cos_i = 1.0 / max(cos_i, 1e-6);
+
+  float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_shapes.x, lobe_shapes.y + longitudinal_spread);
+  float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_shapes.z, lobe_shapes.w + longitudinal_spread);
+  float n_tt = wrapped_gaussian(phi - HAIRLOD_PI, lut_constants.x + azimuthal_spread);
+  vec3 value = attenuation * (a_r * (m_r * inv_cos_i / (2.0 * HAIRLOD_PI)) + a_tt * (m_tt * n_tt * inv_cos_i) +
+                              a_d / (HAIRLOD_PI * HAIRLOD_PI));
+
+  vec3 shadowing = vec3(1.0);
+  if (phi < 0.5 * HAIRLOD_PI) {
+    /* Eq. 10-11: B^ = A_1+ + A_1 + A_3, capped by the budget 1 - a_F^(n-1) (a_f + a_b) at theta_o. */
+    vec3 a_1_plus = aggregated_lookup(1, theta_d, n);
+    vec3 budget = aggregated_lookup(2, theta_o, n);
+    vec3 a_1 = lut_row(dual_lut, 2, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+    vec3 a_3 = lut_row(dual_lut, 3, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+    vec3 delta_b = lut_row(dual_lut, 4, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+    vec3 sigma_b = lut_row(dual_lut, 5, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+    vec3 a_b = min(a_1_plus + a_1 + a_3, budget);
+    vec3 m_b;
+    for (int c = 0; c < 3; ++c) {
+      m_b[c] = hairlod_gaussian(theta_i + theta_o - 2.0 * delta_b[c], max(4.0 * sigma_b[c] * sigma_b[c], 1e-12));
+    }
+    value += a_b * m_b / HAIRLOD_PI;
+    /* Eq. 12-15: shadowing-masking towards the front. */
+    float open = 1.0 - rho;
+    float p_m = open * HAIRLOD_MULTIPLE_SHADOWING;
+    float p_s = clamp(open * (1.0 - cos_phi), 0.0, 1.0 - p_m);
+    shadowing = p_s * a_f + vec3(1.0 - p_m - p_s);
+  }
+  return value * shadowing;
+}
+
+/* Hairs crossed by a ray of length `ray_length` through a thick hair (Sec. 4): n = rho l sqrt(n_total /
+ * (pi r_A r_B)), at least 1. */
+float hairs_crossed(float rho, float ray_length, float n_total, float r_a, float r_b)
+{
+  return max(1.0, rho * ray_length * sqrt(n_total / (HAIRLOD_PI * max(r_a * r_b, 1e-30))));
+}

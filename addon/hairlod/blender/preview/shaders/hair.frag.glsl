@@ -1,0 +1,48 @@
+/* Shading of the LoD preview. shading_mode 0: the aggregated BCSDF (aggregated_bcsdf.glsl) under up
+ * to 8 lights (frame.counts.x of them; `frame` is the HairFrame uniform block, lod_preview.py), world
+ * space: light_vectors[k] = (unit direction towards a sun, 0) or (position of a point light, 1);
+ * light_colours[k].rgb = the sun's irradiance, or the point light's intensity (its power over 4 pi)
+ * that falls off with the squared distance. Plus an ambient term: the world colour
+ * times the hair's directional albedo, approximated by the fibre's A_R + A_TT + A_D at theta_o
+ * attenuated by a_F^(n-1). shading_mode 1: the level's colour, darkened towards the silhouette.
+ * Radiance is tone-mapped (x / (1 + x)) and encoded to sRGB for the viewport. */
+
+float srgb_encode(float linear)
+{
+  return linear <= 0.0031308 ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+void main()
+{
+  float across = clamp(v_across, -1.0, 1.0);
+  if (shading_mode == 1) {
+    float facing = sqrt(max(1.0 - across * across, 0.0));
+    fragColor = vec4(level_colour.rgb * (0.45 + 0.55 * facing), 1.0);
+    return;
+  }
+  vec3 t = normalize(v_tangent);
+  vec3 wo = normalize(v_to_camera);
+  float n = 1.0, rho = v_cluster.y;
+  if (v_ellipse.z > 0.0) {
+    /* Sec. 4: the view ray's chord through the ellipse at this offset from its centre line;
+     * 2 r_A r_B / w through the middle, w the silhouette half-width, longer as the ray tilts along t. */
+    float along = sqrt(max(1.0 - dot(wo, t) * dot(wo, t), 0.05 * 0.05));
+    float chord = 2.0 * v_ellipse.x * v_ellipse.y / max(v_ellipse.z, 1e-20) * sqrt(max(1.0 - across * across, 0.0)) / along;
+    n = min(hairs_crossed(rho, chord, v_cluster.x, v_ellipse.x, v_ellipse.y), lut_constants.y);
+  }
+  vec3 radiance = vec3(0.0);
+  for (int k = 0; k < int(frame.counts.x); ++k) {
+    vec3 to_light = frame.light_vectors[k].xyz - v_position * frame.light_vectors[k].w;
+    float distance2 = frame.light_vectors[k].w > 0.0 ? max(dot(to_light, to_light), 1e-20) : 1.0;
+    vec3 wi = normalize(to_light);
+    float sin_i = dot(wi, t);
+    float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
+    radiance += frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
+  }
+  float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
+  vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
+                lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n);
+  vec3 mapped = radiance / (1.0 + radiance);
+  fragColor = vec4(srgb_encode(mapped.r), srgb_encode(mapped.g), srgb_encode(mapped.b), 1.0);
+}

@@ -1,0 +1,12 @@
+/* A strand drawn as lines, one vertex per control point; object space in, world space out. */
+void main()
+{
+  vec3 world = (frame.model * vec4(position, 1.0)).xyz;
+  gl_Position = frame.view_projection * vec4(world, 1.0);
+  v_position = world;
+  v_tangent = normalize(mat3(frame.model) * tangent);
+  v_to_camera = frame.camera.xyz - world * frame.camera.w;
+  v_across = 0.0;
+  v_ellipse = vec3(0.0);
+  v_cluster = vec2(1.0, 1.0);  /* one hair: n = 1, rho = 1 */
+}

@@ -1,0 +1,49 @@
+#pragma once
+// Per-view LoD state for interactive drawing (hair-lod-aggregated-bcsdf.txt Sec. 5.2): the rest (or
+// one skinned) geometry, the current Selection, and the index lists a renderer draws from it.
+// The first update makes the initial selection (Sec. 5.1 step 5); later updates take one step of
+// Eq. 16 from the previous one, so a level changes by at most one per frame and never pops by
+// more. Index lists refer to vertex buffers laid out item-major with n_c control points per item:
+// thick hairs of a level in asset order, strands in hierarchy order (LodAsset::strand_order).
+#include <cstdint>
+#include <vector>
+
+#include "hairlod/lod/lod_asset.h"
+#include "hairlod/lod/selection.h"
+
+namespace hairlod {
+
+// LINES: one vertex per control point, 2 indices per segment. STRIPS: camera-facing strips with
+// vertices 2k and 2k + 1 on either side of control point k, 6 indices (2 triangles) per segment.
+enum class DrawPrimitive { lines, strips };
+
+// Appends the indices of every range of `selection` at `level` to `out`.
+void append_draw_indices(const Selection& selection, int level, int control_points, DrawPrimitive primitive,
+                         std::vector<uint32_t>& out);
+
+class ViewSelection {
+public:
+    // `asset` must outlive this object; `geometry` is its rest or skinned geometry.
+    ViewSelection(const LodAsset& asset, LodGeometry geometry);
+
+    // Selects for `camera`: the initial selection on the first call (or after reset), else one
+    // Eq. 16 step. Returns whether any level, visibility or the draw list changed.
+    bool update(const Camera& camera, float width_px);
+    void reset() { started_ = false; }
+
+    const Selection& selection() const { return selection_; }
+    const LodGeometry& geometry() const { return geometry_; }
+    int level_count() const { return static_cast<int>(asset_->thick_levels.size()) + 1; }  // the strands last
+
+    std::vector<uint32_t> indices(int level, DrawPrimitive primitive) const;
+    // Segments selected per level (thick hairs or strands times their selected segments).
+    std::vector<int64_t> segments_per_level() const;
+
+private:
+    const LodAsset* asset_;
+    LodGeometry geometry_;
+    Selection selection_;
+    bool started_ = false;
+};
+
+}  // namespace hairlod

@@ -1,0 +1,63 @@
+#include "hairlod/lod/view_selection.h"
+
+#include <string>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod {
+
+void append_draw_indices(const Selection& selection, int level, int control_points, DrawPrimitive primitive,
+                         std::vector<uint32_t>& out) {
+    if (control_points < 2) throw Error("draw indices: control_points must be >= 2, got " + std::to_string(control_points));
+    const auto nc = static_cast<uint32_t>(control_points);
+    for (const DrawRange& draw : selection.draws) {
+        if (draw.level != level) continue;
+        const auto last_segment = static_cast<uint32_t>(draw.first_segment + draw.segment_count);
+        for (auto item = static_cast<uint32_t>(draw.first); item < static_cast<uint32_t>(draw.first + draw.count); ++item) {
+            for (auto s = static_cast<uint32_t>(draw.first_segment); s < last_segment; ++s) {
+                const uint32_t k = item * nc + s;
+                if (primitive == DrawPrimitive::lines) {
+                    out.insert(out.end(), {k, k + 1});
+                } else {
+                    // Control points k and k + 1 span the quad (2k, 2k + 1, 2k + 2, 2k + 3).
+                    const uint32_t v = 2 * k;
+                    out.insert(out.end(), {v, v + 1, v + 2, v + 1, v + 3, v + 2});
+                }
+            }
+        }
+    }
+}
+
+ViewSelection::ViewSelection(const LodAsset& asset, LodGeometry geometry) : asset_(&asset), geometry_(std::move(geometry)) {
+    if (geometry_.levels.size() != asset.thick_levels.size() || geometry_.cluster_bounds.size() != asset.cluster_count())
+        throw Error("view selection: geometry does not belong to this asset");
+}
+
+bool ViewSelection::update(const Camera& camera, float width_px) {
+    if (!started_) {
+        selection_ = select_initial(*asset_, geometry_, camera, width_px);
+        started_ = true;
+        return true;
+    }
+    const std::vector<uint8_t> level = selection_.level, visible = selection_.visible;
+    select_deferred_in_place(*asset_, geometry_, camera, width_px, selection_);
+    return level != selection_.level || visible != selection_.visible;
+}
+
+std::vector<uint32_t> ViewSelection::indices(int level, DrawPrimitive primitive) const {
+    if (level < 0 || level >= level_count())
+        throw Error("view selection: level " + std::to_string(level) + " out of range [0, " +
+                    std::to_string(level_count()) + ")");
+    std::vector<uint32_t> out;
+    append_draw_indices(selection_, level, asset_->control_points, primitive, out);
+    return out;
+}
+
+std::vector<int64_t> ViewSelection::segments_per_level() const {
+    std::vector<int64_t> segments(static_cast<size_t>(level_count()), 0);
+    for (const DrawRange& draw : selection_.draws)
+        segments[static_cast<size_t>(draw.level)] += static_cast<int64_t>(draw.count) * draw.segment_count;
+    return segments;
+}
+
+}  // namespace hairlod

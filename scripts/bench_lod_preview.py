@@ -1,0 +1,173 @@
+"""Benchmarks the viewport LoD preview in a real Blender window (run under Xvfb).
+
+Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_lod_preview.py
+     [-- --count 100000 --frames 24 --out FILE.json]
+Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their LoD (256 guides, 6
+levels) and previews it on an empty, lit by a sun. A camera dolly from 0.7x to 30x the hair's size
+over --frames frames (one redraw, so one Eq. 16 step, per frame) is captured twice: with the LoD at
+eps_w = 2 px and with every strand. Prints one JSON object: per frame the segments drawn, the
+selection + index update time, the PSNR of the LoD frame against the all-strand frame, and the
+adjacent-frame PSNR of both (over the hair's bounding box) (the paper's Fig. 9 measure of popping); and the draw time of a frame at
+the far view without hair, with the LoD and with every strand (wm.redraw_timer, 10 redraws).
+"""
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+import traceback
+
+import bpy
+import numpy as np
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
+
+
+def parse_args():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--count", type=int, default=100000)
+    parser.add_argument("--frames", type=int, default=24)
+    parser.add_argument("--out")
+    return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+
+
+def psnr(a, b, background):
+    """PSNR over the bounding box of the pixels where either image differs from the background, so
+    that a small hair far away is not flattered by the empty viewport around it."""
+    hair = (np.abs(a - background).max(axis=2) > 1 / 255) | (np.abs(b - background).max(axis=2) > 1 / 255)
+    if not hair.any():
+        return math.inf
+    rows, columns = np.flatnonzero(hair.any(axis=1)), np.flatnonzero(hair.any(axis=0))
+    box = (slice(rows[0], rows[-1] + 1), slice(columns[0], columns[-1] + 1))
+    mse = float(np.mean((a[box] - b[box]) ** 2))
+    return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
+
+
+def capture(window, area, path):
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path, check_existing=False)
+    image = bpy.data.images.load(path)
+    pixels = np.empty(image.size[0] * image.size[1] * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    size = tuple(image.size)
+    bpy.data.images.remove(image)
+    return pixels.reshape(size[1], size[0], 4)[..., :3]
+
+
+def redraw(window, area, region, iterations=1):
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+        start = time.perf_counter()
+        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
+    return (time.perf_counter() - start) / iterations
+
+
+def run(args):
+    import addon_utils
+
+    addon_utils.enable("hairlod", default_set=True)
+    import hairlod
+    from hairlod import hairmesh, lod
+    from hairlod.blender.preview import lod_preview
+
+    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=args.count, vertices=17, seed=1)
+    start = time.perf_counter()
+    asset = lod.build_lod(strands, guides=256, levels=6, control_points=16, seed=0)
+    build_seconds = time.perf_counter() - start
+    lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
+    centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
+
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    holder = bpy.data.objects.new("hair LoD", None)
+    bpy.context.scene.collection.objects.link(holder)
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", 'SUN'))
+    sun.data.energy = 3.0
+    sun.rotation_euler = (0.9, 0.3, 0.6)
+    bpy.context.scene.collection.objects.link(sun)
+    lod_preview.attach(holder, asset)
+    settings = holder.hairlod_lod_preview
+    preview = lod_preview.preview_of(holder)
+
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    space = area.spaces.active
+    region_3d = space.region_3d
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    space.clip_start, space.clip_end = 0.01 * size, 100.0 * size
+    region_3d.view_perspective = 'PERSP'
+    region_3d.view_location = centre
+    region_3d.view_rotation = (0.8, 0.45, 0.2, 0.35)
+    region_3d.view_rotation.normalize()
+    out_dir = os.environ.get("TMPDIR", "/tmp")
+    distances = np.geomspace(0.7, 30.0, args.frames) * size
+
+    def dolly(width_px):
+        settings.width_px = width_px
+        preview.views.clear()
+        frames = []
+        for k, distance in enumerate(distances):
+            region_3d.view_distance = float(distance)
+            redraw(window, area, region)
+            stats = dict(preview.stats)
+            frames.append((capture(window, area, os.path.join(out_dir, f"dolly_{k}.png")), stats))
+        return frames
+
+    settings.enabled = False
+    redraw(window, area, region)
+    background = capture(window, area, os.path.join(out_dir, "dolly_background.png"))
+    settings.enabled = True
+    with_lod = dolly(2.0)
+    with_strands = dolly(1e-3)
+    frames = []
+    for k in range(args.frames):
+        image, stats = with_lod[k]
+        reference = with_strands[k][0]
+        frame = {"distance_over_size": float(distances[k] / size), "segments": stats["segments"],
+                 "segments_all_strands": with_strands[k][1]["segments"],
+                 "select_ms": stats["select_ms"], "psnr_vs_strands": psnr(image, reference, background)}
+        if k > 0:
+            frame["adjacent_psnr_lod"] = psnr(image, with_lod[k - 1][0], background)
+            frame["adjacent_psnr_strands"] = psnr(reference, with_strands[k - 1][0], background)
+        frames.append(frame)
+
+    # Draw time at the far view, settled selection.
+    region_3d.view_distance = float(distances[-1])
+    timings = {}
+    for name, width_px, enabled in (("no_hair", 2.0, False), ("lod", 2.0, True), ("all_strands", 1e-3, True)):
+        settings.enabled = enabled
+        settings.width_px = width_px
+        preview.views.clear()
+        for _ in range(12):
+            redraw(window, area, region)
+        timings[name] = 1e3 * min(redraw(window, area, region, 10) for _ in range(3))
+    result = {"strands": len(strands), "build_seconds": build_seconds,
+              "levels": [len(level.n_total) for level in asset.levels], "frames": frames,
+              "far_frame_ms": timings,
+              "far_hair_ms_ratio": (timings["all_strands"] - timings["no_hair"]) /
+                                   max(timings["lod"] - timings["no_hair"], 1e-3)}
+    text = json.dumps(result, indent=1)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(text)
+
+
+def main():
+    status = 0
+    try:
+        run(parse_args())
+    except Exception:
+        traceback.print_exc()
+        status = 1
+    sys.stdout.flush()
+    os._exit(status)
+
+
+bpy.context.preferences.view.show_splash = False
+bpy.app.timers.register(main, first_interval=1.0)

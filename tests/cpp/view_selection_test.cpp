@@ -1,0 +1,139 @@
+#include "hairlod/lod/view_selection.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod {
+namespace {
+
+// Strands hanging from the upper half of a unit sphere (the shape of selection_test.cpp's).
+StrandSet hanging_hair(size_t curves) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    StrandSet strands;
+    std::vector<glm::vec3> curve(8);
+    std::vector<float> radius(8, 0.002f);
+    for (size_t c = 0; c < curves; ++c) {
+        const float azimuth = 6.2831853f * unit(rng), polar = 1.4f * unit(rng);
+        const glm::vec3 root(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
+        for (size_t i = 0; i < curve.size(); ++i) curve[i] = root * (1.0f + 0.02f * i) + glm::vec3(0, 0, -0.1f * i);
+        strands.add_curve(curve, radius);
+    }
+    return strands;
+}
+
+Camera camera_at(float distance, glm::vec3 direction = {1.0f, 0.3f, 0.2f}) {
+    const glm::vec3 target(0, 0, -0.3f);
+    Camera camera;
+    camera.view = glm::lookAt(target + distance * glm::normalize(direction), target, glm::vec3(0, 0, 1));
+    camera.projection = glm::perspective(glm::radians(45.0f), 4.0f / 3.0f, 0.01f, 1000.0f);
+    camera.viewport = {800.0f, 600.0f};
+    return camera;
+}
+
+class ViewSelectionTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        asset_ = new LodAsset(build_lod(hanging_hair(1500), {.guides = 12, .levels = 5, .control_points = 6, .seed = 3}));
+    }
+    static void TearDownTestSuite() { delete asset_; }
+    static LodAsset* asset_;
+
+    // Items of `level`: its thick hairs, or the strands at the finest level.
+    static size_t items(int level) {
+        return level < static_cast<int>(asset_->thick_levels.size())
+                   ? asset_->thick_levels[static_cast<size_t>(level)].member_first.size() - 1
+                   : asset_->strand_count();
+    }
+};
+LodAsset* ViewSelectionTest::asset_ = nullptr;
+
+TEST_F(ViewSelectionTest, StaticCameraConvergesToTheInitialSelection) {
+    ViewSelection view(*asset_, asset_->rest_geometry());
+    const Camera far = camera_at(40.0f), near = camera_at(2.5f);
+    EXPECT_TRUE(view.update(far, 2.0f));  // the first update selects from scratch
+    // Jumping close: Eq. 16 refines one level per frame, then stops changing.
+    int changing_frames = 0;
+    while (view.update(near, 2.0f)) ASSERT_LT(++changing_frames, 32) << "Eq. 16 does not converge";
+    EXPECT_GT(changing_frames, 0);
+    const Selection initial = select_initial(*asset_, view.geometry(), near, 2.0f);
+    EXPECT_EQ(view.selection().level, initial.level);
+    EXPECT_EQ(view.selection().visible, initial.visible);
+    EXPECT_FALSE(view.update(near, 2.0f));
+    view.reset();
+    EXPECT_TRUE(view.update(near, 2.0f));
+}
+
+TEST_F(ViewSelectionTest, IndicesCoverEveryVisibleSegmentOnce) {
+    for (const float distance : {2.0f, 6.0f, 30.0f}) {
+        ViewSelection view(*asset_, asset_->rest_geometry());
+        view.update(camera_at(distance), 2.0f);
+        const Selection& selection = view.selection();
+        const auto nc = static_cast<uint32_t>(asset_->control_points);
+        const std::vector<int64_t> segments = view.segments_per_level();
+        // Each visible cluster's n_c - 1 segments are drawn at exactly one level each.
+        std::vector<int> drawn(selection.visible.size() * static_cast<size_t>(selection.segments), 0);
+        for (const DrawRange& draw : selection.draws)
+            for (int s = draw.first_segment; s < draw.first_segment + draw.segment_count; ++s)
+                ++drawn[static_cast<size_t>(draw.cluster) * selection.segments + static_cast<size_t>(s)];
+        for (size_t c = 0; c < selection.visible.size(); ++c)
+            for (int s = 0; s < selection.segments; ++s)
+                EXPECT_EQ(drawn[c * selection.segments + static_cast<size_t>(s)], selection.visible[c] ? 1 : 0);
+        for (int level = 0; level < view.level_count(); ++level) {
+            const std::vector<uint32_t> lines = view.indices(level, DrawPrimitive::lines);
+            const std::vector<uint32_t> strips = view.indices(level, DrawPrimitive::strips);
+            ASSERT_EQ(lines.size(), 2 * static_cast<size_t>(segments[static_cast<size_t>(level)]));
+            ASSERT_EQ(strips.size(), 6 * static_cast<size_t>(segments[static_cast<size_t>(level)]));
+            const auto vertices = static_cast<uint32_t>(items(level)) * nc;
+            if (!lines.empty()) {
+                EXPECT_LT(*std::max_element(lines.begin(), lines.end()), vertices);
+                EXPECT_LT(*std::max_element(strips.begin(), strips.end()), 2 * vertices);
+            }
+            // A line never joins two items: both ends belong to the same item.
+            for (size_t i = 0; i < lines.size(); i += 2) {
+                EXPECT_EQ(lines[i] / nc, lines[i + 1] / nc);
+                EXPECT_EQ(lines[i + 1], lines[i] + 1);
+            }
+        }
+    }
+}
+
+TEST_F(ViewSelectionTest, FartherViewsDrawFewerSegments) {
+    // Cameras that see the whole hair: the drawn segments never grow with distance, and far away
+    // only thick hairs are drawn.
+    int64_t previous_total = std::numeric_limits<int64_t>::max();
+    std::vector<int64_t> segments;
+    for (const float distance : {5.0f, 20.0f, 80.0f, 400.0f}) {
+        ViewSelection view(*asset_, asset_->rest_geometry());
+        view.update(camera_at(distance), 2.0f);
+        segments = view.segments_per_level();
+        const int64_t total = std::accumulate(segments.begin(), segments.end(), int64_t{0});
+        EXPECT_LE(total, previous_total) << "at distance " << distance;
+        previous_total = total;
+    }
+    EXPECT_EQ(segments.back(), 0) << "the farthest camera draws no strands";
+    EXPECT_GT(segments.front(), 0) << "it draws the coarsest thick hairs";
+}
+
+TEST_F(ViewSelectionTest, BadArgumentsThrow) {
+    ViewSelection view(*asset_, asset_->rest_geometry());
+    EXPECT_THROW(view.indices(-1, DrawPrimitive::lines), Error);
+    EXPECT_THROW(view.indices(view.level_count(), DrawPrimitive::lines), Error);
+    LodGeometry foreign = asset_->rest_geometry();
+    foreign.levels.pop_back();
+    EXPECT_THROW(ViewSelection(*asset_, foreign), Error);
+    std::vector<uint32_t> out;
+    EXPECT_THROW(append_draw_indices(view.selection(), 0, 1, DrawPrimitive::lines, out), Error);
+}
+
+}  // namespace
+}  // namespace hairlod

@@ -1,0 +1,189 @@
+"""The viewport LoD preview draws the hair and draws less of it from far away (Blender under Xvfb,
+see scripts/run_ui_tests.sh).
+
+Generates 20,000 strands in the bundled hair mesh examples/data/wavy_cap.hairmesh.json, builds their
+LoD and attaches it to an empty object. Screenshots the viewport at a near, a mid and a far camera
+distance with the preview on and off: the preview must draw hair pixels; the far view must draw at
+least 10x fewer segments than the near one; at mid distance the LoD image must be close to drawing
+every strand (PSNR reported). Draw times per frame (wm.redraw_timer) at the far view with the LoD and
+with every strand are printed, not asserted. Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
+"""
+
+import math
+import os
+import sys
+import time
+import traceback
+
+import bpy
+import numpy as np
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
+OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+
+REDRAW_DELAY = 1.0
+SETTLE_DELAY = 0.25
+STRANDS = 20000
+
+
+def view3d(window):
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    return area, region, area.spaces.active.region_3d
+
+
+def screenshot(window, area, name):
+    path = os.path.join(OUT_DIR, name)
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path, check_existing=False)
+    image = bpy.data.images.load(path)
+    width, height = image.size
+    pixels = np.empty(width * height * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    bpy.data.images.remove(image)
+    return pixels.reshape(height, width, 4)[..., :3]
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def psnr(a, b):
+    mse = float(np.mean((a - b) ** 2))
+    return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
+
+
+def frame_ms(window, area, region, iterations=10):
+    """Mean milliseconds of a redraw of the viewport's main region."""
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+        start = time.perf_counter()
+        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
+    return 1e3 * (time.perf_counter() - start) / iterations
+
+
+def settle(area, preview, redraws=40):
+    """Redraws until Eq. 16 stops changing the selection (it moves one level per frame)."""
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    for _ in range(redraws):
+        if not preview.stats.get("converging", True):
+            return
+        area.tag_redraw()
+        yield SETTLE_DELAY
+
+
+def steps():
+    import addon_utils
+
+    window = bpy.context.window_manager.windows[0]
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    import hairlod
+    from hairlod import hairmesh, lod
+    from hairlod.blender.preview import lod_preview
+
+    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=STRANDS, vertices=17, seed=1)
+    asset = lod.build_lod(strands, guides=64, levels=6, control_points=16, seed=0)
+    lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
+    centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
+
+    # An empty scene but for an empty that carries the asset.
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    holder = bpy.data.objects.new("hair LoD", None)
+    bpy.context.scene.collection.objects.link(holder)
+    lod_preview.attach(holder, asset)
+    settings = holder.hairlod_lod_preview
+    preview = lod_preview.preview_of(holder)
+
+    area, region, region_3d = view3d(window)
+    space = area.spaces.active
+    space.overlay.show_floor = False
+    space.overlay.show_axis_x = space.overlay.show_axis_y = False
+    space.overlay.show_cursor = False
+    space.show_gizmo = False
+    space.clip_start, space.clip_end = 0.01 * size, 100.0 * size
+    region_3d.view_perspective = 'PERSP'
+    region_3d.view_location = centre
+    region_3d.view_rotation = (0.8, 0.45, 0.2, 0.35)
+    region_3d.view_rotation.normalize()
+
+    results = {}
+    for view, distance in (("near", 0.7), ("mid", 1.2), ("far", 30.0)):
+        region_3d.view_distance = distance * size
+        settings.enabled = True
+        settings.width_px = 2.0
+        yield from settle(area, preview)
+        check(not preview.stats["converging"], f"{view}: the selection has settled")
+        results[view] = dict(preview.stats)
+        with_lod = screenshot(window, area, f"lod_preview_{view}.png")
+        if view == "mid":
+            settings.width_px = 0.01  # every cluster at the strands
+            yield from settle(area, preview)
+            results["mid_strands"] = dict(preview.stats)
+            all_strands = screenshot(window, area, "lod_preview_mid_strands.png")
+            settings.width_px = 2.0
+        if view == "far":
+            far_lod_ms = frame_ms(window, area, region)
+            settings.width_px = 0.01
+            yield from settle(area, preview)
+            far_strands_ms = frame_ms(window, area, region)
+            results["far_strands"] = dict(preview.stats)
+            settings.width_px = 2.0
+        settings.enabled = False
+        area.tag_redraw()
+        yield REDRAW_DELAY
+        without = screenshot(window, area, f"lod_preview_{view}_off.png")
+        if view == "far":
+            far_off_ms = frame_ms(window, area, region)
+        hair = np.abs(with_lod - without).max(axis=2) > 0.05
+        results[view]["hair_pixels"] = float(hair.mean())
+        print(f"{view}: {results[view]['segments']:,} segments {results[view]['segments_per_level']}, "
+              f"hair covers {hair.mean():.1%} of the viewport")
+        check(hair.sum() > 20, f"{view}: the preview draws hair pixels ({hair.sum()})")
+        if view == "mid":
+            results["mid_psnr"] = psnr(with_lod, all_strands)
+
+    check(results["far"]["segments"] * 10 <= results["near"]["segments"],
+          f"far view draws {results['near']['segments'] / max(results['far']['segments'], 1):.1f}x fewer segments "
+          f"than near ({results['far']['segments']:,} vs {results['near']['segments']:,})")
+    check(results["mid"]["segments"] < results["mid_strands"]["segments"],
+          f"mid view: the LoD draws fewer segments than every strand ({results['mid']['segments']:,} vs "
+          f"{results['mid_strands']['segments']:,})")
+    check(results["mid_psnr"] > 15.0, f"mid view: LoD vs every strand, PSNR {results['mid_psnr']:.1f} dB")
+    # The hair's share of a frame: the frame time over the same frame without the preview.
+    lod_ms, strands_ms = far_lod_ms - far_off_ms, far_strands_ms - far_off_ms
+    print(f"far view frame: {far_off_ms:.2f} ms without hair; hair adds {lod_ms:.2f} ms with the LoD, "
+          f"{strands_ms:.2f} ms with every strand ({strands_ms / max(lod_ms, 1e-3):.1f}x); "
+          f"selection + index update {results['far']['select_ms']:.3f} ms")
+
+
+def run():
+    os.makedirs(OUT_DIR, exist_ok=True)
+    bpy.context.preferences.view.show_splash = False
+    step = steps()
+
+    def tick():
+        try:
+            return next(step)
+        except StopIteration:
+            finish(0)
+        except Exception:
+            traceback.print_exc()
+            finish(1)
+        return None
+
+    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY)
+
+
+def finish(status):
+    print("ui test:", "passed" if status == 0 else "FAILED")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
+
+
+run()

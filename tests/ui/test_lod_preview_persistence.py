@@ -1,0 +1,111 @@
+"""The LoD preview follows the asset that Build Hair LoD packs into the hair object: it appears after
+the build, after saving and reopening the .blend, and after disabling and re-enabling the add-on;
+undoing the build takes it away (Blender under Xvfb, see scripts/run_ui_tests.sh)."""
+
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+
+REDRAW_DELAY = 1.0
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def view3d_area():
+    window = bpy.context.window_manager.windows[0]
+    return window, next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+
+
+def drawn_segments(name):
+    from hairlod.blender.preview import lod_preview
+
+    obj = bpy.data.objects[name]
+    preview = lod_preview.preview_of(obj)
+    return None if preview is None else preview.stats.get("segments")
+
+
+def steps():
+    import addon_utils
+
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    import hairlod
+    from hairlod import hairmesh
+    from hairlod.blender.curves import strands_to_curves
+
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=4000, vertices=9, seed=2)
+    hair = strands_to_curves(strands, "Hair")
+    bpy.context.view_layer.objects.active = hair
+    hair.select_set(True)
+    window, area = view3d_area()
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.view3d.view_all()
+        check(bpy.ops.hairlod.build_lod('EXEC_DEFAULT', guides=24, levels=4, control_points=8) == {'FINISHED'},
+              "Build Hair LoD finished")
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    check((drawn_segments("Hair") or 0) > 0, f"the preview draws after the build ({drawn_segments('Hair')} segments)")
+
+    path = os.path.join(os.environ.get("TMPDIR", "/tmp"), "lod_preview_persistence.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    yield REDRAW_DELAY
+    window, area = view3d_area()
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    check((drawn_segments("Hair") or 0) > 0, "the preview draws after reopening the .blend")
+
+    addon_utils.disable("hairlod", default_set=True)
+    addon_utils.enable("hairlod", default_set=True)
+    yield REDRAW_DELAY
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    check((drawn_segments("Hair") or 0) > 0, "the preview draws after disabling and re-enabling the add-on")
+
+    del bpy.data.objects["Hair"]["hairlod_lod_asset"]
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    from hairlod.blender.preview import lod_preview
+
+    check(lod_preview.preview_of(bpy.data.objects["Hair"]) is None, "removing the packed asset removes the preview")
+
+
+def run():
+    bpy.context.preferences.view.show_splash = False
+    step = steps()
+
+    def tick():
+        try:
+            return next(step)
+        except StopIteration:
+            finish(0)
+        except Exception:
+            traceback.print_exc()
+            finish(1)
+        return None
+
+    # Persistent: the timer must survive opening a .blend.
+    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY, persistent=True)
+
+
+def finish(status):
+    print("ui test:", "passed" if status == 0 else "FAILED")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
+
+
+run()
