@@ -13,21 +13,14 @@ resolution), so |S_glsl - S_cpp| <= 0.05 S_cpp + 0.01 max(S_cpp) per channel.
 
 import os
 import sys
-import traceback
 
-import bpy
 import numpy as np
 
-REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
-sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import check  # noqa: E402
 
 SIZE = 64  # pixels per side: 4096 configurations per hair
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def directions(rng, count, max_theta=1.55):
@@ -120,16 +113,9 @@ def run():
         check((error <= 0.05 * reference + 0.01 * scale).all(), f"{name}: GLSL agrees with C++ within 5% + 1% of peak")
 
 
-def main():
-    status = 0
-    try:
-        run()
-    except Exception:
-        traceback.print_exc()
-        status = 1
-    print("ui test:", "passed" if status == 0 else "FAILED")
-    sys.stdout.flush()
-    os._exit(status)
+def steps():
+    run()
+    yield from ()
 
 
-bpy.app.timers.register(main, first_interval=0.5)
+harness.run(steps, first_delay=0.5)

@@ -10,13 +10,13 @@ import math
 import os
 import sys
 import time
-import traceback
 
 import bpy
 import numpy as np
 
-REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
-sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import check  # noqa: E402
 
 POLL_DELAY = 0.2
 TIMEOUT = 120.0
@@ -33,11 +33,6 @@ def hanging_hair(curves, points=12, seed=3):
     return Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(curves, points),
                                np.full(curves * points, 0.002, np.float32))
 
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def counts():
@@ -99,28 +94,4 @@ def steps():
     check(after[0] == before[0] + 4, "the first build's objects are still there")
 
 
-def run():
-    bpy.context.preferences.view.show_splash = False
-    step = steps()
-
-    def tick():
-        try:
-            return next(step)
-        except StopIteration:
-            finish(0)
-        except Exception:
-            traceback.print_exc()
-            finish(1)
-        return None
-
-    bpy.app.timers.register(tick, first_interval=1.0)
-
-
-def finish(status):
-    print("ui test:", "passed" if status == 0 else "FAILED")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(status)
-
-
-run()
+harness.run(steps)

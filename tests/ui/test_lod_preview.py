@@ -13,15 +13,15 @@ import math
 import os
 import sys
 import time
-import traceback
 
 import bpy
 import numpy as np
 
-REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import REPO_ROOT, check, screenshot  # noqa: E402
+
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
-OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
-sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 
 REDRAW_DELAY = 1.0
 SETTLE_DELAY = 0.25
@@ -32,24 +32,6 @@ def view3d(window):
     area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
     region = next(r for r in area.regions if r.type == 'WINDOW')
     return area, region, area.spaces.active.region_3d
-
-
-def screenshot(window, area, name):
-    path = os.path.join(OUT_DIR, name)
-    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
-        bpy.ops.screen.screenshot_area(filepath=path, check_existing=False)
-    image = bpy.data.images.load(path)
-    width, height = image.size
-    pixels = np.empty(width * height * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)[..., :3]
-
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def psnr(a, b):
@@ -161,29 +143,4 @@ def steps():
           f"selection + index update {results['far']['select_ms']:.3f} ms")
 
 
-def run():
-    os.makedirs(OUT_DIR, exist_ok=True)
-    bpy.context.preferences.view.show_splash = False
-    step = steps()
-
-    def tick():
-        try:
-            return next(step)
-        except StopIteration:
-            finish(0)
-        except Exception:
-            traceback.print_exc()
-            finish(1)
-        return None
-
-    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY)
-
-
-def finish(status):
-    print("ui test:", "passed" if status == 0 else "FAILED")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(status)
-
-
-run()
+harness.run(steps)

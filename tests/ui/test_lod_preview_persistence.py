@@ -4,22 +4,17 @@ undoing the build takes it away (Blender under Xvfb, see scripts/run_ui_tests.sh
 
 import os
 import sys
-import traceback
 
 import bpy
-import numpy as np
 
-REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import REPO_ROOT, check  # noqa: E402
+
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
-sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 
 REDRAW_DELAY = 1.0
 
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def view3d_area():
@@ -83,29 +78,4 @@ def steps():
     check(lod_preview.preview_of(bpy.data.objects["Hair"]) is None, "removing the packed asset removes the preview")
 
 
-def run():
-    bpy.context.preferences.view.show_splash = False
-    step = steps()
-
-    def tick():
-        try:
-            return next(step)
-        except StopIteration:
-            finish(0)
-        except Exception:
-            traceback.print_exc()
-            finish(1)
-        return None
-
-    # Persistent: the timer must survive opening a .blend.
-    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY, persistent=True)
-
-
-def finish(status):
-    print("ui test:", "passed" if status == 0 else "FAILED")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(status)
-
-
-run()
+harness.run(steps)
