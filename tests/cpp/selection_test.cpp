@@ -8,24 +8,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "hairlod/core/error.h"
+#include "hanging_hair.h"
 
 namespace hairlod {
 namespace {
 
-StrandSet hanging_hair(size_t curves) {
-    std::mt19937 rng(4);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    StrandSet strands;
-    std::vector<glm::vec3> curve(10);
-    std::vector<float> radius(10, 0.002f);
-    for (size_t c = 0; c < curves; ++c) {
-        const float azimuth = 6.2831853f * unit(rng), polar = 1.4f * unit(rng);
-        const glm::vec3 root(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
-        for (size_t i = 0; i < curve.size(); ++i) curve[i] = root * (1.0f + 0.02f * i) + glm::vec3(0, 0, -0.1f * i);
-        strands.add_curve(curve, radius);
-    }
-    return strands;
-}
+StrandSet hanging_hair(size_t curves) { return testing::hanging_hair(curves, 10, 4); }
 
 // Dollies along a fixed ray towards `target`.
 Camera camera_at(float distance, glm::vec3 target = glm::vec3(0, 0, -0.3f)) {

@@ -6,30 +6,16 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "hairlod/core/error.h"
+#include "hanging_hair.h"
 
 namespace hairlod {
 namespace {
 
-// Strands hanging from the upper half of a unit sphere (the shape of selection_test.cpp's).
-StrandSet hanging_hair(size_t curves) {
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    StrandSet strands;
-    std::vector<glm::vec3> curve(8);
-    std::vector<float> radius(8, 0.002f);
-    for (size_t c = 0; c < curves; ++c) {
-        const float azimuth = 6.2831853f * unit(rng), polar = 1.4f * unit(rng);
-        const glm::vec3 root(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
-        for (size_t i = 0; i < curve.size(); ++i) curve[i] = root * (1.0f + 0.02f * i) + glm::vec3(0, 0, -0.1f * i);
-        strands.add_curve(curve, radius);
-    }
-    return strands;
-}
+StrandSet hanging_hair(size_t curves) { return testing::hanging_hair(curves, 8, 7); }
 
 Camera camera_at(float distance, glm::vec3 direction = {1.0f, 0.3f, 0.2f}) {
     const glm::vec3 target(0, 0, -0.3f);
