@@ -4,6 +4,8 @@ import bpy
 
 from .hair_mesh_operators import (HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces,
                                   HAIRLOD_PG_strand_settings, register_properties, unregister_properties)
+from .hair_mesh_gpu_preview import register_handlers as register_gpu_preview
+from .hair_mesh_gpu_preview import unregister_handlers as unregister_gpu_preview
 from .hair_mesh_preview import register_handler, unregister_handler
 from .lod_operator import HAIRLOD_OT_build_lod
 from .operators import HAIRLOD_OT_export_hair, HAIRLOD_OT_import_hair, menu_func_export, menu_func_import
@@ -26,6 +28,7 @@ def register():
         bpy.utils.register_class(cls)
     register_properties()
     register_handler()
+    register_gpu_preview()
     bpy.types.TOPBAR_MT_file_import.append(menu_func_import)
     bpy.types.TOPBAR_MT_file_export.append(menu_func_export)
 
@@ -33,6 +36,7 @@ def register():
 def unregister():
     bpy.types.TOPBAR_MT_file_export.remove(menu_func_export)
     bpy.types.TOPBAR_MT_file_import.remove(menu_func_import)
+    unregister_gpu_preview()
     unregister_handler()
     unregister_properties()
     for cls in reversed(classes):
