@@ -166,7 +166,134 @@ def plot_bcsdf(result, path):
     plt.close(figure)
 
 
-__all__ = ["bench_bcsdf", "plot_bcsdf"]
+def bench_hair_mesh(rings=8, segments=24, layers=5, length=0.6):
+    """A hair mesh on the upper hemisphere of a unit sphere without its polar cap (latitudes 10 to
+    80 degrees; rings x segments quads), extruded outwards and drooping under gravity into `layers`
+    layers over `length`, with latitude-longitude uv."""
+    latitude = np.radians(np.linspace(10.0, 80.0, rings + 1))
+    longitude = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    lat, lon = (a.ravel() for a in np.meshgrid(latitude, longitude, indexing="ij"))
+    normal = np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=1)
+    step = np.linspace(0.0, 1.0, layers + 1)[:, None, None]
+    droop = np.array([0.0, 0.0, -0.5 * length])
+    points = normal[None] * (1.0 + length * step) + droop * step ** 2
+    ring, segment = np.meshgrid(np.arange(rings), np.arange(segments), indexing="ij")
+    corner = ring * segments + segment
+    following = ring * segments + (segment + 1) % segments
+    quads = np.stack([corner, following, following + segments, corner + segments], axis=-1).reshape(-1, 4)
+    # uv of each corner: the seam at longitude 2 pi closes with u = 1 rather than wrapping to 0.
+    u = np.stack([segment, segment + 1, segment + 1, segment], axis=-1).reshape(-1) / segments
+    v = np.stack([ring, ring, ring + 1, ring + 1], axis=-1).reshape(-1) / rings
+    uv = np.stack([u, v], axis=1).astype(np.float32)
+    return _core.HairMesh(points.astype(np.float32), np.full(len(quads), 4, np.int32),
+                          quads.reshape(-1).astype(np.int32), uv)
+
+
+# Every styling operation, with amplitudes for a head of radius 1 (bench_hair_mesh).
+BENCH_STYLING = [
+    {"op": "curl", "radius": 0.02, "frequency": 8.0, "randomness": 0.3},
+    {"op": "wave", "amplitude": 0.03, "frequency": 2.0, "randomness": 0.5},
+    {"op": "twist", "rate": 0.5},
+    {"op": "clump", "amount": 0.5, "profile": 2.0},
+    {"op": "frizz", "amplitude": 0.004, "frequency": 20.0},
+    {"op": "trim", "amount": 0.3},
+]
+
+
+def _strand_bytes(strands):
+    arrays = [strands.points, strands.radius, strands.offsets]
+    arrays += [strands.attribute(name) for name in strands.attribute_names()]
+    return sum(np.asarray(a).nbytes for a in arrays)
+
+
+def bench_generate(strands=100_000, vertices=33, repeats=7, seed=0):
+    """Strand generation from a hair mesh (hair-meshes-realtime.txt): median seconds of
+    StrandGenerator.generate into reused output with every styling operation, with none and with
+    each alone; vertices per second; the ratio to a copy of an array of the output's bytes (every
+    output array: points, radius, offsets, tangent, uvw, bundle), timed in the same run; and the
+    storage of the hair mesh JSON with its styling against the generated strands."""
+    import json
+
+    from . import hairmesh
+
+    mesh = bench_hair_mesh()
+    start = time.perf_counter()
+    generator = hairmesh.strand_generator(mesh, strands, seed)
+    setup_s = time.perf_counter() - start
+    radius = hairmesh.default_radius(mesh)
+
+    def timed(styling):
+        operations = hairmesh.styling_from_dicts(styling)
+        out = generator.generate(vertices=vertices, styling=operations, radius=radius)  # warm-up, allocates
+
+        def run():
+            generator.generate(vertices=vertices, styling=operations, radius=radius, out=out)
+
+        return median_seconds(run, repeats), out
+
+    all_s, output = timed(BENCH_STYLING)
+    output_bytes = _strand_bytes(output)
+    point_count = int(output.point_count)
+    source = np.ones(output_bytes, np.uint8)
+    target = np.empty_like(source)
+    np.copyto(target, source)
+    copy_s = median_seconds(lambda: np.copyto(target, source), repeats)
+    none_s, plain = timed([])
+    operations = {}
+    for operation in BENCH_STYLING:
+        seconds, _ = timed([operation])
+        operations[operation["op"]] = {"seconds": seconds, "over_none_s": seconds - none_s}
+
+    text = json.dumps(hairmesh.hair_mesh_to_dict(mesh, BENCH_STYLING), separators=(",", ":"))
+    plain_bytes = _strand_bytes(plain)
+    core_bytes = sum(np.asarray(a).nbytes for a in (plain.points, plain.radius, plain.offsets))
+    return {
+        "strands": strands,
+        "vertices": vertices,
+        "hair_mesh": {"faces": mesh.face_count, "layers": mesh.layer_count, "vertices": mesh.vertex_count},
+        "styling": BENCH_STYLING,
+        "repeats": repeats,
+        "setup_s": setup_s,
+        "generate_s": all_s,
+        "points": point_count,
+        "vertices_per_s": point_count / all_s,
+        "output_bytes": output_bytes,
+        "copy_s": copy_s,
+        "ratio_to_copy": all_s / copy_s,
+        "generate_no_styling_s": none_s,
+        "no_styling_ratio_to_copy": none_s / copy_s,
+        "operations": operations,
+        "storage": {
+            "hair_mesh_json_bytes": len(text.encode("utf-8")),
+            "strand_bytes": core_bytes,
+            "strand_bytes_with_attributes": plain_bytes,
+            "ratio": core_bytes / len(text.encode("utf-8")),
+        },
+    }
+
+
+def plot_generate(result, path):
+    """Bar chart of generation times: no styling, each operation alone, all, and the copy baseline."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = ["copy", "no styling"] + list(result["operations"]) + ["all"]
+    values = [result["copy_s"], result["generate_no_styling_s"]]
+    values += [row["seconds"] for row in result["operations"].values()] + [result["generate_s"]]
+    figure, axes = plt.subplots(figsize=(7, 4))
+    axes.bar(labels, [1e3 * v for v in values], color=["grey", "tab:blue"] + ["tab:orange"] * (len(labels) - 3)
+             + ["tab:red"])
+    axes.set_ylabel("median ms")
+    axes.set_title(f"generate: {result['strands']:,} strands x {result['vertices']} vertices "
+                   f"({result['output_bytes'] / 1e6:.0f} MB out)")
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
+__all__ = ["bench_bcsdf", "bench_generate", "bench_hair_mesh", "plot_bcsdf", "plot_generate"]
 
 
 def synthetic_hair(strands, points, seed=7):

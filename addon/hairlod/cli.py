@@ -383,8 +383,35 @@ def _bench_lod(args):
     return 0
 
 
+def _bench_generate(args):
+    from . import bench
+
+    _positive("strands", args.strands)
+    if args.repeats < 1:
+        raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
+    segments = args.vertices - 1
+    if segments < 1 or segments & (segments - 1):
+        raise UsageError(f"--vertices must be 2^e + 1 (2, 3, 5, 9, 17, 33, ...), got {args.vertices}")
+    if args.plot and not args.plot.lower().endswith(".png"):
+        raise UsageError(f"{args.plot}: --plot writes a .png file")
+    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
+        raise UsageError(f"{args.plot}: folder does not exist")
+    result = bench.bench_generate(strands=args.strands, vertices=args.vertices, repeats=args.repeats)
+    if args.plot:
+        staging = args.plot + ".tmp.png"
+        try:
+            bench.plot_generate(result, staging)
+            os.replace(staging, args.plot)
+        finally:
+            if os.path.exists(staging):
+                os.remove(staging)
+        result["plot"] = args.plot
+    print(json.dumps({"component": args.component, **result}, indent=None if args.json else 1))
+    return 0
+
+
 def command_bench(args):
-    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod}[args.component](args)
+    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "generate": _bench_generate}[args.component](args)
 
 
 def build_parser():
@@ -465,11 +492,12 @@ def build_parser():
     rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
-    bench.add_argument("component", choices=["bcsdf", "lod"], help="what to benchmark")
+    bench.add_argument("component", choices=["bcsdf", "lod", "generate"], help="what to benchmark")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.add_argument("--repeats", type=int, default=5, help="bcsdf: timing repeats (median; default 5)")
-    bench.add_argument("--plot", metavar="FILE.png", help="bcsdf: also plot ns per evaluation against error")
-    bench.add_argument("--strands", type=int, default=100_000, help="lod: synthetic strands (default 100000)")
+    bench.add_argument("--plot", metavar="FILE.png", help="bcsdf, generate: also write a plot")
+    bench.add_argument("--strands", type=int, default=100_000, help="lod, generate: strands (default 100000)")
+    bench.add_argument("--vertices", type=int, default=33, help="generate: vertices per strand (default 33)")
     bench.add_argument("--points", type=int, default=32, help="lod: points per synthetic strand (default 32)")
     bench.add_argument("--guides", type=int, default=256, help="lod: guides (default 256)")
     bench.add_argument("--levels", type=int, default=6, help="lod: levels including the strands (default 6)")

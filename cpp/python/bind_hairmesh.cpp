@@ -59,8 +59,9 @@ public:
         samples_ = root_sample_sets_for(mesh_, options_);
     }
 
-    StrandSet generate(int vertices, std::vector<StylingOperation> styling, float strand_lod, float vertex_lod,
-                       float lod_transition, float radius) const {
+    // Writes into `strands`, reusing its storage.
+    void generate(int vertices, std::vector<StylingOperation> styling, float strand_lod, float vertex_lod,
+                  float lod_transition, float radius, StrandSet& strands) const {
         GenerateOptions options = options_;
         options.vertices = vertices;
         options.styling = std::move(styling);
@@ -68,9 +69,7 @@ public:
         options.vertex_lod = vertex_lod;
         options.lod_transition = lod_transition;
         options.radius = radius;
-        StrandSet strands;
         generate_strands(mesh_, frames_, samples_, options, strands);
-        return strands;
     }
 
     const HairMesh& mesh() const { return mesh_; }
@@ -208,14 +207,22 @@ Generates strands from a hair mesh. Keeps the styling frames and the blue-noise 
              py::arg("mesh"), py::arg("count"), py::arg("seed") = 0)
         .def("generate",
              [](const StrandGenerator& g, int vertices, std::vector<StylingOperation> styling, float strand_lod,
-                float vertex_lod, float lod_transition, float radius) {
-                 py::gil_scoped_release release;
-                 return g.generate(vertices, std::move(styling), strand_lod, vertex_lod, lod_transition, radius);
+                float vertex_lod, float lod_transition, float radius, py::object out) {
+                 if (out.is_none()) out = py::cast(StrandSet{});
+                 auto& strands = out.cast<StrandSet&>();
+                 {
+                     py::gil_scoped_release release;
+                     g.generate(vertices, std::move(styling), strand_lod, vertex_lod, lod_transition, radius, strands);
+                 }
+                 return out;
              },
              py::kw_only(), py::arg("vertices") = 17, py::arg("styling") = std::vector<StylingOperation>{},
              py::arg("strand_lod") = 1.0f, py::arg("vertex_lod") = 1.0f, py::arg("lod_transition") = 0.5f,
-             py::arg("radius") = 0.0f,
-             "Strands with point attributes 'tangent' [N, 3], 'uvw' [N, 3] and curve attribute 'bundle'.")
+             py::arg("radius") = 0.0f, py::arg("out") = py::none(),
+             R"doc(Strands with point attributes 'tangent' [N, 3], 'uvw' [N, 3] and curve attribute 'bundle'.
+
+out: Strands to overwrite and return, reusing their memory (repeated generation of the same size
+then allocates nothing). Arrays read from `out` before the call must not be used after it.)doc")
         .def_property_readonly("mesh", &StrandGenerator::mesh)
         .def_property_readonly("count", &StrandGenerator::count)
         .def_property_readonly("seed", &StrandGenerator::seed);

@@ -295,3 +295,143 @@ def test_live_preview_follows_edit_mode_edits(empty_scene, addon):
     bpy.context.view_layer.update()
     assert obj.mode == 'EDIT'
     assert preview_points(obj)[:, 2].max() > before[:, 2].max() + 0.5
+
+
+def test_strand_line_indices_and_ramp_follow_the_offsets():
+    from hairlod.blender.preview.strand_batch import along_strand, line_indices
+
+    offsets = np.array([0, 3, 5, 9])
+    # Brute force: every consecutive pair inside a curve.
+    expected = [(i, i + 1) for c in range(3) for i in range(offsets[c], offsets[c + 1] - 1)]
+    assert line_indices(offsets).tolist() == [list(pair) for pair in expected]
+    assert line_indices(offsets).dtype == np.int32
+    assert np.allclose(along_strand(offsets), [0, 0.5, 1, 0, 1, 0, 1 / 3, 2 / 3, 1])
+    assert line_indices(np.array([0])).shape == (0, 2) and along_strand(np.array([0])).shape == (0,)
+
+
+class _View:
+    """The view matrices camera_detail_level reads: a camera at `eye` looking down -z."""
+
+    def __init__(self, eye, tan_half_fov=0.5, perspective=True):
+        from mathutils import Matrix
+
+        self.view_matrix = Matrix.Translation(eye).inverted()
+        self.window_matrix = Matrix.Diagonal((1.0, 1.0 / tan_half_fov, 1.0, 1.0))
+        self.is_perspective = perspective
+
+
+def test_camera_detail_level_is_eq7_of_the_distance_to_the_bounds():
+    from hairlod.blender.hair_mesh_gpu_preview import camera_detail_level, quantised_level
+
+    bounds = (np.array([0.0, 0.0, 0.0]), np.array([3.0, 4.0, 0.0]))  # diagonal h = 5
+
+    def level(eye, full_detail_px=100.0, perspective=True):
+        view = _View(eye, perspective=perspective)
+        return camera_detail_level(bounds, view.view_matrix, view.window_matrix, view.is_perspective, 500,
+                                   full_detail_px)
+
+    # Eq. 7 with tan(theta) = 2 tan(fov / 2) = 1: L = h R / (d full_detail_px) = 25 / d.
+    for distance in (50.0, 100.0, 400.0):
+        assert level((1.0, 1.0, distance)) == pytest.approx(25.0 / distance, rel=1e-5)
+    # d is measured to the nearest point of the box, not its centre.
+    assert level((3.0 + 30.0, 4.0 + 40.0, 0.0)) == pytest.approx(0.5, rel=1e-5)
+    assert level((1.0, 1.0, 0.0)) == 1.0  # inside the box
+    # Orthographic: d tan(theta) is the view height (2 / P[1][1] = 1), whatever the distance.
+    assert level((1.0, 1.0, 1e6), full_detail_px=5000.0, perspective=False) == pytest.approx(0.5, rel=1e-5)
+
+    assert quantised_level(1.0) == 1.0 and quantised_level(3.0) == 1.0
+    assert quantised_level(0.5) == pytest.approx(0.5) and quantised_level(0.52) == pytest.approx(0.5)
+    assert quantised_level(0.55) == pytest.approx(2 ** -0.75)
+    assert quantised_level(0.0) > 0.0
+
+
+class _RecordingBatch:
+    """Stands in for the GPU StrandBatch, which needs a window (the gpu module raises in -b)."""
+
+    def __init__(self):
+        self.updates = []
+        self.strand_count = 0
+
+    def update(self, points, tangents, offsets):
+        self.updates.append((np.array(points), np.array(tangents), np.array(offsets)))
+        self.strand_count = len(offsets) - 1
+
+
+def test_viewport_strands_follow_edits_settings_and_level(empty_scene, addon):
+    from hairlod import generate_strands
+    from hairlod.blender.hair_mesh import hair_mesh_from_object
+    from hairlod.blender.hair_mesh_gpu_preview import preview_state, regenerate
+
+    obj = left_half_hair_mesh()
+    settings = obj.hairlod_strands
+    settings.count, settings.vertices, settings.curl_radius = 3000, "9", 0.05
+    assert preview_state(obj) is None
+    settings.viewport_strands = True
+    state = preview_state(obj)
+    assert state is not None and state.hair_mesh is not None and state.error is None
+    state.batch = _RecordingBatch()
+
+    assert regenerate(obj, state, 1.0) and len(state.batch.updates) == 1
+    points, tangents, offsets = state.batch.updates[-1]
+    # The same strands as generate_strands with the panel's settings.
+    expected = generate_strands(hair_mesh_from_object(obj), count=3000, vertices=9, styling=settings.styling())
+    assert np.array_equal(points, expected.points) and np.array_equal(offsets, expected.offsets)
+    assert np.array_equal(tangents, expected.attribute("tangent"))
+    assert not regenerate(obj, state, 1.0), "nothing changed: no regeneration"
+    assert set(state.timings) == {"generate_s", "upload_s"}
+
+    # A lower camera level: fewer strands (Eq. 8) and vertices (Eq. 9), from the cached generator.
+    generator = state.generator
+    assert regenerate(obj, state, 0.25) and state.generator is generator
+    assert 0.2 * 3000 < state.batch.strand_count < 0.3 * 3000
+    assert np.diff(state.batch.updates[-1][2]).max() < 9
+
+    # An edit of the mesh reaches the state through the depsgraph handler.
+    layer = vertex_attribute(obj, "hair_layer")
+    positions = np.empty((len(obj.data.vertices), 3), np.float32)
+    obj.data.vertices.foreach_get("co", positions.ravel())
+    positions[layer == layer.max(), 2] += 1.0
+    obj.data.vertices.foreach_set("co", positions.ravel())
+    obj.data.update()
+    bpy.context.view_layer.update()
+    assert regenerate(obj, state, 1.0)
+    assert state.batch.updates[-1][0][:, 2].max() > points[:, 2].max() + 0.5
+
+    # A settings change regenerates; a transform does not (strands are drawn in object space).
+    settings.seed = 7
+    assert regenerate(obj, state, 1.0)
+    obj.location.x = 3.0
+    bpy.context.view_layer.update()
+    assert not regenerate(obj, state, 1.0)
+
+    # A mid-edit invalid mesh keeps the last strands and says why.
+    hair_layer = obj.data.attributes["hair_layer"]
+    values = vertex_attribute(obj, "hair_layer")
+    values[:] = 0
+    hair_layer.data.foreach_set("value", values)
+    obj.data.update()
+    bpy.context.view_layer.update()
+    assert state.error is not None and "layer" in state.error and state.hair_mesh is not None
+
+    settings.viewport_strands = False
+    assert preview_state(obj) is None
+
+
+def test_viewport_strands_follow_edit_mode_edits(empty_scene, addon):
+    from hairlod.blender.hair_mesh_gpu_preview import preview_state
+
+    obj = left_half_hair_mesh()
+    obj.hairlod_strands.viewport_strands = True
+    before = preview_state(obj).hair_mesh.layers.copy()
+    bpy.ops.object.mode_set(mode='EDIT')
+    editable = bmesh.from_edit_mesh(obj.data)
+    layer = editable.verts.layers.int["hair_layer"]
+    top = max(vertex[layer] for vertex in editable.verts)
+    for vertex in editable.verts:
+        if vertex[layer] == top:
+            vertex.co.z += 1.0
+    bmesh.update_edit_mesh(obj.data)
+    bpy.context.view_layer.update()
+    assert obj.mode == 'EDIT'
+    after = preview_state(obj).hair_mesh.layers
+    assert np.allclose(after[-1, :, 2], before[-1, :, 2] + 1.0) and np.array_equal(after[:-1], before[:-1])

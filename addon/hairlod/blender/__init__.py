@@ -4,6 +4,8 @@ import bpy
 
 from .hair_mesh_operators import (HAIRLOD_OT_generate_strands, HAIRLOD_OT_hair_mesh_from_faces,
                                   HAIRLOD_PG_strand_settings, register_properties, unregister_properties)
+from .hair_mesh_gpu_preview import register_handlers as register_gpu_preview
+from .hair_mesh_gpu_preview import unregister_handlers as unregister_gpu_preview
 from .hair_mesh_preview import register_handler, unregister_handler
 from .lod_export import HAIRLOD_OT_export_lod
 from .lod_operator import HAIRLOD_OT_build_lod
@@ -37,6 +39,7 @@ def register():
     register_lod_preview_properties()
     register_handler()
     lod_preview.register_handler()
+    register_gpu_preview()
     bpy.types.TOPBAR_MT_file_import.append(menu_func_import)
     bpy.types.TOPBAR_MT_file_export.append(menu_func_export)
 
@@ -45,6 +48,7 @@ def unregister():
     bpy.types.TOPBAR_MT_file_export.remove(menu_func_export)
     bpy.types.TOPBAR_MT_file_import.remove(menu_func_import)
     lod_preview.unregister_handler()
+    unregister_gpu_preview()
     unregister_handler()
     unregister_lod_preview_properties()
     unregister_properties()

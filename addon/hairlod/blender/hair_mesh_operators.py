@@ -254,12 +254,41 @@ def _live_preview_toggled(settings, context):
     refresh_preview(settings.id_data)
 
 
+def _viewport_strands_toggled(settings, context):
+    from .hair_mesh_gpu_preview import viewport_strands_toggled
+
+    viewport_strands_toggled(settings, context)
+
+
+def _viewport_strands_changed(settings, context):
+    from .hair_mesh_gpu_preview import tag_view3d_redraw
+
+    tag_view3d_redraw()
+
+
 class HAIRLOD_PG_strand_settings(StrandSettings, bpy.types.PropertyGroup):
     live_preview: BoolProperty(
         name="Live Preview",
         description="Regenerate a preview of at most a few thousand strands whenever the hair mesh changes",
         default=False,
         update=_live_preview_toggled,
+    )
+    viewport_strands: BoolProperty(
+        name="Viewport Strands",
+        description="Draw the generated strands in the 3D viewport (GPU), regenerated as the hair mesh is edited, "
+                    "with fewer strands as the view moves away",
+        default=False,
+        update=_viewport_strands_toggled,
+    )
+    full_detail_px: FloatProperty(
+        name="Full Detail Height",
+        description="Viewport Strands: all strands are drawn while the hair mesh spans at least this many pixels; "
+                    "fewer as it gets smaller on screen",
+        default=400.0,
+        min=1.0,
+        soft_max=4000.0,
+        subtype='PIXEL',
+        update=_viewport_strands_changed,
     )
 
 

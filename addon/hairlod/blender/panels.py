@@ -61,3 +61,16 @@ class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):
         row = layout.row(align=True)
         row.operator(HAIRLOD_OT_generate_strands.bl_idname, icon='OUTLINER_OB_CURVES')
         row.prop(settings, "live_preview", toggle=True, icon='HIDE_OFF')
+        row = layout.row(align=True)
+        row.prop(settings, "viewport_strands", toggle=True, icon='STRANDS')
+        row.prop(settings, "full_detail_px", text="Full Detail")
+        if settings.viewport_strands:
+            from .hair_mesh_gpu_preview import preview_state
+
+            state = preview_state(obj)
+            if state is not None and state.error:
+                layout.label(text=state.error, icon='ERROR')
+            elif state is not None and state.timings:
+                milliseconds = 1e3 * (state.timings["generate_s"] + state.timings["upload_s"])
+                layout.label(text=f"{state.batch.strand_count:,} strands, LoD {state.level:.2f}, {milliseconds:.0f} ms",
+                             icon='INFO')

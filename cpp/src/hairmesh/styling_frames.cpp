@@ -46,6 +46,17 @@ void add_corner(DirectionSum& sum, const glm::dvec3& p0, const glm::dvec3& p1, c
     sum.v_scale += area * glm::length(v_i);
 }
 
+// A frame from object space alone for a root vertex whose uv gives none (a pole where the uv
+// directions around it cancel, or uv triangles that all collapse): u the world axis least aligned
+// with the normal n, made tangent, and v = n x u, so that w = u x v = n (Eq. 4) points out of the scalp.
+void object_space_frame(const glm::dvec3& normal, glm::vec3& u, glm::vec3& v) {
+    const glm::dvec3 n = glm::normalize(normal);
+    const glm::dvec3 a = std::abs(n.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 axis_u = glm::normalize(a - n * glm::dot(a, n));
+    u = glm::vec3(axis_u);
+    v = glm::vec3(glm::cross(n, axis_u));
+}
+
 }  // namespace
 
 std::vector<glm::vec2> default_root_uv(const HairMesh& mesh) {
@@ -80,6 +91,8 @@ StylingFrames compute_styling_frames(const HairMesh& mesh) {
     frames.v.resize(mesh.positions.size());
 
     std::vector<DirectionSum> sums(vertex_count);
+    // Area-weighted root-layer normals (twice the corner triangle areas), for object_space_frame.
+    std::vector<glm::dvec3> root_normals(vertex_count, glm::dvec3(0.0));
     for (size_t layer = 0; layer < layers; ++layer) {
         std::fill(sums.begin(), sums.end(), DirectionSum{});
         DirectionSum whole_layer;
@@ -92,20 +105,37 @@ StylingFrames compute_styling_frames(const HairMesh& mesh) {
                 add_corner(sums[vertex], mesh.position(layer, vertex), mesh.position(layer, mesh.corner_vertices[c1]),
                            mesh.position(layer, mesh.corner_vertices[c2]), frames.corner_uv[c0], frames.corner_uv[c1],
                            frames.corner_uv[c2]);
-                if (layer == 0)
+                if (layer == 0) {
+                    const glm::dvec3 p0(mesh.position(0, vertex));
+                    root_normals[vertex] += glm::cross(glm::dvec3(mesh.position(0, mesh.corner_vertices[c1])) - p0,
+                                                       glm::dvec3(mesh.position(0, mesh.corner_vertices[c2])) - p0);
                     add_corner(whole_layer, mesh.position(0, vertex), mesh.position(0, mesh.corner_vertices[c1]),
                                mesh.position(0, mesh.corner_vertices[c2]), frames.corner_uv[c0],
                                frames.corner_uv[c1], frames.corner_uv[c2]);
+                }
             }
         }
-        if (layer == 0 && !whole_layer.usable())
-            throw Error("hair mesh root layer has no face with nonzero area in both object space and uv");
+        glm::dvec3 layer_normal(0.0);
+        if (layer == 0) {
+            double area = 0.0;
+            for (const glm::dvec3& n : root_normals) {
+                layer_normal += n;
+                area += glm::length(n);
+            }
+            if (!(area > 0.0) || !std::isfinite(area)) throw Error("hair mesh root layer has zero area in object space");
+            if (!(glm::length(layer_normal) > kCancellation * area)) layer_normal = glm::dvec3(0, 0, 1);
+        }
+        const bool layer_usable = whole_layer.usable();
         for (size_t i = 0; i < vertex_count; ++i) {
             const size_t at = layer * vertex_count + i;
-            const DirectionSum& sum = sums[i].usable() ? sums[i] : whole_layer;
-            if (sums[i].usable() || layer == 0) {
+            // Fallbacks, in order: the layer below; the root layer's mean uv directions; object space.
+            if (sums[i].usable() || (layer == 0 && layer_usable)) {
+                const DirectionSum& sum = sums[i].usable() ? sums[i] : whole_layer;
                 frames.u[at] = glm::vec3(glm::normalize(sum.u));
                 frames.v[at] = glm::vec3(glm::normalize(sum.v));
+            } else if (layer == 0) {
+                object_space_frame(glm::length(root_normals[i]) > 0.0 ? root_normals[i] : layer_normal, frames.u[at],
+                                   frames.v[at]);
             } else {
                 frames.u[at] = frames.u[at - vertex_count];
                 frames.v[at] = frames.v[at - vertex_count];

@@ -22,9 +22,12 @@ struct StylingFrames {
 std::vector<glm::vec2> default_root_uv(const HairMesh& mesh);
 
 // Eq. 1-3 per layer: u, v of a vertex are the texture-area-weighted means of the linear maps of
-// the corner triangles around it (the vertex and its two face edges, Fig. 5), normalised. Where
-// they cancel or a layer collapses, the vertex keeps the directions of the layer below; a root
-// layer without any usable triangle is an Error.
+// the corner triangles around it (the vertex and its two face edges, Fig. 5), normalised; corner
+// triangles that are flat in uv are skipped. Where they cancel or a layer collapses, the vertex
+// keeps the directions of the layer below. A root-layer vertex without usable directions (a pole
+// that its uv wraps around, uv collapsed to a point) takes the root layer's mean directions, or,
+// when those cancel too (a closed cap), a frame from object space: u a world axis made tangent to
+// the vertex normal n, v = n x u. A root layer of zero object-space area is an Error.
 StylingFrames compute_styling_frames(const HairMesh& mesh);
 
 }  // namespace hairlod

@@ -1,0 +1,4 @@
+void main()
+{
+  fragment_colour = vec4(shade, 1.0);
+}

@@ -1,0 +1,149 @@
+"""Viewport Strands of a hair mesh are drawn in a real viewport (Blender under Xvfb, see
+scripts/run_ui_tests.sh).
+
+Builds a hair mesh on the upper half of a sphere, frames it, and screenshots the window with the
+hair mesh's Viewport Strands off and on: the strands must change a good share of the viewport's
+pixels, only inside the viewport, in the hair colours (red above blue). Zooming out must lower the
+level of detail (Eq. 7) and draw fewer strands. Screenshots go to $HAIRLOD_UI_OUT (default
+<repo>/out/ui). Exits 0 on success, 1 on failure.
+"""
+
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+
+REDRAW_DELAY = 1.0
+
+
+def view3d(window):
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    return area, next(r for r in area.regions if r.type == 'WINDOW')
+
+
+def screenshot(window, area, name):
+    path = os.path.join(OUT_DIR, name)
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.screen.screenshot(filepath=path, check_existing=False)
+    image = bpy.data.images.load(path)
+    width, height = image.size
+    pixels = np.empty(width * height * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    bpy.data.images.remove(image)
+    return pixels.reshape(height, width, 4)[..., :3]  # rows bottom-up, like window coordinates
+
+
+def crop(pixels, window, region):
+    scale_y, scale_x = pixels.shape[0] / window.height, pixels.shape[1] / window.width
+    x0, y0 = int(region.x * scale_x), int(region.y * scale_y)
+    x1, y1 = int((region.x + region.width) * scale_x), int((region.y + region.height) * scale_y)
+    return pixels[y0:y1, x0:x1]
+
+
+def check(condition, message):
+    if not condition:
+        raise AssertionError(message)
+    print("ok:", message)
+
+
+def steps():
+    import addon_utils
+
+    window = bpy.context.window_manager.windows[0]
+    area, region = view3d(window)
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    from hairlod.blender.hair_mesh_gpu_preview import preview_state
+
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12, radius=1.0)
+    sphere = bpy.context.active_object
+    centres = np.empty((len(sphere.data.polygons), 3), np.float32)
+    sphere.data.polygons.foreach_get("center", centres.ravel())
+    sphere.data.polygons.foreach_set("select", centres[:, 2] > 0.2)
+    check(bpy.ops.hairlod.hair_mesh_from_faces(layers=3, length=0.8, taper=0.0) == {'FINISHED'}, "hair mesh made")
+    hair = bpy.context.active_object
+    sphere.hide_set(True)
+    settings = hair.hairlod_strands
+    settings.count, settings.vertices, settings.curl_radius, settings.curl_frequency = 20000, "17", 0.03, 4.0
+    space = area.spaces.active
+    space.shading.type = 'SOLID'
+    space.overlay.show_overlays = False  # grid and outlines would differ little, but keep the diff clean
+    space.region_3d.view_perspective = 'PERSP'
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.view3d.view_axis(type='FRONT')
+        bpy.ops.view3d.view_selected()
+    hair.display_type = 'WIRE'  # the cage's faces would hide the strands inside it
+    yield REDRAW_DELAY
+
+    without = screenshot(window, area, "viewport_strands_off.png")
+    settings.viewport_strands = True
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    yield REDRAW_DELAY
+    with_strands = screenshot(window, area, "viewport_strands_on.png")
+    state = preview_state(hair)
+    check(state is not None and state.error is None, f"preview state without error ({state and state.error})")
+    near_count = state.batch.strand_count
+    check(near_count > 0.9 * settings.count, f"full detail near the camera ({near_count} strands, LoD {state.level})")
+    print(f"update: generate {state.timings['generate_s'] * 1e3:.1f} ms, buffers {state.timings['upload_s'] * 1e3:.1f} ms"
+          f" for {near_count} strands")
+
+    changed = np.abs(with_strands - without).max(axis=2) > 0.05
+    in_view = crop(changed, window, region)
+    check(in_view.mean() > 0.02, f"the strands change the viewport ({in_view.mean():.1%} of its pixels)")
+    check(changed.sum() - in_view.sum() < 0.01 * in_view.sum(), "and nothing outside it")
+    strand_pixels = crop(with_strands, window, region)[in_view]
+    check(np.median(strand_pixels[:, 0] - strand_pixels[:, 2]) > 0.02,
+          "changed pixels have the hair ramp's colour (red above blue)")
+
+    # Zooming out: the hair mesh spans fewer pixels, so Eq. 7 lowers the level and fewer strands are drawn.
+    space.region_3d.view_distance *= 12.0
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    far = preview_state(hair)
+    check(far.level < 0.5 and far.batch.strand_count < 0.6 * near_count,
+          f"zoomed out: LoD {far.level:.2f}, {far.batch.strand_count} strands (near: {near_count})")
+    far_pixels = screenshot(window, area, "viewport_strands_far.png")
+    check(np.abs(far_pixels - without).max() > 0.05, "the far strands are still drawn")
+
+    settings.viewport_strands = False
+    area.tag_redraw()
+    space.region_3d.view_distance /= 12.0
+    yield REDRAW_DELAY
+    off_again = screenshot(window, area, "viewport_strands_off_again.png")
+    check((np.abs(off_again - without).max(axis=2) > 0.05).mean() < 0.001, "turning it off removes the strands")
+
+
+def run():
+    os.makedirs(OUT_DIR, exist_ok=True)
+    bpy.context.preferences.view.show_splash = False
+    step = steps()
+
+    def tick():
+        try:
+            return next(step)
+        except StopIteration:
+            finish(0)
+        except Exception:
+            traceback.print_exc()
+            finish(1)
+        return None
+
+    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY)
+
+
+def finish(status):
+    print("ui test:", "passed" if status == 0 else "FAILED")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
+
+
+run()
