@@ -2,6 +2,7 @@
 // white furnace and dual scattering. Thin: parsing of model inputs lives in hairlod/bcsdf.py.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -19,6 +20,7 @@
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/bcsdf/principled_hair.h"
 #include "hairlod/bcsdf/srbf.h"
+#include "hairlod/bcsdf/srbf_multiple_scattering.h"
 #include "hairlod/core/error.h"
 
 namespace py = pybind11;
@@ -210,6 +212,71 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("m") = 4,
         "Xu et al. 2011, Eq. 2 and 11: sum over SRBF lights of L_j integral G_j S cos(theta_i) dw_i (Marschner, "
         "circular Gaussian representation) per view direction, [M, 3].");
+
+    m.def(
+        "bcsdf_srbf_multiple_scattering",
+        [](const HairParams& params, const DoubleArray& directions, const DoubleArray& lambdas,
+           const DoubleArray& coefficients, const DoubleArray& wo, const DoubleArray& forward_attenuation,
+           const DoubleArray& forward_variance, double forward_density, double backscatter_density, int table_samples,
+           double caustic_width, double caustic_fade_range, double caustic_max_window, int m, bool reference,
+           int theta_samples, int phi_samples) {
+            if (directions.ndim() != 2 || directions.shape(1) != 3) throw Error("light directions must have shape [N, 3]");
+            const py::ssize_t count = directions.shape(0);
+            if (lambdas.ndim() != 1 || lambdas.shape(0) != count) throw Error("lambdas must have shape [N]");
+            if (coefficients.ndim() != 2 || coefficients.shape(0) != count || coefficients.shape(1) != 3)
+                throw Error("coefficients must have shape [N, 3]");
+            if (forward_attenuation.ndim() != 2 || forward_attenuation.shape(0) != count || forward_attenuation.shape(1) != 3)
+                throw Error("forward_attenuation must have shape [N, 3]");
+            if (forward_variance.ndim() != 1 || forward_variance.shape(0) != count)
+                throw Error("forward_variance must have shape [N]");
+            if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [M, 3]");
+            std::vector<SrbfLight> lights(static_cast<size_t>(count));
+            std::vector<ForwardScattering> forward(static_cast<size_t>(count));
+            for (py::ssize_t j = 0; j < count; ++j) {
+                lights[j] = {{directions.at(j, 0), directions.at(j, 1), directions.at(j, 2)}, lambdas.at(j),
+                             {coefficients.at(j, 0), coefficients.at(j, 1), coefficients.at(j, 2)}};
+                forward[j] = {{forward_attenuation.at(j, 0), forward_attenuation.at(j, 1), forward_attenuation.at(j, 2)},
+                              forward_variance.at(j)};
+            }
+            const py::ssize_t views = wo.shape(0);
+            const std::span<const glm::dvec3> view(reinterpret_cast<const glm::dvec3*>(wo.data()), static_cast<size_t>(views));
+            std::vector<MultipleScatteringRadiance> radiance(static_cast<size_t>(views));
+            {
+                py::gil_scoped_release release;
+                const MarschnerBcsdf marschner(params, {caustic_width, caustic_fade_range, caustic_max_window});
+                BackscatterTable backscatter = backscatter_table(marschner, table_samples, backscatter_density);
+                if (reference) {
+                    radiance = srbf_multiple_scattering_reference(marschner, backscatter, lights, forward, view,
+                                                                  forward_density, theta_samples, phi_samples);
+                } else {
+                    const SrbfMultipleScattering model(
+                        CircularGaussianMarschner(marschner, default_circular_gaussian_tables(), m), std::move(backscatter),
+                        forward_density);
+                    tbb::parallel_for(py::ssize_t(0), views, [&](py::ssize_t k) {
+                        for (size_t j = 0; j < lights.size(); ++j) {
+                            const MultipleScatteringRadiance r = model.eval(lights[j], view[k], forward[j]);
+                            radiance[k].global += r.global;
+                            radiance[k].local += r.local;
+                        }
+                    });
+                }
+            }
+            py::array_t<double> global({views, py::ssize_t(3)}), local({views, py::ssize_t(3)});
+            for (py::ssize_t k = 0; k < views; ++k)
+                for (int c = 0; c < 3; ++c) {
+                    global.mutable_at(k, c) = radiance[k].global[c];
+                    local.mutable_at(k, c) = radiance[k].local[c];
+                }
+            return py::make_tuple(global, local);
+        },
+        py::arg("params"), py::arg("directions"), py::arg("lambdas"), py::arg("coefficients"), py::arg("wo"),
+        py::arg("forward_attenuation"), py::arg("forward_variance"), py::arg("forward_density") = kDefaultForwardDensity,
+        py::arg("backscatter_density") = kDefaultBackscatterDensity, py::arg("table_samples") = 33,
+        py::arg("caustic_width") = MarschnerCaustic{}.width, py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
+        py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("m") = 4, py::arg("reference") = false,
+        py::arg("theta_samples") = 256, py::arg("phi_samples") = 512,
+        "Xu et al. 2011, Eq. 3-5 and 27-31: dual-scattering multiple scattering under SRBF lights per view "
+        "direction, (global [M, 3], local [M, 3]); reference=True integrates the same model on a grid.");
 
     m.def(
         "bcsdf_bake",

@@ -54,11 +54,14 @@ public:
     glm::dvec3 single_scattering(const SrbfLight& light, const glm::dvec3& wo) const;
 
     const MarschnerBcsdf& marschner() const { return marschner_; }
+    const CircularGaussianTables& tables() const { return *tables_; }
+    int quadrature_order() const { return m_; }
 
-private:
     // The azimuthal part of lobe p convolved with g^c(.; 0, lambda_prime) (Eq. 12), or N_p itself
     // when lambda_prime = 0.
     glm::dvec3 azimuthal(int p, double phi, double theta_d, double eta, double lambda_prime) const;
+
+private:
 
     MarschnerBcsdf marschner_;
     std::shared_ptr<const CircularGaussianTables> tables_;
