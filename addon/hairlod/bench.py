@@ -107,6 +107,40 @@ def _lut_rows(resolutions, table_samples, repeats):
     return rows
 
 
+def _srbf_multiple_rows(repeats):
+    # Xu et al. 2011, Sec. 4.3 under a narrow, a wide and a nearly uniform SRBF light (bandwidths 0.3, 2, 50)
+    # against the brute-force integral of the same dual-scattering model. A call first tabulates A_b,
+    # Delta_b, sigma_b for the parameters (seconds, adaptive quadrature); ns per (light, view) includes
+    # it, spread over 4096 views for the fast path and over one view for the brute force.
+    thetas = np.array([-0.5 * np.pi + 1e-3, -1.0, -0.3, 0.0, 0.5, 1.2, 0.5 * np.pi - 1e-3])
+    phis = np.linspace(-np.pi, np.pi, 4, endpoint=False) + 0.1
+    tt, pp = (a.ravel() for a in np.meshgrid(thetas, phis, indexing="ij"))
+    wo = np.stack([np.sin(tt), np.cos(tt) * np.cos(pp), np.cos(tt) * np.sin(pp)], axis=1)
+    lam = np.array([0.3, 2.0, 50.0])
+    centres = np.array([[np.sin(0.3), np.cos(0.3) * np.cos(-0.5), np.cos(0.3) * np.sin(-0.5)]] * 3)
+    forward = {"forward_attenuation": [0.8, 0.6, 0.4], "forward_variance": 0.05}
+    values, reference = [], []
+    for j in range(3):
+        light = {"directions": centres[j:j + 1], "lambdas": lam[j:j + 1], "coefficients": np.ones((1, 3))}
+        values.append(bcsdf.srbf_multiple_scattering(BROWN, light, wo, **forward))
+        reference.append(bcsdf.srbf_multiple_scattering(BROWN, light, wo, reference=True, theta_samples=96,
+                                                        phi_samples=192, **forward))
+    lights = {"directions": centres, "lambdas": lam, "coefficients": np.ones((3, 3))}
+    many = np.tile(wo, (4096 // len(wo) + 1, 1))
+    full = median_seconds(lambda: bcsdf.srbf_multiple_scattering(BROWN, lights, many, **forward), 1)
+    brute = median_seconds(lambda: bcsdf.srbf_multiple_scattering(BROWN, lights, wo[:1], reference=True,
+                                                                  theta_samples=96, phi_samples=192, **forward), 1)
+    items = 3 * len(many)
+    max_error, mean_error = _relative_error(np.concatenate(values), np.concatenate(reference))
+    return [{"model": "marschner", "tier": "SRBF multiple scattering (Eq. 27-31, m = 4, incl. table)",
+             "ns_per_eval": full / items * 1e9, "max_rel_error": max_error, "mean_rel_error": mean_error,
+             "energy_error": None, "max_energy": None, "bytes": None,
+             "reference": "brute force of the same model, 96 x 192 grid"},
+            {"model": "marschner", "tier": "SRBF multiple scattering, brute force (96 x 192 grid)",
+             "ns_per_eval": brute / 3 * 1e9, "max_rel_error": None, "mean_rel_error": None,
+             "energy_error": None, "max_energy": None, "bytes": None, "reference": "itself"}]
+
+
 def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128), table_samples=(33, 65, 129, 257)):
     """Rows of {model, tier, ns_per_eval, max_rel_error, mean_rel_error, energy_error, bytes, reference}."""
     wi, wo = _grid(seed)
@@ -140,6 +174,7 @@ def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128), table_samp
     values, ns = run("aggregated", hair_count=4.0, density=0.5)
     row("aggregated", "exact (n = 4, rho = 0.5)", values, None, "itself", ns, _energy("aggregated"))
     rows.extend(_lut_rows(lut_resolutions, table_samples, repeats))
+    rows.extend(_srbf_multiple_rows(repeats))
     return {"pairs": count, "repeats": repeats, "rows": rows}
 
 
