@@ -415,7 +415,7 @@ def _bench_quality(args):
             if os.path.exists(staging):
                 os.remove(staging)
         result["plot"] = args.plot
-    print(json.dumps(result) if args.json else json.dumps(result, indent=1))
+    print(json.dumps(result) if args.json else quality.format_tables(result))
     return 0
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import flip, lod, render
 
-__all__ = ["EPS_W", "bench_quality", "default_guides", "plot_quality"]
+__all__ = ["EPS_W", "bench_quality", "default_guides", "format_tables", "plot_quality"]
 
 EPS_W = (0.5, 1.0, 2.0, 4.0, 8.0)
 _REFERENCE_SEED = 1_000_003
@@ -144,3 +144,23 @@ def plot_quality(results, path, titles=None):
     figure.tight_layout()
     figure.savefig(path, dpi=110)
     plt.close(figure)
+
+
+def format_tables(result):
+    """The result as two Markdown tables (methods per view; the eps_w sweep), as a string."""
+    lines = ["| view | method | segments | seconds | M rays/s | PSNR dB | SSIM | FLIP |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for view, entry in result["views"].items():
+        ref = entry["reference"]
+        lines.append(f"| {view} | pt reference ({result['reference_spp']} spp) | {ref['segments']} | "
+                     f"{ref['seconds']:.3f} | {ref['rays_per_second'] / 1e6:.2f} | | | |")
+        for method, r in entry["rows"].items():
+            lines.append(f"| {view} | {method} | {r['segments']} | {r['seconds']:.3f} | "
+                         f"{r['rays_per_second'] / 1e6:.2f} | {r['psnr']:.2f} | {r['ssim']:.4f} | {r['flip']:.4f} |")
+    sweep = result["sweep"]
+    lines += ["", f"eps_w sweep ({sweep['view']} view, lod; full geometry {sweep['full_segments']} segments):", "",
+              "| eps_w px | segments | seconds | PSNR dB | SSIM | FLIP |", "| --- | --- | --- | --- | --- | --- |"]
+    for r in sweep["rows"]:
+        lines.append(f"| {r['eps_w']:g} | {r['segments']} | {r['seconds']:.3f} | {r['psnr']:.2f} | {r['ssim']:.4f} | "
+                     f"{r['flip']:.4f} |")
+    return "\n".join(lines)
