@@ -103,9 +103,9 @@ _COLOURS = {"pt": "black", "ds": "tab:blue", "lod": "tab:red", "lod-single": "ta
 
 
 def plot_quality(results, path, titles=None):
-    """The paper's Fig. 5 / 12 comparison as a PNG: per hairstyle (one row each), FLIP against render
-    time per method at each view (marker size grows with segments), and the eps_w sweep (FLIP and
-    segments against eps_w)."""
+    """The paper's Fig. 5 / 12 comparison as a PNG: per hairstyle (one row each), FLIP against segments
+    drawn per method at each view (each point labelled with its render time), and the eps_w sweep
+    (FLIP and segments against eps_w)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -117,13 +117,14 @@ def plot_quality(results, path, titles=None):
     figure, axes = plt.subplots(len(results), columns, figsize=(3.3 * columns, 3.0 * len(results)), squeeze=False)
     for row_axes, result, title in zip(axes, results, titles):
         for ax, (view, entry) in zip(row_axes, result["views"].items()):
-            largest = max(r["segments"] for r in entry["rows"].values()) or 1
             for method, r in entry["rows"].items():
-                ax.scatter(r["seconds"], r["flip"], s=20 + 120 * r["segments"] / largest, color=_COLOURS.get(method),
-                           label=method, alpha=0.8, edgecolors="none")
-            ax.set_xscale("log")
-            ax.set_xlabel("render seconds")
+                ax.scatter(r["segments"], r["flip"], s=40, color=_COLOURS.get(method), label=method, alpha=0.85,
+                           edgecolors="none")
+                ax.annotate(f"{r['seconds']:.2g} s", (r["segments"], r["flip"]), fontsize=6, xytext=(3, 3),
+                            textcoords="offset points")
+            ax.set_xlabel("segments drawn")
             ax.set_ylabel("FLIP vs pt reference")
+            ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
             ax.set_title(f"{title}: {view}", fontsize=9)
             ax.grid(alpha=0.3)
         row_axes[0].legend(fontsize=7)
@@ -137,7 +138,6 @@ def plot_quality(results, path, titles=None):
         twin = ax.twinx()
         twin.plot(eps, [r["segments"] for r in sweep], "s--", color="tab:gray", label="segments")
         twin.axhline(result["sweep"]["full_segments"], color="tab:blue", lw=0.8, ls=":")
-        twin.set_yscale("log")
         twin.set_ylabel("segments (dotted: full)", color="tab:gray")
         ax.set_title(f"{title}: eps_w sweep, {result['sweep']['view']}", fontsize=9)
         ax.grid(alpha=0.3)
