@@ -410,8 +410,45 @@ def _bench_generate(args):
     return 0
 
 
+def _bench_quality(args):
+    from . import lod, quality
+
+    if not args.input:
+        raise UsageError("bench quality needs an input hair file: bench quality IN")
+    for name in ("spp", "width", "reference_spp", "guides"):
+        _positive(name.replace("_", "-"), getattr(args, name))
+    if args.plot and not args.plot.lower().endswith(".png"):
+        raise UsageError(f"{args.plot}: --plot writes a .png file")
+    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
+        raise UsageError(f"{args.plot}: folder does not exist")
+    try:
+        eps_w = [float(v) for v in args.eps_w.split(",") if v]
+    except ValueError:
+        raise UsageError(f"--eps-w {args.eps_w}: expected comma-separated pixel widths")
+    strands, read_seconds = _read_timed(args.input)
+    asset = lod.load(args.lod) if args.lod else None
+    say = None if args.json else (lambda message: print(f"bench quality: {message}", file=sys.stderr, flush=True))
+    result = quality.bench_quality(strands, asset=asset, spp=args.spp, width=args.width,
+                                   reference_spp=args.reference_spp, eps_w=eps_w, width_px=args.width_px,
+                                   guides=quality.default_guides(len(strands), args.guides),
+                                   params=_read_params(args.params), progress=say)
+    result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds)
+    if args.plot:
+        staging = args.plot + ".tmp.png"
+        try:
+            quality.plot_quality(result, staging, titles=[os.path.basename(args.input)])
+            os.replace(staging, args.plot)
+        finally:
+            if os.path.exists(staging):
+                os.remove(staging)
+        result["plot"] = args.plot
+    print(json.dumps(result) if args.json else quality.format_tables(result))
+    return 0
+
+
 def command_bench(args):
-    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "generate": _bench_generate}[args.component](args)
+    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "generate": _bench_generate,
+            "quality": _bench_quality}[args.component](args)
 
 
 def build_parser():
@@ -492,18 +529,27 @@ def build_parser():
     rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
-    bench.add_argument("component", choices=["bcsdf", "lod", "generate"], help="what to benchmark")
+    bench.add_argument("component", choices=["bcsdf", "lod", "generate", "quality"], help="what to benchmark")
+    bench.add_argument("input", nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.add_argument("--repeats", type=int, default=5, help="bcsdf: timing repeats (median; default 5)")
-    bench.add_argument("--plot", metavar="FILE.png", help="bcsdf, generate: also write a plot")
+    bench.add_argument("--plot", metavar="FILE.png", help="bcsdf, generate, quality: also write a plot")
     bench.add_argument("--strands", type=int, default=100_000, help="lod, generate: strands (default 100000)")
     bench.add_argument("--vertices", type=int, default=33, help="generate: vertices per strand (default 33)")
     bench.add_argument("--points", type=int, default=32, help="lod: points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=int, default=256, help="lod: guides (default 256)")
+    bench.add_argument("--guides", type=int, default=256, help="lod, quality: guides (default 256)")
     bench.add_argument("--levels", type=int, default=6, help="lod: levels including the strands (default 6)")
     bench.add_argument("--control-points", type=int, default=16, help="lod: control points (default 16)")
-    bench.add_argument("--width-px", type=float, default=2.0, help="lod: width threshold in pixels (default 2)")
+    bench.add_argument("--width-px", type=float, default=2.0, help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
     bench.add_argument("--frames", type=int, default=200, help="lod: selection frames timed per camera (default 200)")
+    bench.add_argument("--lod", metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
+                       "a quarter of the strands)")
+    bench.add_argument("--spp", type=int, default=16, help="quality: samples per pixel of the methods (default 16)")
+    bench.add_argument("--reference-spp", type=int, default=128, help="quality: spp of the pt reference (default 128)")
+    bench.add_argument("--width", type=int, default=160, help="quality: image width and height (default 160)")
+    bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "
+                       "(default 0.5,1,2,4,8)")
+    bench.add_argument("--params", help="quality: HairParams JSON (default: the BCSDF defaults)")
     bench.set_defaults(run=command_bench)
     return parser
 
