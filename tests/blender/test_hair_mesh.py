@@ -307,6 +307,26 @@ def test_strand_line_indices_and_ramp_follow_the_offsets():
     assert line_indices(offsets).dtype == np.int32
     assert np.allclose(along_strand(offsets), [0, 0.5, 1, 0, 1, 0, 1 / 3, 2 / 3, 1])
     assert line_indices(np.array([0])).shape == (0, 2) and along_strand(np.array([0])).shape == (0,)
+    # Curves of one size take a faster path: the same as the general one.
+    uniform = np.arange(0, 5 * 7 + 1, 7)
+    general = np.concatenate([uniform, [uniform[-1] + 2]])
+    assert np.array_equal(line_indices(uniform), line_indices(general)[:-1])
+    assert np.array_equal(along_strand(uniform), along_strand(general)[:-2])
+
+
+def test_strand_chunks_hold_whole_curves_up_to_the_limit():
+    from hairlod.blender.preview.strand_batch import chunk_curves
+
+    rng = np.random.default_rng(3)
+    offsets = np.concatenate([[0], np.cumsum(rng.integers(2, 40, 500))])
+    offsets = np.concatenate([offsets, [offsets[-1] + 300]])  # one curve longer than a chunk
+    bounds = chunk_curves(offsets, chunk_points=100)
+    assert bounds[0] == 0 and bounds[-1] == len(offsets) - 1 and np.all(np.diff(bounds) >= 1)
+    sizes = offsets[bounds[1:]] - offsets[bounds[:-1]]
+    assert np.all((sizes <= 100) | (np.diff(bounds) == 1))
+    # Greedy: adding the next curve would overflow the chunk.
+    assert np.all(offsets[np.array(bounds[1:-1]) + 1] - offsets[bounds[:-2]] > 100)
+    assert chunk_curves(np.array([0])) == [0]
 
 
 class _View:

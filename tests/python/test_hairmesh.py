@@ -213,3 +213,29 @@ def test_cli_generate_writes_hair_file(tmp_path):
     assert json.loads(result.stdout)["write_seconds"] >= 0
     info = json.loads(run_cli("info", out, "--json").stdout)
     assert info["strands"] == 500 and info["points"] == 500 * 17
+
+
+def test_bench_generate_reports_consistent_sizes():
+    from hairlod import bench
+
+    result = bench.bench_generate(strands=1000, vertices=9, repeats=1)
+    assert result["points"] == 1000 * 9
+    # points, radius, tangent and uvw per point; offsets and bundle per strand.
+    assert result["output_bytes"] == 9000 * (12 + 4 + 12 + 12) + 1001 * 8 + 1000 * 4
+    assert set(result["operations"]) == {"curl", "wave", "twist", "clump", "frizz", "trim"}
+    assert result["storage"]["strand_bytes"] == 9000 * 16 + 1001 * 8
+    assert 0 < result["storage"]["hair_mesh_json_bytes"] < result["storage"]["strand_bytes"]
+    assert all(result[key] > 0 for key in ("generate_s", "copy_s", "generate_no_styling_s"))
+
+
+def test_generate_into_reused_output_matches_a_fresh_one():
+    from hairlod import bench, hairmesh
+
+    generator = hairmesh.strand_generator(bench.bench_hair_mesh(), 500, 3)
+    styling = hairmesh.styling_from_dicts(bench.BENCH_STYLING)
+    out = generator.generate(vertices=5)
+    again = generator.generate(vertices=9, styling=styling, out=out)
+    fresh = generator.generate(vertices=9, styling=styling)
+    assert again is out
+    assert np.array_equal(again.points, fresh.points) and np.array_equal(again.offsets, fresh.offsets)
+    assert np.array_equal(again.attribute("tangent"), fresh.attribute("tangent"))
