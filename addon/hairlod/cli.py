@@ -540,7 +540,8 @@ def build_parser():
     bench.add_argument("--guides", type=int, default=256, help="lod, quality: guides (default 256)")
     bench.add_argument("--levels", type=int, default=6, help="lod: levels including the strands (default 6)")
     bench.add_argument("--control-points", type=int, default=16, help="lod: control points (default 16)")
-    bench.add_argument("--width-px", type=float, default=2.0, help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
+    bench.add_argument("--width-px", type=float, default=2.0,
+                       help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
     bench.add_argument("--frames", type=int, default=200, help="lod: selection frames timed per camera (default 200)")
     bench.add_argument("--lod", metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
                        "a quarter of the strands)")

@@ -27,7 +27,8 @@ def default_guides(strand_count, guides=256):
 
 def _errors(image, reference):
     test_srgb, reference_srgb = render.to_srgb8(image) / 255.0, render.to_srgb8(reference) / 255.0
-    return {"psnr": render.psnr(image, reference), "ssim": render.ssim(image, reference),
+    psnr = render.psnr(image, reference)  # identical 8-bit images: infinite, reported as null (strict JSON)
+    return {"psnr": psnr if np.isfinite(psnr) else None, "ssim": render.ssim(image, reference),
             "flip": flip.flip(test_srgb, reference_srgb)}
 
 
@@ -36,6 +37,14 @@ def _row(result):
             "thick_segments": int(result["thick_segments"]), "seconds": float(result["seconds"]),
             "setup_seconds": float(result["setup_seconds"]), "rays": int(result["rays"]),
             "rays_per_second": float(result["rays_per_second"])}
+
+
+def _difference(a, b):
+    return None if a is None or b is None else a - b
+
+
+def _db(value):
+    return "inf" if value is None else f"{value:.2f}"
 
 
 def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=16, width=160,
@@ -91,7 +100,7 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
         if "lod" in rows and ("ds" in rows or "pt" in rows):
             full = rows.get("ds", rows.get("pt"))["segments"]
             summary[view] = {"segment_reduction": full / max(rows["lod"]["segments"], 1),
-                             "lod_minus_ds_psnr": rows["lod"]["psnr"] - rows["ds"]["psnr"] if "ds" in rows else None,
+                             "lod_minus_ds_psnr": _difference(rows["lod"]["psnr"], rows.get("ds", {}).get("psnr")),
                              "lod_minus_ds_flip": rows["lod"]["flip"] - rows["ds"]["flip"] if "ds" in rows else None}
     return {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
             "reference_spp": int(reference_spp), "width_px": float(width_px), "lod_build": build,
@@ -156,11 +165,11 @@ def format_tables(result):
                      f"{ref['seconds']:.3f} | {ref['rays_per_second'] / 1e6:.2f} | | | |")
         for method, r in entry["rows"].items():
             lines.append(f"| {view} | {method} | {r['segments']} | {r['seconds']:.3f} | "
-                         f"{r['rays_per_second'] / 1e6:.2f} | {r['psnr']:.2f} | {r['ssim']:.4f} | {r['flip']:.4f} |")
+                         f"{r['rays_per_second'] / 1e6:.2f} | {_db(r['psnr'])} | {r['ssim']:.4f} | {r['flip']:.4f} |")
     sweep = result["sweep"]
     lines += ["", f"eps_w sweep ({sweep['view']} view, lod; full geometry {sweep['full_segments']} segments):", "",
               "| eps_w px | segments | seconds | PSNR dB | SSIM | FLIP |", "| --- | --- | --- | --- | --- | --- |"]
     for r in sweep["rows"]:
-        lines.append(f"| {r['eps_w']:g} | {r['segments']} | {r['seconds']:.3f} | {r['psnr']:.2f} | {r['ssim']:.4f} | "
+        lines.append(f"| {r['eps_w']:g} | {r['segments']} | {r['seconds']:.3f} | {_db(r['psnr'])} | {r['ssim']:.4f} | "
                      f"{r['flip']:.4f} |")
     return "\n".join(lines)
