@@ -1,5 +1,7 @@
 """Shared fixtures: the package from addon/ and the shared hair files next to the repository."""
 
+import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -19,3 +21,15 @@ def shared_data():
     if not folder.is_dir():
         pytest.skip(f"shared test data {folder} is absent: clone the repository next to ../shared to run this test")
     return folder
+
+
+@pytest.fixture(scope="session")
+def blender():
+    """The Blender binary for tests that run it headless (HAIRLOD_BLENDER, else `blender` on PATH).
+    `make test` installs it (scripts/bootstrap.sh); plain pytest on a machine without Blender skips
+    these tests with a message saying how to get them, never passes them."""
+    binary = os.environ.get("HAIRLOD_BLENDER") or shutil.which("blender")
+    if binary is None:
+        pytest.skip("Blender is not installed: this test runs headless Blender (apt-get install blender, "
+                    "or set HAIRLOD_BLENDER; `make test` installs it)")
+    return binary

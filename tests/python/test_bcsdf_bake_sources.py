@@ -2,7 +2,6 @@
 Principled Hair BSDF read by headless Blender), --tables xu (Xu et al. 2011's C_k, H_k)."""
 import json
 import os
-import shutil
 import subprocess
 import sys
 
@@ -98,7 +97,6 @@ def test_xu_tables_match_their_integrals(tmp_path):
     assert run.returncode == 2 and "nope" in run.stderr and not (tmp_path / "o").exists()
 
 
-BLENDER = shutil.which("blender")
 
 MAKE_BLEND = """
 import bpy, sys, math
@@ -124,11 +122,9 @@ bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1])
 
 
 @pytest.fixture(scope="module")
-def hair_blend(tmp_path_factory):
-    if BLENDER is None:
-        pytest.skip("blender not on PATH")
+def hair_blend(tmp_path_factory, blender):
     path = tmp_path_factory.mktemp("blend") / "hair.blend"
-    run = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-expr", MAKE_BLEND, "--", str(path)],
+    run = subprocess.run([blender, "-b", "--factory-startup", "--python-expr", MAKE_BLEND, "--", str(path)],
                          capture_output=True, text=True)
     assert path.is_file(), run.stdout + run.stderr
     return path

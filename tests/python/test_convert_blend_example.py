@@ -4,7 +4,6 @@ for each."""
 
 import json
 import os
-import shutil
 import subprocess
 import textwrap
 
@@ -14,8 +13,6 @@ import hairlod
 from hairlod import lod
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
-BLENDER = shutil.which("blender")
-pytestmark = pytest.mark.skipif(BLENDER is None, reason="blender is not installed (apt-get install blender)")
 
 MAKE_BLEND = textwrap.dedent("""
     import sys
@@ -42,21 +39,21 @@ MAKE_BLEND = textwrap.dedent("""
 """)
 
 
-def run_blender(*arguments):
+def run_blender(blender, *arguments):
     env = {**os.environ, "TMPDIR": os.environ.get("TMPDIR", "/tmp")}
-    return subprocess.run([BLENDER, "-b", "--factory-startup", *arguments], capture_output=True, text=True, env=env,
+    return subprocess.run([blender, "-b", "--factory-startup", *arguments], capture_output=True, text=True, env=env,
                           timeout=600)
 
 
-def test_every_curves_object_is_converted_and_exported(tmp_path):
+def test_every_curves_object_is_converted_and_exported(tmp_path, blender):
     blend = str(tmp_path / "hair.blend")
     script = MAKE_BLEND.format(addon=os.path.join(REPO_ROOT, "addon"), blend=blend,
                                hair_mesh=os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json"))
-    made = run_blender("--python-exit-code", "1", "--python-expr", script)
+    made = run_blender(blender, "--python-exit-code", "1", "--python-expr", script)
     assert made.returncode == 0 and os.path.isfile(blend), made.stderr[-2000:]
 
     out = tmp_path / "out"
-    run = run_blender(blend, "--python-exit-code", "1", "--python",
+    run = run_blender(blender, blend, "--python-exit-code", "1", "--python",
                       os.path.join(REPO_ROOT, "examples", "convert_blend_to_lod.py"), "--", "--out", str(out),
                       "--guides", "16", "--levels", "4", "--control-points", "8", "--save")
     assert run.returncode == 0, run.stderr[-2000:]
@@ -81,7 +78,7 @@ def test_every_curves_object_is_converted_and_exported(tmp_path):
     assert bob["sigma_a"] != fringe["sigma_a"]
 
 
-def test_bad_arguments_exit_2(tmp_path):
-    run = run_blender("--python-exit-code", "1", "--python", os.path.join(REPO_ROOT, "examples", "convert_blend_to_lod.py"),
+def test_bad_arguments_exit_2(tmp_path, blender):
+    run = run_blender(blender, "--python-exit-code", "1", "--python", os.path.join(REPO_ROOT, "examples", "convert_blend_to_lod.py"),
                       "--", "--guides", "8")
     assert run.returncode == 2 and "--out" in run.stderr

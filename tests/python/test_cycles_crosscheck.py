@@ -2,11 +2,9 @@
 scene (a few hundred strands, 32 x 32, one sun and a grey world, the Principled Hair BSDF in Chiang
 mode, parameters converted by hairlod.bcsdf.from_principled_hair, the camera of hairlod.camera.look_at)
 rendered by Cycles headless (tests/blender/cycles_scene.py) and by our 'pt' at the same sample count.
-Target: PSNR >= 30 dB. Needs blender on PATH (or HAIRLOD_BLENDER); skipped with a message otherwise."""
+Target: PSNR >= 30 dB. Needs Blender (the `blender` fixture of conftest.py)."""
 
 import json
-import os
-import shutil
 import subprocess
 
 import numpy as np
@@ -16,7 +14,6 @@ from conftest import REPO
 
 from hairlod import Strands, bcsdf, bench, io, render
 
-BLENDER = os.environ.get("HAIRLOD_BLENDER") or shutil.which("blender")
 SPP, WIDTH, WORLD = 128, 32, 0.15
 
 MATERIALS = {
@@ -28,7 +25,7 @@ MATERIALS = {
 }
 
 
-def cycles_render(tmp_path, hair_path, camera, lights, node):
+def cycles_render(blender, tmp_path, hair_path, camera, lights, node):
     direction, irradiance = lights["directional"][0]
     spec = {"addon": str(REPO / "addon"), "hair": str(hair_path), "camera": camera,
             "sun": {"direction": list(direction), "irradiance": float(irradiance[0])}, "world": WORLD, "node": node,
@@ -36,7 +33,7 @@ def cycles_render(tmp_path, hair_path, camera, lights, node):
     scene = tmp_path / "scene.json"
     scene.write_text(json.dumps(spec))
     out = tmp_path / "cycles.exr"
-    run = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+    run = subprocess.run([blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                           str(REPO / "tests" / "blender" / "cycles_scene.py"), "--", str(scene), str(out)],
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 0 and out.is_file(), run.stdout[-2000:] + run.stderr[-2000:]
@@ -45,9 +42,8 @@ def cycles_render(tmp_path, hair_path, camera, lights, node):
     return oiio.ImageBuf(str(out)).get_pixels(oiio.FLOAT).reshape(camera["height"], camera["width"], -1)[..., :3]
 
 
-@pytest.mark.skipif(BLENDER is None, reason="blender not on PATH (set HAIRLOD_BLENDER): Cycles cross-check not run")
 @pytest.mark.parametrize("material", sorted(MATERIALS))
-def test_pt_matches_cycles(material, tmp_path):
+def test_pt_matches_cycles(material, tmp_path, blender):
     radius, node = MATERIALS[material]
     hair = bench.synthetic_hair(300, 12)
     hair = Strands.from_counts(hair.points, np.diff(hair.offsets), np.full(len(hair.radius), radius, np.float32))
@@ -57,7 +53,7 @@ def test_pt_matches_cycles(material, tmp_path):
     camera = render.frame_view(hair.points, "near", WIDTH)
     lights = render.default_lights(camera)
     lights["environment"] = np.full(3, WORLD, np.float32)
-    cycles = cycles_render(tmp_path, hair_path, camera, lights, node)
+    cycles = cycles_render(blender, tmp_path, hair_path, camera, lights, node)
     ours = render.render(hair, "pt", camera=camera, width=WIDTH, spp=SPP, params=bcsdf.from_principled_hair(**node),
                          lights=lights, seed=1)["image"]
     hair_pixels = np.abs(cycles - WORLD).max(axis=-1) > 0.005

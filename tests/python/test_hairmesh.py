@@ -11,7 +11,7 @@ import pytest
 from conftest import REPO
 
 import hairlod
-from hairlod import _core, hairmesh
+from hairlod import hairmesh
 
 EXAMPLES = REPO / "examples" / "data"
 EXAMPLE_FILES = sorted(EXAMPLES.glob("*.hairmesh.json"))
@@ -205,7 +205,6 @@ def test_cli_generate_bad_input(args, message):
     assert "Traceback" not in result.stderr
 
 
-@pytest.mark.skipif(not hasattr(_core, "write_hair_file"), reason="needs the C++ .hair writer (hairlod_io) from main")
 def test_cli_generate_writes_hair_file(tmp_path):
     out = tmp_path / "cap.hair"
     result = run_cli("generate", EXAMPLES / "wavy_cap.hairmesh.json", "--count", 500, "--out", out, "--json")
