@@ -338,24 +338,34 @@ def command_bake(args):
     return 0
 
 
+def _check_plot_path(path):
+    """--plot: a .png in an existing folder (checked before a long benchmark runs)."""
+    if path and not path.lower().endswith(".png"):
+        raise UsageError(f"{path}: --plot writes a .png file")
+    if path and not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+        raise UsageError(f"{path}: folder does not exist")
+
+
+def _write_plot(path, draw):
+    """Calls draw(file) on a temporary name and renames it to `path`: no partial plot is left."""
+    staging = path + ".tmp.png"
+    try:
+        draw(staging)
+        os.replace(staging, path)
+    finally:
+        if os.path.exists(staging):
+            os.remove(staging)
+
+
 def _bench_bcsdf(args):
     from . import bench
 
-    if args.plot and not args.plot.lower().endswith(".png"):
-        raise UsageError(f"{args.plot}: --plot writes a .png file")
-    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
-        raise UsageError(f"{args.plot}: folder does not exist")
+    _check_plot_path(args.plot)
     if args.repeats < 1:
         raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
     result = bench.bench_bcsdf(repeats=args.repeats)
     if args.plot:
-        staging = args.plot + ".tmp.png"
-        try:
-            bench.plot_bcsdf(result, staging)
-            os.replace(staging, args.plot)
-        finally:
-            if os.path.exists(staging):
-                os.remove(staging)
+        _write_plot(args.plot, lambda file: bench.plot_bcsdf(result, file))
         result["plot"] = args.plot
     if args.json:
         print(json.dumps({"component": args.component, **result}))
@@ -392,19 +402,10 @@ def _bench_generate(args):
     segments = args.vertices - 1
     if segments < 1 or segments & (segments - 1):
         raise UsageError(f"--vertices must be 2^e + 1 (2, 3, 5, 9, 17, 33, ...), got {args.vertices}")
-    if args.plot and not args.plot.lower().endswith(".png"):
-        raise UsageError(f"{args.plot}: --plot writes a .png file")
-    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
-        raise UsageError(f"{args.plot}: folder does not exist")
+    _check_plot_path(args.plot)
     result = bench.bench_generate(strands=args.strands, vertices=args.vertices, repeats=args.repeats)
     if args.plot:
-        staging = args.plot + ".tmp.png"
-        try:
-            bench.plot_generate(result, staging)
-            os.replace(staging, args.plot)
-        finally:
-            if os.path.exists(staging):
-                os.remove(staging)
+        _write_plot(args.plot, lambda file: bench.plot_generate(result, file))
         result["plot"] = args.plot
     print(json.dumps({"component": args.component, **result}, indent=None if args.json else 1))
     return 0
@@ -417,10 +418,7 @@ def _bench_quality(args):
         raise UsageError("bench quality needs an input hair file: bench quality IN")
     for name in ("spp", "width", "reference_spp", "guides"):
         _positive(name.replace("_", "-"), getattr(args, name))
-    if args.plot and not args.plot.lower().endswith(".png"):
-        raise UsageError(f"{args.plot}: --plot writes a .png file")
-    if args.plot and not os.path.isdir(os.path.dirname(os.path.abspath(args.plot))):
-        raise UsageError(f"{args.plot}: folder does not exist")
+    _check_plot_path(args.plot)
     try:
         eps_w = [float(v) for v in args.eps_w.split(",") if v]
     except ValueError:
@@ -434,13 +432,7 @@ def _bench_quality(args):
                                    params=_read_params(args.params), progress=say)
     result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds)
     if args.plot:
-        staging = args.plot + ".tmp.png"
-        try:
-            quality.plot_quality(result, staging, titles=[os.path.basename(args.input)])
-            os.replace(staging, args.plot)
-        finally:
-            if os.path.exists(staging):
-                os.remove(staging)
+        _write_plot(args.plot, lambda file: quality.plot_quality(result, file, titles=[os.path.basename(args.input)]))
         result["plot"] = args.plot
     print(json.dumps(result) if args.json else quality.format_tables(result))
     return 0

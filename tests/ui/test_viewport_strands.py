@@ -10,14 +10,13 @@ level of detail (Eq. 7) and draw fewer strands. Screenshots go to $HAIRLOD_UI_OU
 
 import os
 import sys
-import traceback
 
 import bpy
 import numpy as np
 
-REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
-OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
-sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import check  # noqa: E402
 
 REDRAW_DELAY = 1.0
 
@@ -28,15 +27,7 @@ def view3d(window):
 
 
 def screenshot(window, area, name):
-    path = os.path.join(OUT_DIR, name)
-    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
-        bpy.ops.screen.screenshot(filepath=path, check_existing=False)
-    image = bpy.data.images.load(path)
-    width, height = image.size
-    pixels = np.empty(width * height * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)[..., :3]  # rows bottom-up, like window coordinates
+    return harness.screenshot(window, area, name, whole_window=True)
 
 
 def crop(pixels, window, region):
@@ -45,11 +36,6 @@ def crop(pixels, window, region):
     x1, y1 = int((region.x + region.width) * scale_x), int((region.y + region.height) * scale_y)
     return pixels[y0:y1, x0:x1]
 
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    print("ok:", message)
 
 
 def steps():
@@ -121,29 +107,4 @@ def steps():
     check((np.abs(off_again - without).max(axis=2) > 0.05).mean() < 0.001, "turning it off removes the strands")
 
 
-def run():
-    os.makedirs(OUT_DIR, exist_ok=True)
-    bpy.context.preferences.view.show_splash = False
-    step = steps()
-
-    def tick():
-        try:
-            return next(step)
-        except StopIteration:
-            finish(0)
-        except Exception:
-            traceback.print_exc()
-            finish(1)
-        return None
-
-    bpy.app.timers.register(tick, first_interval=REDRAW_DELAY)
-
-
-def finish(status):
-    print("ui test:", "passed" if status == 0 else "FAILED")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(status)
-
-
-run()
+harness.run(steps, first_delay=REDRAW_DELAY)

@@ -119,6 +119,21 @@ void check_density(double value, const char* name) {
     if (!(value >= 0.0 && value <= 1.0)) throw Error(std::string(name) + " must be in [0, 1], got " + std::to_string(value));
 }
 
+// Integral over theta_i of `product` (the spread light times a longitudinal lobe, one Gaussian) times
+// cos^2(theta_i) / cos^2(theta_d) f(theta_d, cos_i), by the linear quadrature of Sec. 4.2.2 with m nodes.
+template <typename F>
+glm::dvec3 projected_quadrature(const GaussianProduct& product, double theta_o, int m, F&& f) {
+    const std::vector<double> nodes = linear_quadrature_nodes(product.mean, product.variance, m);
+    std::vector<glm::dvec3> values(nodes.size());
+    for (size_t s = 0; s < nodes.size(); ++s) {
+        const double theta_d = 0.5 * (theta_o - nodes[s]);
+        const double cos_i = std::cos(nodes[s]);
+        const double cos_d = std::max(std::cos(theta_d), kMinCos);
+        values[s] = (cos_i * cos_i / (cos_d * cos_d)) * f(theta_d, cos_i);
+    }
+    return linear_quadrature(nodes, values, product.mean, product.variance);
+}
+
 }  // namespace
 
 BackscatterTable::BackscatterTable(std::span<const DualScatteringSample> samples, double backscatter_density)
@@ -253,18 +268,10 @@ MultipleScatteringRadiance SrbfMultipleScattering::eval(const SrbfLight& light, 
             gaussian_product(dj.theta, spread_variance, 2.0 * lobes[p].shift - dout.theta, lobes[p].variance);
         const double scale = spread_scale * product.scale;
         if (!(scale > 0.0)) continue;
-        const std::vector<double> nodes = linear_quadrature_nodes(product.mean, product.variance, m);
-        std::vector<glm::dvec3> values(nodes.size());
-        for (size_t s = 0; s < nodes.size(); ++s) {
-            const double theta_i = nodes[s];
-            const double theta_d = 0.5 * (dout.theta - theta_i);
-            const double cos_i = std::cos(theta_i);
-            const double cos_d = std::max(std::cos(theta_d), kMinCos);
-            values[s] = (cos_i * cos_i / (cos_d * cos_d)) *
-                        global_azimuthal(p, delta_phi, theta_d, p == 2 ? eta_trt : params.eta,
-                                         azimuthal_bandwidth(lambda, cos_i, cos_j));
-        }
-        global += (lobe_weight[p] * scale) * linear_quadrature(nodes, values, product.mean, product.variance);
+        global += (lobe_weight[p] * scale) * projected_quadrature(product, dout.theta, m, [&](double theta_d, double cos_i) {
+            return global_azimuthal(p, delta_phi, theta_d, p == 2 ? eta_trt : params.eta,
+                                    azimuthal_bandwidth(lambda, cos_i, cos_j));
+        });
     }
     out.global = weight_j * global / glm::max(fibre_.marschner().energy(dout.theta), glm::dvec3(1.0));
 
@@ -283,19 +290,13 @@ MultipleScatteringRadiance SrbfMultipleScattering::eval(const SrbfLight& light, 
             gaussian_product(dj.theta, spread_variance, 2.0 * averaged.delta_b[c] - dout.theta, 4.0 * sigma_b * sigma_b);
         const double scale = spread_scale * product.scale;
         if (!(scale > 0.0)) continue;
-        const std::vector<double> nodes = linear_quadrature_nodes(product.mean, product.variance, m);
-        std::vector<glm::dvec3> values(nodes.size());
-        for (size_t s = 0; s < nodes.size(); ++s) {
-            const double theta_i = nodes[s];
-            const double theta_d = 0.5 * (dout.theta - theta_i);
-            const double cos_i = std::cos(theta_i);
-            const double cos_d = std::max(std::cos(theta_d), kMinCos);
+        const glm::dvec3 integral = projected_quadrature(product, dout.theta, m, [&](double theta_d, double cos_i) {
             const double lambda_prime = azimuthal_bandwidth(lambda, cos_i, cos_j);
             const double azimuthal = circular_gaussian_integral(lambda_prime) *
                                      wrapped_triangle(delta_phi, wrapped_deviation(lambda_prime)) / (kPi * kPi);
-            values[s] = glm::dvec3(backscatter_.at(theta_d).A_b[c] * azimuthal * cos_i * cos_i / (cos_d * cos_d));
-        }
-        out.local[c] = weight_j[c] * d_b * scale * linear_quadrature(nodes, values, product.mean, product.variance).x;
+            return glm::dvec3(backscatter_.at(theta_d).A_b[c] * azimuthal);
+        });
+        out.local[c] = weight_j[c] * d_b * scale * integral.x;
     }
     return out;
 }
