@@ -238,13 +238,15 @@ def resolve_inputs(hair_mesh, styling=(), radius=None):
     return hair_mesh, styling_from_dicts(list(styling)), float(radius)
 
 
-def strand_generator(hair_mesh, count=10000, seed=0, subdivision=0):
+def strand_generator(hair_mesh, count=10000, seed=0, subdivision=0, reuse=None):
     """A StrandGenerator for the (optionally subdivided) mesh: it holds the styling frames and the
-    blue-noise root sample sets, the part of the work that styling and LoD changes do not redo."""
+    blue-noise root sample sets, the part of the work that styling and LoD changes do not redo.
+    ``reuse``: the generator of an earlier state of the same hair mesh (an interactive edit); its
+    root sample sets are taken when they are exactly the ones needed, so the result is the same."""
     if int(seed) < 0 or int(count) < 0:
         raise ValueError(f"seed and count must be >= 0, got seed {seed} and count {count}")
     mesh = hair_mesh.subdivided(int(subdivision)) if subdivision else hair_mesh
-    return StrandGenerator(mesh, int(count), int(seed))
+    return StrandGenerator(mesh, int(count), int(seed), reuse=reuse)
 
 
 def generate_strands(hair_mesh, count=10000, vertices=17, styling=(), seed=0, lod=1.0, subdivision=0, radius=None,

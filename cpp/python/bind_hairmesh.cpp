@@ -52,11 +52,13 @@ HairMesh make_mesh(const FloatArray& layers, const IntArray& polygon_sizes, cons
 // keeps them, so regenerating with other styling or LoD (interactive editing) skips that work.
 class StrandGenerator {
 public:
-    StrandGenerator(HairMesh mesh, size_t count, uint64_t seed) : mesh_(std::move(mesh)) {
+    // `reuse`: a generator for an earlier state of the mesh, whose root sample sets are taken when
+    // they are the ones this mesh needs (an edit rebuilds only the frames).
+    StrandGenerator(HairMesh mesh, size_t count, uint64_t seed, const StrandGenerator* reuse) : mesh_(std::move(mesh)) {
         options_.count = count;
         options_.seed = seed;
         frames_ = compute_styling_frames(mesh_);
-        samples_ = root_sample_sets_for(mesh_, options_);
+        samples_ = root_sample_sets_for(mesh_, options_, reuse != nullptr ? &reuse->samples_ : nullptr);
     }
 
     // Writes into `strands`, reusing its storage.
@@ -200,11 +202,13 @@ polygon corner and optional w float32 [L, V]; validated (ValueError naming the p
     py::class_<StrandGenerator>(m, "StrandGenerator", R"doc(
 Generates strands from a hair mesh. Keeps the styling frames and the blue-noise root sample sets
 (which depend on the mesh, count and seed only), so regenerating with other styling or LoD is fast.)doc")
-        .def(py::init([](const HairMesh& mesh, size_t count, uint64_t seed) {
+        .def(py::init([](const HairMesh& mesh, size_t count, uint64_t seed, const StrandGenerator* reuse) {
                  py::gil_scoped_release release;
-                 return StrandGenerator(mesh, count, seed);
+                 return StrandGenerator(mesh, count, seed, reuse);
              }),
-             py::arg("mesh"), py::arg("count"), py::arg("seed") = 0)
+             py::arg("mesh"), py::arg("count"), py::arg("seed") = 0, py::arg("reuse") = nullptr,
+             "reuse: a generator made for an earlier state of the mesh; its root sample sets are taken when they "
+             "are exactly the ones this one needs (same count, seed and sample set size), as after vertex edits.")
         .def("generate",
              [](const StrandGenerator& g, int vertices, std::vector<StylingOperation> styling, float strand_lod,
                 float vertex_lod, float lod_transition, float radius, py::object out) {

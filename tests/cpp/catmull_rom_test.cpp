@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -81,6 +82,31 @@ TEST(CatmullRom, CurveSegmentReflectsMissingEnds) {
     const glm::vec3 last = curve_segment(points.data(), points.size(), 1).evaluate(0.5f);
     EXPECT_NEAR(first.x, 0.5f, 1e-6f);
     EXPECT_NEAR(last.x, 1.5f, 1e-6f);
+}
+
+TEST(CatmullRom, CurveSegmentsEqualSegmentBySegment) {
+    // Shared knot intervals must not change a bit: coincident neighbours, a reversal, huge values.
+    const std::vector<std::vector<glm::vec3>> polylines{
+        {{0, 0, 0}, {1, 0, 0}},
+        {{0, 0, 0}, {1, 2, 0}, {3, 1, 1}, {4, 4, 2}, {4, 4, 2}, {5, 3, 1}},
+        {{1, 1, 1}, {1, 1, 1}, {2, 0, 1}, {0, 0, 0}},
+        {{1e20f, 0, 0}, {1e20f, 1e19f, 0}, {0, 3e19f, -1e20f}}};
+    std::vector<CatmullRomSegment> segments;
+    for (const auto& points : polylines) {
+        curve_segments(points.data(), points.size(), segments);
+        ASSERT_EQ(segments.size(), points.size() - 1);
+        for (size_t i = 0; i + 1 < points.size(); ++i) {
+            const CatmullRomSegment one = curve_segment(points.data(), points.size(), i);
+            for (float u : {0.0f, 0.3f, 0.75f, 1.0f}) EXPECT_EQ(segments[i].evaluate(u), one.evaluate(u)) << i << " " << u;
+        }
+    }
+}
+
+TEST(CatmullRom, EvaluateInsideMatchesEvaluate) {
+    const CatmullRomSegment segment({0, 0, 0}, {1, 2, 0}, {3, 1, 1}, {4, 4, 2});
+    EXPECT_EQ(segment.evaluate_inside(0.0f), segment.evaluate(0.0f));  // the start exactly
+    for (float u : {0.1f, 0.5f, 0.9f}) EXPECT_EQ(segment.evaluate_inside(u), segment.evaluate(u));
+    EXPECT_LT(glm::distance(segment.evaluate_inside(1.0f), segment.evaluate(1.0f)), 1e-6f);
 }
 
 }  // namespace

@@ -102,6 +102,39 @@ TEST(Styling, FrizzIsContinuousAlongTheStrand) {
                   0.05f * 8.0f * 1e-4f * 3.0f * std::sqrt(3.0f) * 1.01f);
 }
 
+// Frizz hashes its lattice once per strand, or per vertex when the noise is far finer than the
+// vertices; both must give value noise's offset, so a vertex moves the same alone or beside a far one.
+TEST(Styling, FrizzIsTheSameWhicheverWayTheLatticeIsHashed) {
+    const std::vector<StylingOperation> frizz{Frizz{0.05f, 8.0f}};
+    StrandStyling styling;
+    draw_strand_styling(frizz, 5, 3, styling);
+    for (float w : {0.3f, 1.7f, 5.25f}) {
+        StrandVertices alone = vertex_at(w, 0.5f);
+        apply_styling(frizz, styling, alone, 0);
+        StrandVertices pair;  // the second vertex 100 cells away: the per-vertex path
+        pair.resize(2);
+        for (size_t k = 0; k < 2; ++k) {
+            const StrandVertices one = vertex_at(k == 0 ? w : w + 100.0f / 8.0f, 0.5f);
+            for (int c = 0; c < StrandVertices::kComponentCount; ++c)
+                pair[StrandVertices::Component(c)][k] = one[StrandVertices::Component(c)][0];
+        }
+        apply_styling(frizz, styling, pair, 0);
+        EXPECT_EQ(pair.vec3(StrandVertices::X, 0), alone.vec3(StrandVertices::X, 0)) << w;
+    }
+}
+
+// Clump's per-vertex t^profile is kept between strands; a new t or profile must not reuse it.
+TEST(Styling, ClumpRecomputesItsProfileWhenTOrTheProfileChange) {
+    StrandStyling styling;
+    for (const auto& [profile, t] : {std::pair{2.0f, 0.5f}, {2.0f, 0.25f}, {3.0f, 0.25f}, {3.0f, 0.25f}}) {
+        const std::vector<StylingOperation> clump{Clump{1.0f, profile}};
+        draw_strand_styling(clump, 5, 0, styling);
+        StrandVertices vertex = vertex_at(1.0f, t);
+        apply_styling(clump, styling, vertex, 0);
+        EXPECT_NEAR(vertex.vec3(StrandVertices::X, 0).x, 0.3f * (1.0f - std::pow(t, profile)), 1e-6f) << profile << " " << t;
+    }
+}
+
 TEST(Styling, ValidationNamesTheOperation) {
     const std::vector<StylingOperation> bad{Curl{0.1f, 1.0f, 0.0f}, Clump{1.5f, 1.0f}};
     try {

@@ -61,5 +61,25 @@ TEST(Tangents, CoincidentPointsGiveFiniteTangents) {
     EXPECT_EQ(t2[1], glm::vec3(0, 0, 1));
 }
 
+// The component-array form used by strand generation must agree with the vec3 form bit for bit,
+// across its vector blocks and scalar remainder, repeated and huge points included.
+TEST(Tangents, ComponentArraysGiveTheSameTangents) {
+    for (int count : {2, 3, 4, 5, 6, 9, 17, 33}) {
+        std::vector<glm::vec3> points = arc(count);
+        if (count > 4) points[2] = points[3];                     // a repeated point
+        if (count > 8) points[6] = glm::vec3(3e19f, 0.0f, 0.0f);  // a squared length beyond float range
+        std::vector<float> x, y, z;
+        for (const glm::vec3& p : points) {
+            x.push_back(p.x);
+            y.push_back(p.y);
+            z.push_back(p.z);
+        }
+        std::vector<glm::vec3> expected(points.size()), actual(points.size(), glm::vec3(7.0f));
+        strand_tangents(points, expected);
+        strand_tangents(x.data(), y.data(), z.data(), actual);
+        for (int k = 0; k < count; ++k) EXPECT_EQ(actual[k], expected[k]) << count << " " << k;
+    }
+}
+
 }  // namespace
 }  // namespace hairlod

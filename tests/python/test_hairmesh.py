@@ -238,3 +238,19 @@ def test_generate_into_reused_output_matches_a_fresh_one():
     assert again is out
     assert np.array_equal(again.points, fresh.points) and np.array_equal(again.offsets, fresh.offsets)
     assert np.array_equal(again.attribute("tangent"), fresh.attribute("tangent"))
+
+
+def test_generator_reuses_root_samples_only_when_they_are_the_same():
+    # Moving vertices keeps the bundles' strand counts, so the sample sets of the earlier generator
+    # are the ones needed: the strands must be exactly those of a generator built from scratch.
+    mesh = grid_mesh()
+    moved = grid_mesh(lean=0.5)
+    earlier = hairmesh.strand_generator(mesh, 300, 4)
+    fresh = hairmesh.strand_generator(moved, 300, 4).generate(vertices=9)
+    reused = hairmesh.strand_generator(moved, 300, 4, reuse=earlier).generate(vertices=9)
+    assert np.array_equal(reused.points, fresh.points)
+    # Another seed or count needs other sets: the earlier ones must not be taken.
+    for count, seed in ((300, 5), (5000, 4)):
+        expected = hairmesh.strand_generator(moved, count, seed).generate(vertices=5)
+        actual = hairmesh.strand_generator(moved, count, seed, reuse=earlier).generate(vertices=5)
+        assert np.array_equal(actual.points, expected.points), (count, seed)

@@ -4,7 +4,8 @@ scripts/run_ui_tests.sh).
 Builds a hair mesh on the upper half of a sphere, frames it, and screenshots the window with the
 hair mesh's Viewport Strands off and on: the strands must change a good share of the viewport's
 pixels, only inside the viewport, in the hair colours (red above blue). Zooming out must lower the
-level of detail (Eq. 7) and draw fewer strands. Screenshots go to $HAIRLOD_UI_OUT (default
+level of detail (Eq. 7) and draw fewer strands; with a near and a far view open, the near one sets
+the level and redraws regenerate nothing. Screenshots go to $HAIRLOD_UI_OUT (default
 <repo>/out/ui). Exits 0 on success, 1 on failure.
 """
 
@@ -105,6 +106,38 @@ def steps():
     yield REDRAW_DELAY
     off_again = screenshot(window, area, "viewport_strands_off_again.png")
     check((np.abs(off_again - without).max(axis=2) > 0.05).mean() < 0.001, "turning it off removes the strands")
+
+    # Two 3D views, one near and one far: the nearest sets the level of the strands both draw, and
+    # redrawing either one must not regenerate (no views taking turns).
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        check(bpy.ops.screen.area_split(direction='VERTICAL', factor=0.5) == {'FINISHED'}, "viewport split in two")
+    views = [a for a in window.screen.areas if a.type == 'VIEW_3D']
+    check(len(views) == 2, f"two 3D views ({len(views)})")
+    views[1].spaces.active.region_3d.view_distance = 12.0 * views[0].spaces.active.region_3d.view_distance
+    settings.viewport_strands = True
+    for view in views:
+        view.tag_redraw()
+    yield REDRAW_DELAY
+    two = preview_state(hair)
+    drawn = list(two.batch.batches)
+    from hairlod.blender.hair_mesh_gpu_preview import camera_detail_level, quantised_level, world_bounds
+
+    def level_of(view):
+        region_3d, view_region = view.spaces.active.region_3d, next(r for r in view.regions if r.type == 'WINDOW')
+        return quantised_level(camera_detail_level(world_bounds(hair), region_3d.view_matrix, region_3d.window_matrix,
+                                                   region_3d.is_perspective, view_region.height,
+                                                   settings.full_detail_px))
+
+    near_level, far_level = level_of(views[0]), level_of(views[1])
+    check(far_level < near_level and two.level == near_level,
+          f"the near view sets the level with a far one open: LoD {two.level} (near {near_level}, far {far_level})")
+    for _ in range(2):
+        for view in reversed(views):
+            view.tag_redraw()
+        yield REDRAW_DELAY
+    check(all(a is b for a, b in zip(preview_state(hair).batch.batches, drawn)) and len(drawn) > 0,
+          "redrawing both views regenerates nothing")
+    screenshot(window, area, "viewport_strands_two_views.png")
 
 
 harness.run(steps, first_delay=REDRAW_DELAY)

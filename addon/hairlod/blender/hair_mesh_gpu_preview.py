@@ -6,8 +6,8 @@ them. A ``depsgraph_update_post`` handler reads the hair mesh when the object ch
 edits, settings); the draw callback regenerates lazily, once per redraw at most, when the hair
 mesh, the settings or the level of detail changed. The level of detail follows the camera
 distance (hair-meshes-realtime.txt Eq. 7), quantised to quarter octaves so that orbiting the view
-regenerates only when the level moves by about 19 %. With several 3D views the last view drawn
-sets the level (each level change regenerates).
+regenerates only when the level moves by about 19 %. With several 3D views the nearest one sets
+the level of the one set of strands that all of them draw, so views never take turns regenerating.
 """
 
 import math
@@ -123,7 +123,10 @@ def regenerate(obj, state, level):
     start = time.perf_counter()
     generator_key = (state.mesh_key, settings.count, settings.seed, settings.subdivision)
     if generator_key != state.generator_key:
-        state.generator = strand_generator(state.hair_mesh, settings.count, settings.seed, settings.subdivision)
+        # After an edit of the mesh alone the root sample sets usually stay the same: reuse them.
+        same_roots = state.generator_key is not None and state.generator_key[1:] == generator_key[1:]
+        state.generator = strand_generator(state.hair_mesh, settings.count, settings.seed, settings.subdivision,
+                                           reuse=state.generator if same_roots else None)
         state.generator_key = generator_key
     mesh, styling, radius = resolve_inputs(state.generator.mesh, settings.styling())
     strand_lod = settings.lod * level
@@ -150,6 +153,32 @@ def view_light_direction(view_matrix, matrix_world):
     return tuple(light / norm) if norm > 0.0 else (0.0, 0.0, 1.0)
 
 
+def open_views(context):
+    """(WINDOW region, RegionView3D) of every 3D view open in any window, quad views included."""
+    window_manager = context.window_manager
+    for window in (window_manager.windows if window_manager else ()):
+        for area in window.screen.areas:
+            if area.type != 'VIEW_3D':
+                continue
+            region = next((r for r in area.regions if r.type == 'WINDOW'), None)
+            space = area.spaces.active
+            if region is None or space is None:
+                continue
+            for region_3d in (space.region_3d, *space.region_quadviews):
+                yield region, region_3d
+
+
+def views_detail_level(obj, context, region, region_data):
+    """The quantised level of detail the nearest open 3D view needs for ``obj`` (the drawing view's
+    when the window manager lists none, as in some offscreen draws)."""
+    bounds = world_bounds(obj)
+    full_detail_px = obj.hairlod_strands.full_detail_px
+    views = list(open_views(context)) or [(region, region_data)]
+    return max(quantised_level(camera_detail_level(bounds, view.view_matrix, view.window_matrix, view.is_perspective,
+                                                   view_region.height, full_detail_px))
+               for view_region, view in views)
+
+
 def draw_previews():
     """POST_VIEW callback: draws the strands of every visible hair mesh with Viewport Strands on."""
     from .hair_mesh import is_hair_mesh_object
@@ -165,9 +194,7 @@ def draw_previews():
         state = _states.get(obj.name)
         if state is None or state.hair_mesh is None:
             continue  # the depsgraph handler or the toggle reads the mesh; drawing must not
-        level = quantised_level(camera_detail_level(
-            world_bounds(obj), region_data.view_matrix, region_data.window_matrix, region_data.is_perspective,
-            region.height, obj.hairlod_strands.full_detail_px))
+        level = views_detail_level(obj, context, region, region_data)
         try:
             regenerate(obj, state, level)
         except (ValueError, RuntimeError) as error:

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "hairlod/core/error.h"
+#include "hairlod/core/float4.h"
 #include "hairlod/curves/catmull_rom.h"
 #include "hairlod/hairmesh/hash_random.h"
 #include "hairlod/hairmesh/level_of_detail.h"
@@ -36,20 +37,27 @@ struct LayerSamples {
 
     explicit LayerSamples(size_t layers) : position(layers), u(layers), v(layers), w_axis(layers), w(layers) {}
 
-    void interpolate(const HairMesh& mesh, const StylingFrames& frames, const FaceCorners& corners, glm::vec2 st) {
+    // with_frames false leaves u, v and w_axis as they are (no styling operation reads them).
+    void interpolate(const HairMesh& mesh, const StylingFrames& frames, const FaceCorners& corners, glm::vec2 st,
+                     bool with_frames) {
         const std::array<float, 4> weight = bilinear_weights(st.x, st.y);
         uv = glm::vec2(0.0f);
         for (int k = 0; k < 4; ++k) uv += weight[k] * frames.corner_uv[corners.corner[k]];
         for (size_t layer = 0; layer < position.size(); ++layer) {
             const size_t base = layer * mesh.vertex_count;
-            position[layer] = u[layer] = v[layer] = glm::vec3(0.0f);
+            position[layer] = glm::vec3(0.0f);
             w[layer] = 0.0f;
             for (int k = 0; k < 4; ++k) {
                 const size_t at = base + static_cast<size_t>(corners.vertex[k]);
                 position[layer] += weight[k] * mesh.positions[at];
+                w[layer] += weight[k] * frames.w[at];
+            }
+            if (!with_frames) continue;
+            u[layer] = v[layer] = glm::vec3(0.0f);
+            for (int k = 0; k < 4; ++k) {
+                const size_t at = base + static_cast<size_t>(corners.vertex[k]);
                 u[layer] += weight[k] * frames.u[at];
                 v[layer] += weight[k] * frames.v[at];
-                w[layer] += weight[k] * frames.w[at];
             }
             u[layer] = unit_or_zero(u[layer]);
             v[layer] = unit_or_zero(v[layer]);
@@ -58,19 +66,47 @@ struct LayerSamples {
     }
 };
 
-void curve_segments(const std::vector<glm::vec3>& control, std::vector<CatmullRomSegment>& segments) {
-    segments.clear();
-    for (size_t i = 0; i + 1 < control.size(); ++i) segments.push_back(curve_segment(control.data(), control.size(), i));
-}
-
-bool needs_centre(const std::vector<StylingOperation>& styling) {
-    return std::any_of(styling.begin(), styling.end(), [](const StylingOperation& op) {
-        return std::holds_alternative<Clump>(op) || std::holds_alternative<Twist>(op);
-    });
-}
-
 // Bundle centre: the face centre (barycentric thirds for a triangle, mapped like its roots).
 glm::vec2 face_centre(bool triangle) { return triangle ? triangle_to_square({1.0f / 3.0f, 1.0f / 3.0f}) : glm::vec2(0.5f); }
+
+// Fills vertices [begin, end) of one strand, all in layer segment `segment`: the position on the
+// strand's curve, uvw, and the styling inputs the operations read (styling_inputs). The frame and
+// w vary linearly between layers, like the paper's u-, v- and w-textures (Sec. 3.4). Works in
+// blocks of 4 vertices that may overrun `end` into the next run's slots (filled after this one) or
+// the arrays' spare room (StrandVertices::kOverrun; t_of has it too): a run holds only a few
+// vertices, and a scalar remainder would cost as much as the vector body.
+[[gnu::noinline]] void fill_run(const LayerSamples& at_root, const CatmullRomSegment& curve,
+                                const CatmullRomSegment* centre, size_t segment, const StylingInputs& inputs,
+                                const float* __restrict t_of, float x_end, size_t begin, size_t end,
+                                StrandVertices& vertices, glm::vec3* __restrict uvw) {
+    using V = StrandVertices;
+    // Explicit blocks of 4 (core/float4.h): the auto-vectoriser gives up on these short runs.
+    static_assert(V::kOverrun >= 3);
+    const size_t s = segment;
+    const float origin = static_cast<float>(segment), w0 = at_root.w[s], w1 = at_root.w[s + 1], w_root = at_root.w[0];
+    // p(a) = p1 + a (c1 + a (c2 + a c3)) per component, for the strand and the bundle centre.
+    const auto cubic_into = [&](const CatmullRomSegment& segment_curve, V::Component first, Float4 a, size_t k) {
+        const std::array<glm::vec3, 4> p = segment_curve.polynomial();
+        for (int axis = 0; axis < 3; ++axis)
+            store4(vertices[V::Component(first + axis)] + k, p[0][axis] + a * (p[1][axis] + a * (p[2][axis] + a * p[3][axis])));
+    };
+    const auto mix_into = [&](const std::vector<glm::vec3>& layer_values, V::Component first, Float4 a, size_t k) {
+        const glm::vec3 from = layer_values[s], step = layer_values[s + 1] - layer_values[s];
+        for (int axis = 0; axis < 3; ++axis) store4(vertices[V::Component(first + axis)] + k, from[axis] + step[axis] * a);
+    };
+    for (size_t k = begin; k < end; k += 4) {
+        const Float4 t = load4(t_of + k), a = t * x_end - origin;
+        cubic_into(curve, V::X, a, k);
+        store4(vertices[V::W_FROM_ROOT] + k, (w0 + (w1 - w0) * a) - w_root);
+        store4(vertices[V::T] + k, t);
+        if (inputs.u) mix_into(at_root.u, V::UX, a, k);
+        if (inputs.v) mix_into(at_root.v, V::VX, a, k);
+        if (inputs.w_axis) mix_into(at_root.w_axis, V::WX, a, k);
+        if (inputs.centre) cubic_into(*centre, V::CX, a, k);
+    }
+    const float* w_from_root = vertices[V::W_FROM_ROOT];
+    for (size_t k = begin; k < end; ++k) uvw[k] = glm::vec3(at_root.uv, w_from_root[k] + w_root);
+}
 
 }  // namespace
 
@@ -112,13 +148,16 @@ std::vector<int64_t> bundle_strand_counts(const HairMesh& mesh, size_t count) {
     return counts;
 }
 
-RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions& options) {
+RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions& options, const RootSampleSets* reuse) {
     const std::vector<int64_t> counts = bundle_strand_counts(mesh, options.count);
     const int64_t largest = std::max<int64_t>(1, *std::max_element(counts.begin(), counts.end()));
     bool has_quads = false, has_triangles = false;
     for (size_t f = 0; f < mesh.face_count(); ++f) (mesh.face_size(f) == 3 ? has_triangles : has_quads) = true;
-    return make_root_sample_sets(std::bit_ceil(static_cast<size_t>(largest)), kSampleSetCount, options.seed,
-                                 has_quads, has_triangles);
+    const size_t samples_per_set = std::bit_ceil(static_cast<size_t>(largest));
+    if (reuse != nullptr && reuse->samples_per_set == samples_per_set && reuse->set_count == kSampleSetCount &&
+        reuse->seed == options.seed && reuse->square.empty() != has_quads && reuse->triangle.empty() != has_triangles)
+        return *reuse;
+    return make_root_sample_sets(samples_per_set, kSampleSetCount, options.seed, has_quads, has_triangles);
 }
 
 void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const RootSampleSets& samples,
@@ -173,14 +212,19 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
     bundle_values.resize(strand_count);
 
     const size_t layers = mesh.layer_count();
-    const bool with_centre = needs_centre(options.styling), styled = !options.styling.empty();
+    const StylingInputs inputs = styling_inputs(options.styling);
+    const bool with_centre = inputs.centre, styled = !options.styling.empty();
+    const bool with_frames = inputs.u || inputs.v || inputs.w_axis;
     std::vector<std::vector<CatmullRomSegment>> centre_segments(with_centre ? faces : 0);
     for (size_t f = 0; f < centre_segments.size(); ++f) {
         LayerSamples centre(layers);
         const FaceCorners corners = mesh.face_corners(f);
-        centre.interpolate(mesh, frames, corners, face_centre(corners.triangle));
-        curve_segments(centre.position, centre_segments[f]);
+        centre.interpolate(mesh, frames, corners, face_centre(corners.triangle), false);
+        curve_segments(centre.position.data(), centre.position.size(), centre_segments[f]);
     }
+
+    std::vector<float> t_of(points_per_strand + StrandVertices::kOverrun);  // position along the strand of vertex k
+    for (size_t k = 0; k < points_per_strand; ++k) t_of[k] = static_cast<float>(k) / static_cast<float>(segments);
 
     tbb::parallel_for(tbb::blocked_range<size_t>(0, strand_count, 64), [&](const tbb::blocked_range<size_t>& range) {
         LayerSamples at_root(layers);
@@ -193,8 +237,9 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
             const auto bundle = static_cast<size_t>(strand_bundle[c]);
             const auto local = static_cast<size_t>(strand_local[c]);
             const FaceCorners corners = mesh.face_corners(bundle);
-            at_root.interpolate(mesh, frames, corners, samples.root_coordinates(bundle, local, corners.triangle));
-            curve_segments(at_root.position, curve);
+            at_root.interpolate(mesh, frames, corners, samples.root_coordinates(bundle, local, corners.triangle),
+                               with_frames);
+            curve_segments(at_root.position.data(), at_root.position.size(), curve);
             draw_strand_styling(options.styling, options.seed, (uint64_t{bundle} << 32) | local, styling);
             // Trim shortens the curve parameter range; parameter x runs over layers 0 .. layers - 1.
             const float x_end = styling.length_fraction * static_cast<float>(layers - 1);
@@ -202,31 +247,24 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
             glm::vec3* points = strands.points.data() + c * points_per_strand;
             auto* tangents = reinterpret_cast<glm::vec3*>(tangent_values.data()) + c * points_per_strand;
             auto* uvw = reinterpret_cast<glm::vec3*>(uvw_values.data()) + c * points_per_strand;
-            using V = StrandVertices;
-            for (size_t k = 0; k < points_per_strand; ++k) {
-                const float t = static_cast<float>(k) / static_cast<float>(segments);
-                const float x = t * x_end;
-                const size_t segment = std::min(static_cast<size_t>(x), layers - 2);
-                const float a = x - static_cast<float>(segment);
-                // The frame and w vary linearly between layers, like the paper's u-, v- and w-textures.
-                const float w = glm::mix(at_root.w[segment], at_root.w[segment + 1], a);
-                uvw[k] = glm::vec3(at_root.uv, w);
-                const glm::vec3 position = curve[segment].evaluate(a);
-                vertices.set_vec3(V::X, k, position);
-                if (styled) {
-                    vertices.set_vec3(V::UX, k, glm::mix(at_root.u[segment], at_root.u[segment + 1], a));
-                    vertices.set_vec3(V::VX, k, glm::mix(at_root.v[segment], at_root.v[segment + 1], a));
-                    vertices.set_vec3(V::WX, k, glm::mix(at_root.w_axis[segment], at_root.w_axis[segment + 1], a));
-                    vertices.set_vec3(V::CX, k, with_centre ? centre_segments[bundle][segment].evaluate(a) : position);
-                    vertices[V::W_FROM_ROOT][k] = w - at_root.w[0];
-                    vertices[V::T][k] = t;
-                }
+            // Vertex k sits at curve parameter x = t_k x_end, in layer segment floor(x) (the last
+            // segment takes the tip). Filled one segment's run of vertices at a time, so each inner
+            // loop has fixed coefficients and vectorises.
+            size_t run_begin = 0;
+            for (size_t segment = 0; segment + 1 < layers; ++segment) {
+                size_t end = run_begin;
+                const bool last = segment + 2 == layers;
+                while (end < points_per_strand && (last || t_of[end] * x_end < static_cast<float>(segment + 1))) ++end;
+                fill_run(at_root, curve[segment], with_centre ? &centre_segments[bundle][segment] : nullptr, segment,
+                         inputs, t_of.data(), x_end, run_begin, end, vertices, uvw);
+                run_begin = end;
             }
             // Sec. 3.2: styling is not applied to the root vertex.
             if (styled) apply_styling(options.styling, styling, vertices, 1);
-            for (size_t k = 0; k < points_per_strand; ++k) points[k] = vertices.vec3(V::X, k);
+            for (size_t k = 0; k < points_per_strand; ++k) points[k] = vertices.vec3(StrandVertices::X, k);
             const std::span<glm::vec3> strand_points(points, points_per_strand), strand_tangents_out(tangents, points_per_strand);
-            strand_tangents(strand_points, strand_tangents_out);
+            strand_tangents(vertices[StrandVertices::X], vertices[StrandVertices::Y], vertices[StrandVertices::Z],
+                            strand_tangents_out);
             morph_vertex_lod(strand_points, strand_tangents_out, coarse, lod.gamma);
             const float radius = options.radius * thickness_compensation(full_counts[bundle], options.strand_lod);
             std::fill_n(strands.radius.data() + c * points_per_strand, points_per_strand, radius);

@@ -1,12 +1,16 @@
 #include "hairlod/hairmesh/styling.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "hairlod/core/error.h"
+#include "hairlod/core/fast_math.h"
+#include "hairlod/core/float4.h"
 #include "hairlod/hairmesh/hash_random.h"
 
 namespace hairlod {
@@ -23,37 +27,19 @@ glm::vec3 lattice_values(uint64_t key, int64_t cell) {
                      static_cast<float>((bits >> 42) & 0x1FFFFF)) * scale - 1.0f;
 }
 
-// C1 value noise: lattice values blended with the smoothstep of the cell fraction.
-glm::vec3 value_noise(uint64_t key, float x) {
-    // floor by truncation, corrected below zero (inlined, unlike std::floor without SSE4.1).
-    auto i = static_cast<int64_t>(x);
+// floor by truncation, corrected below zero (inlined, unlike std::floor without SSE4.1). Clamped
+// to +-2^62 first, so huge coordinates and NaN stay defined.
+int64_t floor_to_int(float x) {
+    auto i = static_cast<int64_t>(!(x >= -4.6e18f) ? -4.6e18f : (x > 4.6e18f ? 4.6e18f : x));
     if (static_cast<float>(i) > x) --i;
-    const float f = x - static_cast<float>(i), blend = f * f * (3.0f - 2.0f * f);
-    return glm::mix(lattice_values(key, i), lattice_values(key, i + 1), blend);
+    return i;
 }
 
-struct SinCos {
-    float sin, cos;
-};
-
-// sin and cos to about 1e-7 absolute beyond the rounding of x itself: Cody-Waite reduction to
-// [-pi/4, pi/4] around the nearest multiple of pi/2 (pi/2 split into three floats whose products
-// with the quadrant are exact), then Taylor polynomials. Branch-free float and int32 arithmetic,
-// so the styling loops vectorise; styling phases need no more accuracy.
-[[gnu::always_inline]] inline SinCos sin_cos(float x) {
-    constexpr float kInverseHalfPi = 0.63661977236758134f;
-    constexpr float kHalfPiHigh = 1.5703125f, kHalfPiMid = 4.837512969970703125e-4f, kHalfPiLow = 7.54978995489188216e-8f;
-    const float y = x * kInverseHalfPi;
-    const auto quadrant = static_cast<int32_t>(y + std::copysign(0.5f, y));
-    const auto q = static_cast<float>(quadrant);
-    const float f = ((x - q * kHalfPiHigh) - q * kHalfPiMid) - q * kHalfPiLow;
-    const float f2 = f * f;
-    const float s = f * (1.0f + f2 * (-1.0f / 6.0f + f2 * (1.0f / 120.0f + f2 * (-1.0f / 5040.0f + f2 * (1.0f / 362880.0f)))));
-    const float c = 1.0f + f2 * (-0.5f + f2 * (1.0f / 24.0f + f2 * (-1.0f / 720.0f + f2 * (1.0f / 40320.0f))));
-    // Odd quadrants swap sin and cos; sin is negative in quadrants 2, 3 and cos in 1, 2.
-    const auto swap = static_cast<float>(quadrant & 1);
-    const auto sin_sign = static_cast<float>(1 - (quadrant & 2)), cos_sign = static_cast<float>(1 - ((quadrant + 1) & 2));
-    return {sin_sign * (s + swap * (c - s)), cos_sign * (c + swap * (s - c))};
+// C1 value noise: lattice values blended with the smoothstep of the cell fraction.
+glm::vec3 value_noise(uint64_t key, float x) {
+    const int64_t i = floor_to_int(x);
+    const float f = x - static_cast<float>(i), blend = f * f * (3.0f - 2.0f * f);
+    return glm::mix(lattice_values(key, i), lattice_values(key, i + 1), blend);
 }
 
 void require(bool ok, size_t index, const char* operation, const char* message) {
@@ -94,6 +80,22 @@ void validate_styling(std::span<const StylingOperation> operations) {
     }
 }
 
+StylingInputs styling_inputs(std::span<const StylingOperation> operations) {
+    StylingInputs in;
+    for (const StylingOperation& op : operations) {
+        const bool curl = std::holds_alternative<Curl>(op), wave = std::holds_alternative<Wave>(op),
+                   twist = std::holds_alternative<Twist>(op), clump = std::holds_alternative<Clump>(op),
+                   frizz = std::holds_alternative<Frizz>(op);
+        in.u |= curl || wave || frizz;
+        in.v |= curl || frizz;
+        in.w_axis |= twist || frizz;
+        in.centre |= twist || clump;
+        in.w_from_root |= curl || wave || twist || frizz;
+        in.t |= clump;
+    }
+    return in;
+}
+
 void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t seed, uint64_t strand_key,
                          StrandStyling& strand) {
     strand.operations.assign(operations.size(), OperationConstants{});
@@ -124,12 +126,12 @@ namespace {
 
 // One function per operation over restrict-qualified component arrays: kept out of line so the
 // compiler keeps the no-aliasing facts and vectorises the loops.
-[[gnu::noinline]] void apply_curl(float* __restrict x, float* __restrict y, float* __restrict z,
+[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_curl(float* __restrict x, float* __restrict y, float* __restrict z,
                                   const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
                                   const float* __restrict vx, const float* __restrict vy, const float* __restrict vz,
                                   const float* __restrict w, size_t first, size_t n, const OperationConstants c) {
     for (size_t k = first; k < n; ++k) {
-        const SinCos phi = sin_cos(c.phase + c.angular_rate * w[k]);
+        const SinCos phi = fast_sin_cos(c.phase + c.angular_rate * w[k]);
         const float a = c.amplitude * phi.cos - c.at_root.x, b = c.amplitude * phi.sin - c.at_root.y;
         x[k] += a * ux[k] + b * vx[k];
         y[k] += a * uy[k] + b * vy[k];
@@ -137,11 +139,11 @@ namespace {
     }
 }
 
-[[gnu::noinline]] void apply_wave(float* __restrict x, float* __restrict y, float* __restrict z,
+[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_wave(float* __restrict x, float* __restrict y, float* __restrict z,
                                   const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
                                   const float* __restrict w, size_t first, size_t n, const OperationConstants c) {
     for (size_t k = first; k < n; ++k) {
-        const float a = c.amplitude * sin_cos(c.angular_rate * w[k] + c.phase).sin - c.at_root.x;
+        const float a = c.amplitude * fast_sin_cos(c.angular_rate * w[k] + c.phase).sin - c.at_root.x;
         x[k] += a * ux[k];
         y[k] += a * uy[k];
         z[k] += a * uz[k];
@@ -149,12 +151,12 @@ namespace {
 }
 
 // Rodrigues' rotation of the offset r from the centre curve about the unit axis w.
-[[gnu::noinline]] void apply_twist(float* __restrict x, float* __restrict y, float* __restrict z,
+[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_twist(float* __restrict x, float* __restrict y, float* __restrict z,
                                    const float* __restrict ax, const float* __restrict ay, const float* __restrict az,
                                    const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
                                    const float* __restrict w, size_t first, size_t n, float angular_rate) {
     for (size_t k = first; k < n; ++k) {
-        const SinCos angle = sin_cos(angular_rate * w[k]);
+        const SinCos angle = fast_sin_cos(angular_rate * w[k]);
         const float rx = x[k] - cx[k], ry = y[k] - cy[k], rz = z[k] - cz[k];
         const float along = (ax[k] * rx + ay[k] * ry + az[k] * rz) * (1.0f - angle.cos);
         x[k] = cx[k] + rx * angle.cos + (ay[k] * rz - az[k] * ry) * angle.sin + ax[k] * along;
@@ -163,30 +165,96 @@ namespace {
     }
 }
 
-[[gnu::noinline]] void apply_clump(float* __restrict x, float* __restrict y, float* __restrict z,
+[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_clump(float* __restrict x, float* __restrict y, float* __restrict z,
                                    const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
-                                   const float* __restrict t, size_t first, size_t n, float amount, float profile) {
+                                   const float* __restrict pull, size_t first, size_t n, float amount) {
     for (size_t k = first; k < n; ++k) {
-        // t^profile through exp2 / log2: half the cost of powf; t = 0 gives exp2(-inf) = 0.
-        const float pull = amount * std::exp2(profile * std::log2(t[k]));
-        x[k] += pull * (cx[k] - x[k]);
-        y[k] += pull * (cy[k] - y[k]);
-        z[k] += pull * (cz[k] - z[k]);
+        const float weight = amount * pull[k];
+        x[k] += weight * (cx[k] - x[k]);
+        y[k] += weight * (cy[k] - y[k]);
+        z[k] += weight * (cz[k] - z[k]);
     }
 }
 
-void apply_frizz(StrandVertices& v, size_t first, const Frizz& frizz, const OperationConstants& c) {
+// t^profile at vertices [first, n) for clump operation `index`, recomputed only when t or the
+// profile differ from the previous strand's (indices below `first` are left unset).
+const float* clump_pull(StrandStyling& strand, size_t index, const float* t, size_t first, size_t n, float profile) {
+    if (strand.clump_pulls.size() <= index) strand.clump_pulls.resize(index + 1);
+    StrandStyling::ClumpPull& cache = strand.clump_pulls[index];
+    if (cache.profile == profile && cache.t.size() == n && std::equal(t + first, t + n, cache.t.begin() + first))
+        return cache.pull.data();
+    cache.profile = profile;
+    cache.t.assign(t, t + n);
+    cache.pull.resize(n);
+    for (size_t k = first; k < n; ++k) cache.pull[k] = fast_pow_unit(t[k], profile);
+    return cache.pull.data();
+}
+
+// Frizz offsets n(frequency w) from the lattice values of cells first_cell .. first_cell + cells - 1
+// (value_noise with the hashing done beforehand), moved along the frame. Blocks of 4 vertices
+// (core/float4.h) that may overrun n into StrandVertices' spare room; their cells are clamped to
+// the table, so overrun lanes read valid (unused) values.
+[[gnu::noinline]] void apply_frizz_lattice(StrandVertices& v, size_t first, const glm::vec3* __restrict lattice,
+                                           int64_t first_cell, size_t cells, float frequency, float amplitude,
+                                           glm::vec3 at_root) {
     using V = StrandVertices;
-    for (size_t k = first; k < v.size(); ++k) {
-        const glm::vec3 n = frizz.amplitude * value_noise(c.noise_key, frizz.frequency * v[V::W_FROM_ROOT][k]) - c.at_root;
-        v.set_vec3(V::X, k, v.vec3(V::X, k) + n.x * v.vec3(V::UX, k) + n.y * v.vec3(V::VX, k) + n.z * v.vec3(V::WX, k));
+    static_assert(V::kOverrun >= 3);
+    for (size_t k = first; k < v.size(); k += 4) {
+        const Float4 cell_x = frequency * load4(v[V::W_FROM_ROOT] + k);
+        float fraction_lanes[4], low_lanes[3][4], high_lanes[3][4];
+        for (int j = 0; j < 4; ++j) {
+            const int64_t cell = floor_to_int(cell_x[j]);
+            fraction_lanes[j] = cell_x[j] - static_cast<float>(cell);
+            const auto i = static_cast<size_t>(std::clamp<int64_t>(cell - first_cell, 0, static_cast<int64_t>(cells) - 2));
+            for (int axis = 0; axis < 3; ++axis) {
+                low_lanes[axis][j] = lattice[i][axis];
+                high_lanes[axis][j] = lattice[i + 1][axis];
+            }
+        }
+        // Built from registers (not load4: a vector load of just-stored scalars stalls).
+        const auto lanes = [](const float* values) { return Float4{values[0], values[1], values[2], values[3]}; };
+        const Float4 fraction = lanes(fraction_lanes), blend = fraction * fraction * (3.0f - 2.0f * fraction);
+        Float4 offset[3];
+        for (int axis = 0; axis < 3; ++axis)  // glm::mix's form, as value_noise
+            offset[axis] = amplitude * (lanes(low_lanes[axis]) * (1.0f - blend) + lanes(high_lanes[axis]) * blend) - at_root[axis];
+        for (int axis = 0; axis < 3; ++axis) {
+            float* position = v[V::Component(V::X + axis)] + k;
+            store4(position, load4(position) + offset[0] * load4(v[V::Component(V::UX + axis)] + k) +
+                                 offset[1] * load4(v[V::Component(V::VX + axis)] + k) +
+                                 offset[2] * load4(v[V::Component(V::WX + axis)] + k));
+        }
     }
+}
+
+// The lattice values are hashed once per cell the strand spans, not twice per vertex; a strand
+// spanning more than two cells per vertex (noise far finer than its vertices) hashes per vertex
+// instead. Both give value_noise's offsets.
+void apply_frizz(StrandVertices& v, size_t first, const Frizz& frizz, const OperationConstants& c,
+                 std::vector<glm::vec3>& lattice) {
+    using V = StrandVertices;
+    const float* w = v[V::W_FROM_ROOT];
+    float low = INFINITY, high = -INFINITY;
+    for (size_t k = first; k < v.size(); ++k) {
+        low = frizz.frequency * w[k] < low ? frizz.frequency * w[k] : low;
+        high = frizz.frequency * w[k] > high ? frizz.frequency * w[k] : high;
+    }
+    if (!(high - low <= 2.0f * static_cast<float>(v.size()))) {  // also NaN
+        for (size_t k = first; k < v.size(); ++k) {
+            const glm::vec3 n = frizz.amplitude * value_noise(c.noise_key, frizz.frequency * w[k]) - c.at_root;
+            v.set_vec3(V::X, k, v.vec3(V::X, k) + n.x * v.vec3(V::UX, k) + n.y * v.vec3(V::VX, k) + n.z * v.vec3(V::WX, k));
+        }
+        return;
+    }
+    const int64_t first_cell = floor_to_int(low);
+    lattice.resize(static_cast<size_t>(floor_to_int(high) - first_cell + 2));
+    for (size_t i = 0; i < lattice.size(); ++i) lattice[i] = lattice_values(c.noise_key, first_cell + static_cast<int64_t>(i));
+    apply_frizz_lattice(v, first, lattice.data(), first_cell, lattice.size(), frizz.frequency, frizz.amplitude, c.at_root);
 }
 
 }  // namespace
 
-void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand,
-                   StrandVertices& vertices, size_t first) {
+void apply_styling(std::span<const StylingOperation> operations, StrandStyling& strand, StrandVertices& vertices,
+                   size_t first) {
     using V = StrandVertices;
     V& v = vertices;
     const size_t n = v.size();
@@ -202,10 +270,10 @@ void apply_styling(std::span<const StylingOperation> operations, const StrandSty
             apply_twist(v[V::X], v[V::Y], v[V::Z], v[V::WX], v[V::WY], v[V::WZ], v[V::CX], v[V::CY], v[V::CZ],
                         v[V::W_FROM_ROOT], first, n, kTwoPi * twist->rate);
         else if (const auto* clump = std::get_if<Clump>(&op))
-            apply_clump(v[V::X], v[V::Y], v[V::Z], v[V::CX], v[V::CY], v[V::CZ], v[V::T], first, n, clump->amount,
-                        clump->profile);
+            apply_clump(v[V::X], v[V::Y], v[V::Z], v[V::CX], v[V::CY], v[V::CZ],
+                        clump_pull(strand, i, v[V::T], first, n, clump->profile), first, n, clump->amount);
         else if (const auto* frizz = std::get_if<Frizz>(&op))
-            apply_frizz(v, first, *frizz, c);
+            apply_frizz(v, first, *frizz, c, strand.noise_lattice);
     }
 }
 

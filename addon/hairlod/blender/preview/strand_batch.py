@@ -1,13 +1,15 @@
 """GPU batches of strand lines: positions, tangents and the position along the strand, with LINES
 index buffers, shaded by the Kajiya-Kay diffuse term with a root-to-tip colour ramp.
 
-Buffers are filled from contiguous numpy arrays (no Python loop over strands or points). The
-strands are split into chunks of whole curves of at most CHUNK_POINTS points: a vertex buffer
-cannot be refilled once drawn, so every update allocates new ones, and allocations under malloc's
-largest mmap threshold (32 MiB) reuse the memory the previous update freed instead of
-page-faulting fresh pages (which took as long as the copy itself). Index buffers and ramp values
-depend only on a chunk's curve sizes: chunks of equal sizes share them, and they are kept while
-the topology stays the same, so a regeneration of unchanged topology uploads positions and tangents only.
+Buffers are filled from contiguous numpy arrays (no Python loop over strands or points). Each
+attribute has a vertex buffer of its own: Blender fills a one-attribute buffer with one memcpy but
+an interleaved one vertex by vertex (1.7M points: 4 ms against 110 ms). The strands are split
+into chunks of whole curves of at most CHUNK_POINTS points: a vertex buffer cannot be refilled
+once drawn, so every update allocates new ones, and allocations under malloc's largest mmap
+threshold (32 MiB) reuse the memory the previous update freed instead of page-faulting fresh
+pages. Index buffers and the ramp's vertex buffers depend only on a chunk's curve sizes: chunks of
+equal sizes share them, and they are kept while the topology stays the same, so a regeneration of
+unchanged topology uploads positions and tangents only.
 """
 
 import os
@@ -19,9 +21,28 @@ SHADER_FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shader
 _shader = None
 
 
-# Points per chunk: 28 bytes each in the vertex buffer, 1.75 MiB per chunk. Measured for 1.7M points
-# (scripts/bench_blender_gpu_preview.py): 0.12 s to fill with 2^16, 0.23 s with 2^19, 0.29 s unsplit.
+# Points per chunk: 12 bytes each per position or tangent buffer, 0.75 MiB per chunk. Measured for
+# 1.7M points (one buffer per attribute): 4.4 ms to fill in chunks of 2^16, 10 ms unsplit.
 CHUNK_POINTS = 1 << 16
+
+
+def _single_format(name, length):
+    import gpu
+
+    vertex_format = gpu.types.GPUVertFormat()
+    vertex_format.attr_add(id=name, comp_type='F32', len=length, fetch_mode='FLOAT')
+    return vertex_format
+
+
+def _filled_buffer(name, values):
+    """A vertex buffer of one attribute, filled with one copy of the contiguous ``values``."""
+    import gpu
+
+    values = np.ascontiguousarray(values, dtype=np.float32)
+    length = 1 if values.ndim == 1 else values.shape[1]
+    buffer = gpu.types.GPUVertBuf(_single_format(name, length), len(values))
+    buffer.attr_fill(name, values)
+    return buffer
 
 
 def chunk_curves(offsets, chunk_points=CHUNK_POINTS):
@@ -105,7 +126,7 @@ class StrandBatch:
         self.strand_count = 0
         self.point_count = 0
         self._offsets = None
-        self._chunks = []  # (first point, last point, index buffer, ramp values) per chunk
+        self._chunks = []  # (first point, last point, index buffer, ramp vertex buffer) per chunk
 
     def _chunk_topology(self, offsets):
         import gpu
@@ -117,7 +138,8 @@ class StrandBatch:
             local = offsets[first:last + 1] - offsets[first]
             key = local.tobytes()
             if key not in shared:
-                shared[key] = (gpu.types.GPUIndexBuf(type='LINES', seq=line_indices(local)), along_strand(local))
+                shared[key] = (gpu.types.GPUIndexBuf(type='LINES', seq=line_indices(local)),
+                               _filled_buffer("along", along_strand(local)))
             self._chunks.append((int(offsets[first]), int(offsets[last])) + shared[key])
 
     def update(self, points, tangents, offsets):
@@ -134,20 +156,15 @@ class StrandBatch:
             self._offsets = offsets.copy()
             self._chunk_topology(offsets)
         self.strand_count, self.point_count = max(len(offsets) - 1, 0), len(points)
-        vertex_format = gpu.types.GPUVertFormat()
-        vertex_format.attr_add(id="position", comp_type='F32', len=3, fetch_mode='FLOAT')
-        vertex_format.attr_add(id="tangent", comp_type='F32', len=3, fetch_mode='FLOAT')
-        vertex_format.attr_add(id="along", comp_type='F32', len=1, fetch_mode='FLOAT')
         self.batches = []
         for first, last, indices, along in self._chunks:
             if last - first < 2:
                 continue
             # A vertex buffer cannot be refilled once drawn: every update makes new ones.
-            vertices = gpu.types.GPUVertBuf(vertex_format, last - first)
-            vertices.attr_fill("position", points[first:last])
-            vertices.attr_fill("tangent", tangents[first:last])
-            vertices.attr_fill("along", along)
-            self.batches.append(gpu.types.GPUBatch(type='LINES', buf=vertices, elem=indices))
+            batch = gpu.types.GPUBatch(type='LINES', buf=_filled_buffer("position", points[first:last]), elem=indices)
+            batch.vertbuf_add(_filled_buffer("tangent", tangents[first:last]))
+            batch.vertbuf_add(along)
+            self.batches.append(batch)
 
     def draw(self, model_view_projection, light_direction, root_colour, tip_colour):
         """Draws with depth test in the current framebuffer. ``light_direction`` is in the object

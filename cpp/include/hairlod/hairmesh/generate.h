@@ -34,8 +34,11 @@ void validate_options(const GenerateOptions& options);
 std::vector<int64_t> bundle_strand_counts(const HairMesh& mesh, size_t count);
 
 // Sample sets large enough for `options` on `mesh`: 4 sets per domain of the next power of two at
-// or above the largest bundle count, seeded by options.seed.
-RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions& options);
+// or above the largest bundle count, seeded by options.seed. When `reuse` holds exactly the sets
+// that would be built (same size, seed and families, as after most edits that move hair-mesh
+// vertices), a copy of it is returned instead of building them again.
+RootSampleSets root_sample_sets_for(const HairMesh& mesh, const GenerateOptions& options,
+                                    const RootSampleSets* reuse = nullptr);
 
 // The full pipeline with precomputed frames and sample sets (both depend only on the mesh and the
 // seed, so interactive callers reuse them). Parallel over strands; deterministic for a seed.

@@ -73,13 +73,18 @@ public:
         kComponentCount
     };
 
+    // Each component array has room for kOverrun values past size(), so that a loop over blocks
+    // of 4 vertices may write past the end into scratch instead of running a scalar remainder.
+    static constexpr size_t kOverrun = 3;
+
     void resize(size_t count) {
         count_ = count;
-        values_.resize(count * kComponentCount);
+        stride_ = (count + kOverrun + 3) / 4 * 4;  // multiples of 4 floats keep the arrays 16-byte apart
+        values_.resize(stride_ * kComponentCount);
     }
     size_t size() const { return count_; }
-    float* operator[](Component c) { return values_.data() + c * count_; }
-    const float* operator[](Component c) const { return values_.data() + c * count_; }
+    float* operator[](Component c) { return values_.data() + c * stride_; }
+    const float* operator[](Component c) const { return values_.data() + c * stride_; }
     // Three consecutive components starting at X, UX, VX, WX or CX, as a vector.
     glm::vec3 vec3(Component first, size_t k) const {
         return {(*this)[first][k], (*this)[Component(first + 1)][k], (*this)[Component(first + 2)][k]};
@@ -91,9 +96,16 @@ public:
     }
 
 private:
-    size_t count_ = 0;
+    size_t count_ = 0, stride_ = 0;
     std::vector<float> values_;
 };
+
+// The StrandVertices components that a list of operations reads besides the position, so that a
+// generator fills only those.
+struct StylingInputs {
+    bool u = false, v = false, w_axis = false, centre = false, w_from_root = false, t = false;
+};
+StylingInputs styling_inputs(std::span<const StylingOperation> operations);
 
 // Per-strand constants of one operation, drawn once per strand.
 struct OperationConstants {
@@ -107,6 +119,16 @@ struct OperationConstants {
 struct StrandStyling {
     std::vector<OperationConstants> operations;  // one per operation
     float length_fraction = 1.0f;                // product of the Trim operations
+
+    // Scratch that apply_styling keeps between the strands styled with this object: frizz's
+    // lattice values, and per clump operation t^profile at each vertex, reused while the profile
+    // and the vertices' t stay the same (as for every strand of one generation).
+    struct ClumpPull {
+        float profile = 0.0f;
+        std::vector<float> t, pull;
+    };
+    std::vector<glm::vec3> noise_lattice;
+    std::vector<ClumpPull> clump_pulls;
 };
 
 // Draws the per-strand constants into `strand`, reusing its storage (one call per generated strand).
@@ -116,7 +138,7 @@ void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t 
 // Applies the operations in list order to the positions of vertices [first, size) of one strand,
 // operation by operation (each loop is one operation's arithmetic over the strand). Generation
 // passes first = 1: styling is not applied to the root (hair-meshes-realtime.txt Sec. 3.2).
-void apply_styling(std::span<const StylingOperation> operations, const StrandStyling& strand,
-                   StrandVertices& vertices, size_t first);
+void apply_styling(std::span<const StylingOperation> operations, StrandStyling& strand, StrandVertices& vertices,
+                   size_t first);
 
 }  // namespace hairlod
