@@ -57,6 +57,19 @@ def test_build_lod_creates_one_curves_object_per_level(hair_object):
     assert asset.strand_count == 600 and asset.level_ids == list(range(len(objects)))
 
 
+def test_unset_parameters_come_from_the_objects_build_settings(hair_object):
+    settings = hair_object.hairlod_lod_build
+    settings.guides, settings.levels, settings.control_points = 9, 3, 5
+    assert bpy.ops.hairlod.build_lod() == {'FINISHED'}
+    asset = packed_asset(hair_object)
+    assert (asset.guide_count, len(asset.levels) + 1, asset.control_points) == (9, 3, 5)
+    # A parameter the caller passes wins over the setting; the others still come from the object.
+    del hair_object[PACKED_PROPERTY]
+    assert bpy.ops.hairlod.build_lod(guides=7) == {'FINISHED'}
+    asset = packed_asset(hair_object)
+    assert (asset.guide_count, asset.control_points) == (7, 5)
+
+
 def test_build_lod_needs_hair_curves():
     bpy.ops.object.select_all(action='DESELECT')
     bpy.context.view_layer.objects.active = None

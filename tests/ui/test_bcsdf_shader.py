@@ -1,5 +1,5 @@
-"""The viewport's GLSL aggregated BCSDF agrees with the C++ evaluation (Blender under Xvfb, see
-scripts/run_ui_tests.sh).
+"""The viewport's GLSL aggregated BCSDF agrees with the C++ evaluation, and its self-shadowing term
+with the Python reference (Blender under Xvfb, see scripts/run_ui_tests.sh).
 
 Draws one full-screen pass into a float offscreen buffer where every pixel evaluates
 shaders/aggregated_bcsdf.glsl for its own (wi, wo, n, rho), read from data textures; reads the pixels
@@ -9,6 +9,11 @@ counts n from 1 to n_max (on and between table nodes) times 4 densities from 0.0
 and a dark hair. Tolerance: the tables'
 interpolation error, which `python3 -m hairlod bench bcsdf` reports (about 2% at the default
 resolution), so |S_glsl - S_cpp| <= 0.05 S_cpp + 0.01 max(S_cpp) per channel.
+
+Self-shadowing: shaders/self_shadow.glsl against hairlod.self_shadow.transmittance (the same formula
+in float64) for points in and around a flattened ellipsoid lit by suns and point lights, inside and
+outside it. The GLSL runs in float32, whose rounding in the ray-ellipsoid chord grows as the ray
+grazes the surface: |T_glsl - T_ref| <= 1e-4 (we measure about 4e-6 on llvmpipe).
 """
 
 import os
@@ -30,20 +35,54 @@ def directions(rng, count, max_theta=1.55):
     return np.stack([np.sin(theta), np.cos(theta) * np.cos(phi), np.cos(theta) * np.sin(phi)], axis=1)
 
 
-def evaluate_on_gpu(tables, wi, wo, hair_count, density):
+def data_texture(xyz, w):
+    """A SIZE x SIZE RGBA32F texture holding (xyz, w) per pixel."""
+    import gpu
+
+    rows = np.concatenate([xyz, w[:, None]], axis=1).astype(np.float32).reshape(SIZE, SIZE, 4)
+    return gpu.types.GPUTexture((SIZE, SIZE), format='RGBA32F',
+                                data=gpu.types.Buffer('FLOAT', SIZE * SIZE * 4, rows.ravel()))
+
+
+def draw_full_screen(shader, bind):
+    """Draws one full-screen triangle into a SIZE x SIZE float offscreen after bind(shader); returns
+    the pixels' RGB [SIZE * SIZE, 3]."""
     import gpu
     from gpu_extras.batch import batch_for_shader
+
+    quad = batch_for_shader(shader, 'TRIS', {"position": [(-1, -1), (3, -1), (-1, 3)]})
+    offscreen = gpu.types.GPUOffScreen(SIZE, SIZE, format='RGBA32F')
+    with offscreen.bind():
+        framebuffer = gpu.state.active_framebuffer_get()
+        framebuffer.clear(color=(0.0, 0.0, 0.0, 0.0))
+        shader.bind()
+        bind(shader)
+        quad.draw(shader)
+        pixels = np.asarray(framebuffer.read_color(0, 0, SIZE, SIZE, 4, 0, 'FLOAT').to_list(), np.float32)
+    offscreen.free()
+    return pixels.reshape(SIZE * SIZE, 4)[:, :3]
+
+
+def full_screen_shader_info():
+    import gpu
+
+    info = gpu.types.GPUShaderCreateInfo()
+    info.vertex_in(0, 'VEC2', "position")
+    info.fragment_out(0, 'VEC4', "fragColor")
+    info.vertex_source("void main() { gl_Position = vec4(position, 0.0, 1.0); }")
+    return info
+
+
+def evaluate_on_gpu(tables, wi, wo, hair_count, density):
+    import gpu
 
     from hairlod.blender.preview import bcsdf_textures
     from hairlod.blender.preview.shaders import glsl_source
 
-    info = gpu.types.GPUShaderCreateInfo()
-    info.vertex_in(0, 'VEC2', "position")
+    info = full_screen_shader_info()
     info.sampler(3, 'FLOAT_2D', "incoming")
     info.sampler(4, 'FLOAT_2D', "outgoing")
     bcsdf_textures.declare(info)
-    info.fragment_out(0, 'VEC4', "fragColor")
-    info.vertex_source("void main() { gl_Position = vec4(position, 0.0, 1.0); }")
     info.fragment_source(glsl_source("aggregated_bcsdf.glsl") + """
 void main()
 {
@@ -54,28 +93,80 @@ void main()
 }
 """)
     shader = gpu.shader.create_from_info(info)
-
-    def data_texture(xyz, w):
-        rows = np.concatenate([xyz, w[:, None]], axis=1).astype(np.float32).reshape(SIZE, SIZE, 4)
-        return gpu.types.GPUTexture((SIZE, SIZE), format='RGBA32F',
-                                    data=gpu.types.Buffer('FLOAT', SIZE * SIZE * 4, rows.ravel()))
-
     textures = bcsdf_textures.BcsdfTextures(tables)
     # Kept referenced until drawn: a freed GPUTexture reads as zeros.
     incoming, outgoing = data_texture(wi, hair_count), data_texture(wo, density)
-    quad = batch_for_shader(shader, 'TRIS', {"position": [(-1, -1), (3, -1), (-1, 3)]})
-    offscreen = gpu.types.GPUOffScreen(SIZE, SIZE, format='RGBA32F')
-    with offscreen.bind():
-        framebuffer = gpu.state.active_framebuffer_get()
-        framebuffer.clear(color=(0.0, 0.0, 0.0, 0.0))
-        shader.bind()
-        textures.bind(shader)
-        shader.uniform_sampler("incoming", incoming)
-        shader.uniform_sampler("outgoing", outgoing)
-        quad.draw(shader)
-        pixels = np.asarray(framebuffer.read_color(0, 0, SIZE, SIZE, 4, 0, 'FLOAT').to_list(), np.float32)
-    offscreen.free()
-    return pixels.reshape(SIZE * SIZE, 4)[:, :3]
+
+    def bind(program):
+        textures.bind(program)
+        program.uniform_sampler("incoming", incoming)
+        program.uniform_sampler("outgoing", outgoing)
+
+    return draw_full_screen(shader, bind)
+
+
+def transmittance_on_gpu(points, light_vectors, volume, strength):
+    """self_shadow.glsl's hair_transmittance per pixel, the light vector turned into the path to the
+    light as hair.frag.glsl does."""
+    import gpu
+
+    from hairlod.blender.preview.shaders import glsl_source
+
+    info = full_screen_shader_info()
+    info.sampler(0, 'FLOAT_2D', "point_data")
+    info.sampler(1, 'FLOAT_2D', "light_data")
+    info.push_constant('VEC4', "centre_sigma")
+    info.push_constant('VEC3', "semi_axes")
+    info.fragment_source(glsl_source("self_shadow.glsl") + """
+void main()
+{
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec3 p = texelFetch(point_data, pixel, 0).xyz;
+  vec4 light = texelFetch(light_data, pixel, 0);
+  vec3 to_light = light.xyz - p * light.w;
+  float t = hair_transmittance(p, to_light, light.w > 0.0 ? 1.0 : 1e30, centre_sigma.xyz, semi_axes, centre_sigma.w);
+  fragColor = vec4(t, t, t, 1.0);
+}
+""")
+    shader = gpu.shader.create_from_info(info)
+    point_texture = data_texture(points, np.zeros(len(points)))
+    light_texture = data_texture(light_vectors[:, :3], light_vectors[:, 3])
+
+    def bind(program):
+        program.uniform_sampler("point_data", point_texture)
+        program.uniform_sampler("light_data", light_texture)
+        program.uniform_float("centre_sigma", (*volume.centre, strength * volume.extinction))
+        program.uniform_float("semi_axes", tuple(volume.semi_axes))
+
+    return draw_full_screen(shader, bind)[:, 0]
+
+
+def check_self_shadowing():
+    from hairlod import self_shadow
+
+    rng = np.random.default_rng(12)
+    count = SIZE * SIZE
+    volume = self_shadow.HairVolume(centre=np.array([0.3, -0.2, 1.0]), semi_axes=np.array([1.5, 1.0, 0.4]),
+                                    extinction=2.5)
+    # Points inside and up to half an axis outside; half the lights suns, half point lights within
+    # 3 semi-axes of the centre (inside the hair too).
+    points = volume.centre + rng.uniform(-1.5, 1.5, (count, 3)) * volume.semi_axes
+    suns = rng.normal(size=(count, 3))
+    suns /= np.linalg.norm(suns, axis=1, keepdims=True)
+    lamps = volume.centre + rng.uniform(-3.0, 3.0, (count, 3)) * volume.semi_axes
+    is_point = rng.uniform(size=count) < 0.5
+    light_vectors = np.concatenate([np.where(is_point[:, None], lamps, suns), is_point[:, None]], axis=1)
+    strength = 0.7
+    shader_values = transmittance_on_gpu(points, light_vectors, volume, strength)
+    reference = self_shadow.transmittance(points, light_vectors, volume, strength)
+    error = np.abs(shader_values - reference)
+    shadowed = reference < 0.99
+    print(f"self-shadowing: max |T_glsl - T_ref| = {error.max():.2e}, mean {error.mean():.2e} over {count} "
+          f"configurations ({shadowed.mean():.0%} shadowed, min T {reference.min():.3f})")
+    check(np.isfinite(shader_values).all(), "self-shadowing: the shader's values are finite")
+    check(0.2 < shadowed.mean() < 0.9 and reference.min() < 0.05,
+          "self-shadowing: the configurations cover lit, partly and deeply shadowed points")
+    check((error <= 1e-4).all(), "self-shadowing: GLSL agrees with the reference within 1e-4")
 
 
 def run():
@@ -115,6 +206,7 @@ def run():
 
 def steps():
     run()
+    check_self_shadowing()
     yield from ()
 
 

@@ -2,12 +2,15 @@
 
 Enables the add-on, imports a hair file, opens the sidebar on the "Hair LoD" tab and takes a
 screenshot; disables the add-on and takes another. The tab's panel must change the sidebar's
-pixels, and only there. Screenshots go to $HAIRLOD_UI_OUT (default <repo>/out/ui). Exits 0 on
+pixels, and only there. Then, the add-on enabled again: the panel draws Build Hair LoD's parameters
+from the object's settings; the build button (the operator invoked with no parameters, as the panel
+does) builds with the values set there, keeps them in its redo panel, and undo removes the build. Screenshots go to $HAIRLOD_UI_OUT (default <repo>/out/ui). Exits 0 on
 success, 1 on failure.
 """
 
 import os
 import sys
+import time
 
 import bpy
 import numpy as np
@@ -39,6 +42,63 @@ def crop(pixels, window, region):
     x1, y1 = int((region.x + region.width) * scale_x), int((region.y + region.height) * scale_y)
     return pixels[y0:y1, x0:x1]
 
+
+POLL_DELAY = 0.2
+BUILD_TIMEOUT = 120.0
+
+
+class RecordingLayout:
+    """Stands in for a UILayout: records (data, property) of every prop() drawn through it."""
+
+    def __init__(self, drawn):
+        self.drawn = drawn
+
+    def prop(self, data, name, **_):
+        self.drawn.append((data, name))
+
+    def __getattr__(self, name):  # row(), column(), box(), label(), operator(): more of the same
+        return lambda *args, **kwargs: self
+
+
+def drawn_properties(context):
+    drawn = []
+    panel = type("Panel", (), {"layout": RecordingLayout(drawn)})()
+    bpy.types.VIEW3D_PT_hairlod.draw(panel, context)
+    return drawn
+
+
+def build_from_the_panel(window, area):
+    """The panel's parameters reach the build; redo keeps them; undo removes the build."""
+    from hairlod.blender.lod_operator import BUILD_PROPERTIES, PACKED_PROPERTY, packed_asset
+
+    obj = bpy.context.view_layer.objects.active
+    check(obj is not None and obj.type == 'CURVES', "the imported hair is the active object")
+    settings = obj.hairlod_lod_build
+    drawn = drawn_properties(bpy.context)
+    check(all((settings, name) in drawn for name in BUILD_PROPERTIES),
+          f"the panel draws every build parameter from the object's settings ({len(drawn)} properties)")
+    settings.guides, settings.levels, settings.control_points, settings.seed = 24, 3, 8, 5
+    with bpy.context.temp_override(window=window, area=area):
+        # The state undo must return to (the import, run from a timer, may share the initial undo step).
+        bpy.ops.ed.undo_push(message="before the build")
+        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT')
+    check(started == {'RUNNING_MODAL'}, "the build button starts the modal build")
+    deadline = time.monotonic() + BUILD_TIMEOUT
+    while PACKED_PROPERTY not in obj and time.monotonic() < deadline:
+        yield POLL_DELAY
+    yield REDRAW_DELAY
+    asset = packed_asset(obj)
+    check(asset is not None and (asset.guide_count, len(asset.levels) + 1, asset.control_points) == (24, 3, 8),
+          "the build used the panel's guides, levels and control points")
+    last = bpy.context.window_manager.operators[-1]
+    check(last.bl_idname == "HAIRLOD_OT_build_lod" and
+          all(getattr(last.properties, name) == getattr(settings, name) for name in BUILD_PROPERTIES),
+          "the redo panel holds the parameters the build used")
+    name = obj.name
+    with bpy.context.temp_override(window=window, area=area):
+        bpy.ops.ed.undo()
+    yield REDRAW_DELAY
+    check(PACKED_PROPERTY not in bpy.data.objects[name], "undo removes the build")
 
 
 def steps():
@@ -94,6 +154,9 @@ def steps():
     # Text and icons: the panel draws bright pixels on a darker background.
     panel = crop(with_panel, window, sidebar)
     check((panel.mean(axis=2) > 0.7).mean() > 0.002, "the panel shows text")
+
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled again")
+    yield from build_from_the_panel(window, area)
 
 
 harness.run(steps)

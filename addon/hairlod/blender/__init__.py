@@ -8,7 +8,9 @@ from .hair_mesh_gpu_preview import register_handlers as register_gpu_preview
 from .hair_mesh_gpu_preview import unregister_handlers as unregister_gpu_preview
 from .hair_mesh_preview import register_handler, unregister_handler
 from .lod_export import HAIRLOD_OT_export_lod
-from .lod_operator import HAIRLOD_OT_build_lod
+from .lod_operator import HAIRLOD_OT_build_lod, HAIRLOD_PG_lod_build
+from .lod_operator import register_properties as register_lod_build_properties
+from .lod_operator import unregister_properties as unregister_lod_build_properties
 from .lod_preview_ui import (HAIRLOD_OT_load_lod_preview, HAIRLOD_PG_lod_preview, VIEW3D_PT_hairlod_lod_preview)
 from .lod_preview_ui import register_properties as register_lod_preview_properties
 from .lod_preview_ui import unregister_properties as unregister_lod_preview_properties
@@ -22,6 +24,7 @@ classes = (
     HAIRLOD_PG_strand_settings,
     HAIRLOD_OT_hair_mesh_from_faces,
     HAIRLOD_OT_generate_strands,
+    HAIRLOD_PG_lod_build,
     HAIRLOD_OT_build_lod,
     HAIRLOD_PG_lod_preview,
     HAIRLOD_OT_load_lod_preview,
@@ -37,6 +40,7 @@ def register():
         bpy.utils.register_class(cls)
     register_properties()
     register_lod_preview_properties()
+    register_lod_build_properties()
     register_handler()
     lod_preview.register_handler()
     register_gpu_preview()
@@ -50,6 +54,7 @@ def unregister():
     lod_preview.unregister_handler()
     unregister_gpu_preview()
     unregister_handler()
+    unregister_lod_build_properties()
     unregister_lod_preview_properties()
     unregister_properties()
     for cls in reversed(classes):

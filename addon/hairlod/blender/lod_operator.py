@@ -1,5 +1,8 @@
 """Build Hair LoD: the active hair Curves object -> one Curves object per thick level.
 
+Its parameters live on the object (HAIRLOD_PG_lod_build, drawn in the sidebar) and are the
+operator's defaults: a parameter the caller does not pass comes from the active object's settings.
+
 The build runs in a worker thread (the C++ build releases the GIL) polled from a modal timer, with a
 progress bar; Esc cancels it and removes whatever it had made. The asset is packed into the source
 object (custom property PACKED_PROPERTY), so it is saved with the .blend; packed_asset() reads it.
@@ -163,6 +166,38 @@ class LodBuildJob:
             raise
 
 
+def _build_properties(options):
+    """The build's parameters as property annotations: stored per object (the sidebar's settings)
+    and on the operator (its redo panel), declared once."""
+    return {
+        "guides": IntProperty(name="Guides", description="Guide hairs chosen by k-means", default=256, min=1,
+                              options=options),
+        "levels": IntProperty(name="Levels", description="LoD levels including the strands themselves",
+                              default=6, min=2, max=16, options=options),
+        "control_points": IntProperty(name="Control Points", description="Control points per hair", default=16,
+                                      min=2, max=64, options=options),
+        "seed": IntProperty(name="Seed", description="Random seed of the k-means seeding", default=0, min=0,
+                            options=options),
+        "scene_cameras": BoolProperty(
+            name="Only levels the scene's cameras need",
+            description="Keep only the levels that some camera of the scene selects over the frame range "
+                        "(at the render resolution)", default=False, options=options),
+        "frame_step": IntProperty(name="Frame Step", description="Frames between camera samples", default=1, min=1,
+                                  options=options),
+        "width_px": FloatProperty(name="Width (px)", description="Screen width threshold of the level selection",
+                                  default=2.0, min=0.01, options=options),
+    }
+
+
+BUILD_PROPERTIES = tuple(_build_properties(set()))
+
+
+class HAIRLOD_PG_lod_build(bpy.types.PropertyGroup):
+    """Build Hair LoD's parameters of one hair object, set in the sidebar before the build."""
+
+    __annotations__ = _build_properties({'ANIMATABLE'})
+
+
 class HAIRLOD_OT_build_lod(bpy.types.Operator):
     """Build guide hairs, clusters and elliptical thick hairs from the active hair Curves object,
     adding one Curves object per level to the "Hair LoD" collection (Esc cancels)"""
@@ -171,18 +206,9 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
     bl_label = "Build Hair LoD"
     bl_options = {'REGISTER', 'UNDO'}
 
-    guides: IntProperty(name="Guides", description="Guide hairs chosen by k-means", default=256, min=1)
-    levels: IntProperty(name="Levels", description="LoD levels including the strands themselves",
-                        default=6, min=2, max=16)
-    control_points: IntProperty(name="Control Points", description="Control points per hair", default=16, min=2, max=64)
-    seed: IntProperty(name="Seed", description="Random seed of the k-means seeding", default=0, min=0)
-    scene_cameras: BoolProperty(
-        name="Only levels the scene's cameras need",
-        description="Keep only the levels that some camera of the scene selects over the frame range "
-                    "(at the render resolution)", default=False)
-    frame_step: IntProperty(name="Frame Step", description="Frames between camera samples", default=1, min=1)
-    width_px: FloatProperty(name="Width (px)", description="Screen width threshold of the level selection",
-                            default=2.0, min=0.01)
+    # SKIP_SAVE: a parameter the caller leaves unset comes from the object's settings (the sidebar),
+    # not from the operator's previous run; redo passes every parameter, so it repeats the build.
+    __annotations__ = _build_properties({'SKIP_SAVE'})
 
     @classmethod
     def poll(cls, context):
@@ -191,6 +217,10 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
 
     def _start(self, context):
         source = context.active_object
+        settings = source.hairlod_lod_build
+        for name in BUILD_PROPERTIES:
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
         try:
             return LodBuildJob(context, source, self.guides, self.levels, self.control_points, self.seed,
                                self.scene_cameras, self.frame_step, self.width_px)
@@ -264,3 +294,11 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
         """Esc, an error, or Blender cancelling the modal operator: nothing half-made stays behind."""
         self._end_modal(context)
         self._job.cancel()
+
+
+def register_properties():
+    bpy.types.Object.hairlod_lod_build = bpy.props.PointerProperty(type=HAIRLOD_PG_lod_build)
+
+
+def unregister_properties():
+    del bpy.types.Object.hairlod_lod_build

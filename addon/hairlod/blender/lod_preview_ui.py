@@ -30,6 +30,9 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                              max=1.0, subtype='FACTOR', update=_redraw)
     radial_roughness: FloatProperty(name="Radial Roughness", description="Azimuthal roughness", default=0.3,
                                     min=0.01, max=1.0, subtype='FACTOR', update=_redraw)
+    self_shadowing: FloatProperty(name="Self-Shadowing", description="Light lost through the hair volume, as a "
+                                  "share of the strands' geometric extinction (exponential falloff; 0 disables)",
+                                  default=0.2, min=0.0, soft_max=1.0, update=_redraw)
     show_statistics: BoolProperty(name="Statistics", description="Show segments drawn per level and times",
                                   default=True)
 
@@ -96,6 +99,7 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
         column.prop(settings, "width_px")
         column.prop(settings, "overlay")
         if settings.overlay == 'SHADED':
+            column.prop(settings, "self_shadowing")
             column.prop(settings, "use_material")
             material = column.column(align=True)
             for key in ("melanin", "melanin_redness", "roughness", "radial_roughness"):

@@ -29,7 +29,23 @@ class VIEW3D_PT_hairlod(bpy.types.Panel):
         column = box.column(align=True)
         column.label(text=f"Strands: {len(obj.data.curves):,}")
         column.label(text=f"Points: {len(obj.data.points):,}")
+        draw_build_settings(box, obj.hairlod_lod_build)
         box.operator(HAIRLOD_OT_build_lod.bl_idname, icon='MOD_PARTICLES')
+
+
+def draw_build_settings(layout, settings):
+    """Build Hair LoD's parameters, which the button uses for whatever it is not given."""
+    column = layout.column()
+    column.use_property_split = True
+    column.use_property_decorate = False
+    block = column.column(align=True)
+    for key in ("guides", "levels", "control_points", "seed"):
+        block.prop(settings, key)
+    column.prop(settings, "width_px")
+    column.prop(settings, "scene_cameras")
+    row = column.row()
+    row.active = settings.scene_cameras
+    row.prop(settings, "frame_step")
 
 
 class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):

@@ -16,7 +16,7 @@ from bpy.app.handlers import persistent
 import numpy as np
 from mathutils import Vector
 
-from ... import lod, preview_buffers
+from ... import lod, preview_buffers, self_shadow
 from .shaders import glsl_source
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -41,21 +41,29 @@ FRAME_BLOCK = f"""
 struct HairFrame {{
   mat4 model;
   mat4 view_projection;
+  mat4 model_inverse;
   vec4 camera;
   vec4 viewport;
   vec4 ambient;
   vec4 counts;
+  vec4 hair_centre;
+  vec4 hair_axes;
   vec4 light_vectors[{MAX_LIGHTS}];
   vec4 light_colours[{MAX_LIGHTS}];
 }};
 """
 
 
-def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours):
-    """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them)."""
-    data = np.concatenate([np.asarray(model, np.float32).T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
-                           np.asarray(camera, np.float32), (*viewport, 0.0, 0.0), np.asarray(ambient, np.float32),
-                           (float(light_count), 0.0, 0.0, 0.0), light_vectors.ravel(), light_colours.ravel()])
+def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours,
+                hair_volume, shadow_strength):
+    """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them).
+    hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow)."""
+    model = np.asarray(model, np.float64)
+    data = np.concatenate([model.T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
+                           np.linalg.inv(model).T.ravel(), np.asarray(camera, np.float32), (*viewport, 0.0, 0.0),
+                           np.asarray(ambient, np.float32), (float(light_count), 0.0, 0.0, 0.0),
+                           (*hair_volume.centre, shadow_strength * hair_volume.extinction), (*hair_volume.semi_axes, 0.0),
+                           light_vectors.ravel(), light_colours.ravel()])
     data = np.ascontiguousarray(data, dtype=np.float32)
     return gpu.types.GPUUniformBuf(gpu.types.Buffer('FLOAT', data.size, data))
 
@@ -86,7 +94,7 @@ def _create_shader(kind):
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
-    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "hair.frag.glsl"))
+    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "self_shadow.glsl", "hair.frag.glsl"))
     return gpu.shader.create_from_info(info)
 
 
@@ -123,6 +131,7 @@ class LodPreview:
         self.asset = asset
         self.views = {}  # RegionView3D pointer -> ViewState
         self.vertex_buffers = None
+        self.hair_volume = None  # self_shadow.HairVolume of the rest strands, with the vertex buffers
         self.stats = {}
         self.max_hair_count = None
         self.textures = None
@@ -139,10 +148,12 @@ class LodPreview:
         for level, geometry_level in zip(self.asset.levels, geometry["levels"]):
             arrays = preview_buffers.thick_strip_vertices(geometry_level, level.n_total, level.density)
             buffers.append(_vertex_buffer("thick", arrays))
+        strands = geometry["strands"]
         strand_order = self.asset.arrays()["strand_order"]
-        arrays = preview_buffers.strand_line_vertices(geometry["strands"], strand_order, self.asset.control_points)
+        arrays = preview_buffers.strand_line_vertices(strands, strand_order, self.asset.control_points)
         buffers.append(_vertex_buffer("strand", arrays))
         self.vertex_buffers = buffers
+        self.hair_volume = self_shadow.hair_volume(strands.points, strands.offsets, strands.radius)
 
     def view_state(self, key):
         if key not in self.views:
@@ -212,7 +223,7 @@ class LodPreview:
         # Kept referenced until the batches are drawn.
         frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
-                            light_colours)
+                            light_colours, self.hair_volume, settings.self_shadowing)
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
         for level, batch in enumerate(state.batches):

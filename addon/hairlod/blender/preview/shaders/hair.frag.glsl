@@ -2,7 +2,9 @@
  * to 8 lights (frame.counts.x of them; `frame` is the HairFrame uniform block, lod_preview.py), world
  * space: light_vectors[k] = (unit direction towards a sun, 0) or (position of a point light, 1);
  * light_colours[k].rgb = the sun's irradiance, or the point light's intensity (its power over 4 pi)
- * that falls off with the squared distance. Plus an ambient term: the world colour
+ * that falls off with the squared distance, each times its self-shadowing transmittance through the
+ * hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the object-space
+ * ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus an unshadowed ambient term: the world colour
  * times the hair's directional albedo, approximated by the fibre's A_R + A_TT + A_D at theta_o
  * attenuated by a_F^(n-1). shading_mode 1: the level's colour, darkened towards the silhouette.
  * Radiance is tone-mapped (x / (1 + x)) and encoded to sRGB for the viewport. */
@@ -31,13 +33,18 @@ void main()
     n = min(hairs_crossed(rho, chord, v_cluster.x, v_ellipse.x, v_ellipse.y), lut_constants.y);
   }
   vec3 radiance = vec3(0.0);
+  vec3 p_object = (frame.model_inverse * vec4(v_position, 1.0)).xyz;
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - v_position * frame.light_vectors[k].w;
+    /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */
+    vec3 to_light_object = (frame.model_inverse * frame.light_vectors[k]).xyz - p_object * frame.light_vectors[k].w;
+    float shadow = hair_transmittance(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
+                                      frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w);
     float distance2 = frame.light_vectors[k].w > 0.0 ? max(dot(to_light, to_light), 1e-20) : 1.0;
     vec3 wi = normalize(to_light);
     float sin_i = dot(wi, t);
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
-    radiance += frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
+    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
   }
   float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
   vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +

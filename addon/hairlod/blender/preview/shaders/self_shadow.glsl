@@ -1,0 +1,22 @@
+/* Self-shadowing by exponential falloff through the hair volume (realtime-pbr-hair-thesis.txt
+ * Sec. 4.5, after Karis 2016), without a shadow map: the depth below the lit side is the length of
+ * the path from p towards the light inside the hair's bounding ellipsoid (centre, semi_axes), and
+ * the light that reaches p is exp(-sigma depth). Object space; to_light is the direction towards a
+ * sun (t_max huge) or the vector to a point light (t_max = 1, the path ends at the light).
+ * hairlod/self_shadow.py is the reference (same formula, float64). */
+float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 semi_axes, float sigma)
+{
+  /* The ray in the ellipsoid's unit-sphere coordinates: |q + t v|^2 = 1. */
+  vec3 q = (p - centre) / semi_axes;
+  vec3 v = to_light / semi_axes;
+  float a = dot(v, v);
+  float b = dot(q, v);
+  float discriminant = b * b - a * (dot(q, q) - 1.0);
+  if (sigma <= 0.0 || a <= 1e-30 || discriminant <= 0.0) {
+    return 1.0;
+  }
+  float root = sqrt(discriminant);
+  float t_enter = max((-b - root) / a, 0.0);
+  float t_exit = min((-b + root) / a, t_max);
+  return exp(-sigma * max(t_exit - t_enter, 0.0) * length(to_light));
+}

@@ -1,0 +1,102 @@
+"""Cheap self-shadowing of the viewport preview, without a shadow map (no bpy).
+
+realtime-pbr-hair-thesis.txt Sec. 4.5 (after Karis 2016) replaces the hard shadow-map test by an
+exponential falloff of the light with the depth, in light space, of the shaded point below the
+first lit hair: points behind more hair receive less light. We estimate that depth from the asset
+alone: the hair volume is the axis-aligned ellipsoid whose semi-axes are the half extents of the
+strands' bounding box, and the depth d is the length of the path from the point towards the light
+that lies inside it (0 on the lit side, growing into the hair; 0 for points the ray to the light
+never crosses the volume from). The light reaching the point is T = exp(-sigma d) with
+
+    sigma = strength x 2 r L / V,
+
+2 r L / V the projected fibre area per unit volume (all strands' length L times their mean
+diameter 2 r, over the ellipsoid's volume V = 4/3 pi a b c): the extinction coefficient of a
+volume of fibres crossed at right angles. `strength` (the panel's "Self-Shadowing") scales it: a
+fibre passes much of the light that hits it forward (the TT lobe), so the effective extinction is
+a fraction of the geometric one; 0 disables the term.
+
+shaders/self_shadow.glsl evaluates the same formula; tests/ui/test_bcsdf_shader.py compares them.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["HairVolume", "hair_volume", "transmittance"]
+
+# Semi-axes are at least this share of the largest one, so flat hair (all in a plane) keeps a
+# finite volume and the ellipsoid test stays well conditioned.
+MIN_AXIS_SHARE = 1e-3
+
+
+@dataclass(frozen=True)
+class HairVolume:
+    centre: np.ndarray     # float64 [3], object space
+    semi_axes: np.ndarray  # float64 [3], > 0
+    extinction: float      # 2 r L / V, per object-space unit; 0 when the hair has no extent
+
+
+def hair_volume(points, offsets, radius):
+    """The HairVolume of strands given as points [N, 3], offsets [C + 1] and radius [N] (the layout
+    of hairlod.Strands)."""
+    points = np.asarray(points, dtype=np.float64)
+    offsets = np.asarray(offsets, dtype=np.int64)
+    radius = np.asarray(radius, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
+        raise ValueError(f"hair volume: points must have shape [N >= 2, 3], got {list(points.shape)}")
+    if radius.shape != (len(points),):
+        raise ValueError(f"hair volume: radius must have shape [{len(points)}], got {list(radius.shape)}")
+    if offsets.ndim != 1 or len(offsets) < 2 or offsets[0] != 0 or offsets[-1] != len(points):
+        raise ValueError(f"hair volume: offsets must run from 0 to {len(points)}")
+    if not (np.isfinite(points).all() and np.isfinite(radius).all()):
+        raise ValueError("hair volume: points and radius must be finite")
+    lower, upper = points.min(axis=0), points.max(axis=0)
+    half_extent = 0.5 * (upper - lower)
+    largest = float(half_extent.max())
+    if largest <= 0.0:
+        return HairVolume(centre=0.5 * (lower + upper), semi_axes=np.ones(3), extinction=0.0)
+    semi_axes = np.maximum(half_extent, MIN_AXIS_SHARE * largest)
+    # Segments within a strand only: drop the step from one strand's tip to the next one's root.
+    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    within = np.ones(len(steps), bool)
+    within[offsets[1:-1] - 1] = False
+    length = float(steps[within].sum())
+    volume = 4.0 / 3.0 * np.pi * float(np.prod(semi_axes))
+    return HairVolume(centre=0.5 * (lower + upper), semi_axes=semi_axes,
+                      extinction=2.0 * float(radius.mean()) * length / volume)
+
+
+def transmittance(points, light_vectors, volume, strength):
+    """T = exp(-strength x extinction x d) per point: the share of each light that reaches points
+    [N, 3] through the hair. `light_vectors` [N, 4] or [4], in the volume's (object) space:
+    (direction towards a sun, 0) or (position of a point light, 1); the path to a point light ends
+    at the light. Returns float64 [N] in (0, 1], 1 where the path misses the volume."""
+    points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    light_vectors = np.asarray(light_vectors, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise ValueError(f"transmittance: points must have shape [N, 3], got {list(points.shape)}")
+    if light_vectors.shape not in ((4,), (len(points), 4)):
+        raise ValueError(f"transmittance: light_vectors must have shape [4] or [{len(points)}, 4], "
+                         f"got {list(light_vectors.shape)}")
+    light_vectors = np.broadcast_to(light_vectors, (len(points), 4))
+    if not np.isfinite(strength) or strength < 0.0:
+        raise ValueError(f"transmittance: strength must be finite and >= 0, got {strength}")
+    is_point = light_vectors[:, 3] > 0.0
+    # Along p + t to_light: t in [0, 1] reaches a point light; a sun is at t -> infinity.
+    to_light = np.where(is_point[:, None], light_vectors[:, :3] - points, light_vectors[:, :3])
+    t_max = np.where(is_point, 1.0, np.inf)
+    # The ray in the ellipsoid's unit-sphere coordinates: |q + t v|^2 = 1.
+    q = (points - volume.centre) / volume.semi_axes
+    v = to_light / volume.semi_axes
+    a = np.einsum("ij,ij->i", v, v)
+    b = np.einsum("ij,ij->i", q, v)
+    c = np.einsum("ij,ij->i", q, q) - 1.0
+    discriminant = b * b - a * c
+    crosses = (a > 1e-30) & (discriminant > 0.0)
+    root = np.sqrt(np.where(crosses, discriminant, 0.0))
+    safe_a = np.where(crosses, a, 1.0)
+    t_enter = np.maximum((-b - root) / safe_a, 0.0)
+    t_exit = np.minimum((-b + root) / safe_a, t_max)
+    depth = np.where(crosses, np.maximum(t_exit - t_enter, 0.0), 0.0) * np.linalg.norm(to_light, axis=1)
+    return np.exp(-strength * volume.extinction * depth)

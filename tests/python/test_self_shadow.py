@@ -1,0 +1,109 @@
+"""The preview's self-shadowing reference (hairlod.self_shadow): 1 on the lit side, falling into the
+hair, finite on hard cases."""
+
+import numpy as np
+import pytest
+
+from hairlod import self_shadow
+
+SUN_FROM_X = np.array([1.0, 0.0, 0.0, 0.0])  # a sun in +x
+
+
+def ball(count=400, seed=3):
+    """Straight strands filling the unit ball, 4 points each: a hair volume close to the unit sphere."""
+    rng = np.random.default_rng(seed)
+    roots = rng.normal(size=(count, 3))
+    roots *= (rng.uniform(size=(count, 1)) ** (1 / 3)) / np.linalg.norm(roots, axis=1, keepdims=True)
+    roots[:6] = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]]  # extent exactly 1
+    points = roots[:, None, :] + np.linspace(0.0, 0.02, 4)[None, :, None] * np.array([0.0, 0.0, -1.0])
+    points = np.clip(points, -1.0, 1.0).reshape(-1, 3)
+    return points, np.arange(0, 4 * count + 1, 4), np.full(len(points), 0.001)
+
+
+def test_volume_bounds_the_strands_and_measures_their_extinction():
+    points, offsets, radius = ball()
+    volume = self_shadow.hair_volume(points, offsets, radius)
+    np.testing.assert_allclose(volume.semi_axes, 0.5 * (points.max(0) - points.min(0)))
+    # 2 r L / V with each strand 0.02 long (clipping shortens a few at the boundary).
+    expected = 2 * 0.001 * 400 * 0.02 / (4 / 3 * np.pi * np.prod(volume.semi_axes))
+    assert volume.extinction == pytest.approx(expected, rel=0.02)
+
+
+def test_one_on_the_lit_side_and_falling_into_the_hair():
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.ones(3), extinction=2.0)
+    x = np.linspace(1.0, -1.0, 9)
+    points = np.stack([x, np.zeros(9), np.zeros(9)], axis=1)
+    t = self_shadow.transmittance(points, SUN_FROM_X, volume, strength=0.5)
+    assert t[0] == pytest.approx(1.0)
+    assert (np.diff(t) < 0).all()
+    # Depth 1 - x along the axis, sigma = 0.5 x 2.
+    np.testing.assert_allclose(t, np.exp(-(1.0 - x)))
+    # Outside, on the far side: the whole chord (2) shadows it; beside the volume, nothing does.
+    far_and_beside = self_shadow.transmittance([[-3.0, 0, 0], [0, 2.0, 0]], SUN_FROM_X, volume, 0.5)
+    np.testing.assert_allclose(far_and_beside, [np.exp(-2.0), 1.0])
+
+
+def test_point_light_path_ends_at_the_light():
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.array([2.0, 1.0, 1.0]), extinction=1.0)
+    light_inside = np.array([1.0, 0.0, 0.0, 1.0])
+    t = self_shadow.transmittance([[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]], light_inside, volume, 1.0)
+    np.testing.assert_allclose(t, [np.exp(-2.0), 1.0])  # 2 units of hair between; the light itself
+
+
+def test_zero_strength_or_density_disables_it():
+    points = np.random.default_rng(0).uniform(-1, 1, (50, 3))
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.ones(3), extinction=3.0)
+    np.testing.assert_array_equal(self_shadow.transmittance(points, SUN_FROM_X, volume, 0.0), 1.0)
+    empty = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.ones(3), extinction=0.0)
+    np.testing.assert_array_equal(self_shadow.transmittance(points, SUN_FROM_X, empty, 1.0), 1.0)
+
+
+def test_hard_cases_are_finite_and_bounded():
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.array([1.0, 1e-3, 1.0]), extinction=50.0)
+    rng = np.random.default_rng(1)
+    points = np.concatenate([rng.uniform(-1, 1, (200, 3)), [[0, 0, 0], [1, 0, 0], [1e6, -1e6, 0]]])
+    lights = np.concatenate([
+        np.tile([0.0, 0.0, 0.0, 0.0], (67, 1)),                     # a zero sun direction
+        np.concatenate([points[67:134], np.ones((67, 1))], axis=1),  # a point light at the point itself
+        np.tile([0.0, 1.0, 0.0, 0.0], (66, 1)),                      # across the flat axis
+        [[1e-20, 0.0, 0.0, 0.0], [0.0, 0.0, 1e20, 1.0], [1.0, 0.0, 0.0, 0.0]]])
+    t = self_shadow.transmittance(points, lights, volume, 1.0)
+    assert np.isfinite(t).all() and (t > 0.0).all() and (t <= 1.0).all()
+    np.testing.assert_array_equal(t[:134], 1.0)  # no path to the light: nothing in between
+
+
+def test_light_along_the_strands_shadows_by_depth_alone():
+    """The estimate does not depend on the fibre tangent: a light parallel to the strands shadows
+    the same points as any other light at the same depth."""
+    points, offsets, radius = ball()
+    volume = self_shadow.hair_volume(points, offsets, radius)
+    along = np.array([0.0, 0.0, 1.0, 0.0])  # the strands run along -z
+    t = self_shadow.transmittance(points, along, volume, 1.0)
+    assert np.isfinite(t).all() and (t <= 1.0).all()
+    top, bottom = points[:, 2] > 0.5, points[:, 2] < -0.5
+    assert t[top].mean() > t[bottom].mean()
+
+
+def test_flat_or_degenerate_hair_has_a_finite_volume():
+    flat = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    volume = self_shadow.hair_volume(flat, [0, 2, 4], np.full(4, 0.01))
+    assert (volume.semi_axes > 0).all() and np.isfinite(volume.extinction)
+    point = self_shadow.hair_volume(np.zeros((2, 3)), [0, 2], np.full(2, 0.01))
+    assert point.extinction == 0.0
+
+
+@pytest.mark.parametrize("points, offsets, radius, message", [
+    (np.zeros((1, 3)), [0, 1], np.ones(1), "points must have shape"),
+    (np.zeros((4, 3)), [0, 4], np.ones(3), "radius must have shape"),
+    (np.zeros((4, 3)), [0, 3], np.ones(4), "offsets must run"),
+    (np.full((4, 3), np.nan), [0, 4], np.ones(4), "must be finite"),
+])
+def test_bad_strands_raise_clear_errors(points, offsets, radius, message):
+    with pytest.raises(ValueError, match=message):
+        self_shadow.hair_volume(points, offsets, radius)
+
+
+def test_bad_strength_raises():
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.ones(3), extinction=1.0)
+    with pytest.raises(ValueError, match="strength"):
+        self_shadow.transmittance([[0, 0, 0]], SUN_FROM_X, volume, -1.0)
