@@ -190,39 +190,34 @@ const float* clump_pull(StrandStyling& strand, size_t index, const float* t, siz
     return cache.pull.data();
 }
 
-// Frizz offsets n(frequency w) from the lattice values of cells first_cell .. first_cell + cells - 1
-// (value_noise with the hashing done beforehand), moved along the frame. Blocks of 4 vertices
-// (core/float4.h) that may overrun n into StrandVertices' spare room; their cells are clamped to
-// the table, so overrun lanes read valid (unused) values.
-[[gnu::noinline]] void apply_frizz_lattice(StrandVertices& v, size_t first, const glm::vec3* __restrict lattice,
-                                           int64_t first_cell, size_t cells, float frequency, float amplitude,
-                                           glm::vec3 at_root) {
-    using V = StrandVertices;
-    static_assert(V::kOverrun >= 3);
-    for (size_t k = first; k < v.size(); k += 4) {
-        const Float4 cell_x = frequency * load4(v[V::W_FROM_ROOT] + k);
-        float fraction_lanes[4], low_lanes[3][4], high_lanes[3][4];
-        for (int j = 0; j < 4; ++j) {
-            const int64_t cell = floor_to_int(cell_x[j]);
-            fraction_lanes[j] = cell_x[j] - static_cast<float>(cell);
-            const auto i = static_cast<size_t>(std::clamp<int64_t>(cell - first_cell, 0, static_cast<int64_t>(cells) - 2));
-            for (int axis = 0; axis < 3; ++axis) {
-                low_lanes[axis][j] = lattice[i][axis];
-                high_lanes[axis][j] = lattice[i + 1][axis];
-            }
-        }
-        // Built from registers (not load4: a vector load of just-stored scalars stalls).
-        const auto lanes = [](const float* values) { return Float4{values[0], values[1], values[2], values[3]}; };
-        const Float4 fraction = lanes(fraction_lanes), blend = fraction * fraction * (3.0f - 2.0f * fraction);
-        Float4 offset[3];
-        for (int axis = 0; axis < 3; ++axis)  // glm::mix's form, as value_noise
-            offset[axis] = amplitude * (lanes(low_lanes[axis]) * (1.0f - blend) + lanes(high_lanes[axis]) * blend) - at_root[axis];
-        for (int axis = 0; axis < 3; ++axis) {
-            float* position = v[V::Component(V::X + axis)] + k;
-            store4(position, load4(position) + offset[0] * load4(v[V::Component(V::UX + axis)] + k) +
-                                 offset[1] * load4(v[V::Component(V::VX + axis)] + k) +
-                                 offset[2] * load4(v[V::Component(V::WX + axis)] + k));
-        }
+// Largest |frequency w| the lattice path takes: cells are then exact int32 values.
+constexpr float kLatticeReach = 1073741824.0f;  // 2^30
+
+// Frizz offsets n(frequency w) from the lattice values of cells first_cell .. first_cell + last + 1
+// (value_noise with the hashing done beforehand, the table stored component by component),
+// moved along the frame. A plain loop with int32 cell indices: the AVX2 clone vectorises it with
+// gathers from the table.
+[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_frizz_lattice(
+    float* __restrict x, float* __restrict y, float* __restrict z, const float* __restrict ux,
+    const float* __restrict uy, const float* __restrict uz, const float* __restrict vx, const float* __restrict vy,
+    const float* __restrict vz, const float* __restrict wx, const float* __restrict wy, const float* __restrict wz,
+    const float* __restrict w, size_t first, size_t n, const float* __restrict lattice_x,
+    const float* __restrict lattice_y, const float* __restrict lattice_z, int32_t first_cell, int32_t last,
+    float frequency, float amplitude, glm::vec3 at_root) {
+    for (size_t k = first; k < n; ++k) {
+        const float cell_x = frequency * w[k];
+        const float reach = std::min(std::max(cell_x, -kLatticeReach), kLatticeReach);
+        auto cell = static_cast<int32_t>(reach);
+        cell -= static_cast<float>(cell) > reach ? 1 : 0;  // floor, as floor_to_int
+        const float f = cell_x - static_cast<float>(cell), blend = f * f * (3.0f - 2.0f * f);
+        const int32_t i = std::min(std::max(cell - first_cell, 0), last);
+        // glm::mix's form, as value_noise.
+        const float nx = amplitude * (lattice_x[i] * (1.0f - blend) + lattice_x[i + 1] * blend) - at_root.x;
+        const float ny = amplitude * (lattice_y[i] * (1.0f - blend) + lattice_y[i + 1] * blend) - at_root.y;
+        const float nz = amplitude * (lattice_z[i] * (1.0f - blend) + lattice_z[i + 1] * blend) - at_root.z;
+        x[k] = x[k] + nx * ux[k] + ny * vx[k] + nz * wx[k];
+        y[k] = y[k] + nx * uy[k] + ny * vy[k] + nz * wy[k];
+        z[k] = z[k] + nx * uz[k] + ny * vz[k] + nz * wz[k];
     }
 }
 
@@ -230,7 +225,7 @@ const float* clump_pull(StrandStyling& strand, size_t index, const float* t, siz
 // spanning more than two cells per vertex (noise far finer than its vertices) hashes per vertex
 // instead. Both give value_noise's offsets.
 void apply_frizz(StrandVertices& v, size_t first, const Frizz& frizz, const OperationConstants& c,
-                 std::vector<glm::vec3>& lattice) {
+                 std::vector<float>& lattice) {
     using V = StrandVertices;
     const float* w = v[V::W_FROM_ROOT];
     float low = INFINITY, high = -INFINITY;
@@ -238,7 +233,7 @@ void apply_frizz(StrandVertices& v, size_t first, const Frizz& frizz, const Oper
         low = frizz.frequency * w[k] < low ? frizz.frequency * w[k] : low;
         high = frizz.frequency * w[k] > high ? frizz.frequency * w[k] : high;
     }
-    if (!(high - low <= 2.0f * static_cast<float>(v.size()))) {  // also NaN
+    if (!(high - low <= 2.0f * static_cast<float>(v.size()) && low > -kLatticeReach && high < kLatticeReach)) {  // also NaN
         for (size_t k = first; k < v.size(); ++k) {
             const glm::vec3 n = frizz.amplitude * value_noise(c.noise_key, frizz.frequency * w[k]) - c.at_root;
             v.set_vec3(V::X, k, v.vec3(V::X, k) + n.x * v.vec3(V::UX, k) + n.y * v.vec3(V::VX, k) + n.z * v.vec3(V::WX, k));
@@ -246,9 +241,18 @@ void apply_frizz(StrandVertices& v, size_t first, const Frizz& frizz, const Oper
         return;
     }
     const int64_t first_cell = floor_to_int(low);
-    lattice.resize(static_cast<size_t>(floor_to_int(high) - first_cell + 2));
-    for (size_t i = 0; i < lattice.size(); ++i) lattice[i] = lattice_values(c.noise_key, first_cell + static_cast<int64_t>(i));
-    apply_frizz_lattice(v, first, lattice.data(), first_cell, lattice.size(), frizz.frequency, frizz.amplitude, c.at_root);
+    const auto cells = static_cast<size_t>(floor_to_int(high) - first_cell + 2);
+    lattice.resize(3 * cells);  // x values, then y, then z
+    for (size_t i = 0; i < cells; ++i) {
+        const glm::vec3 value = lattice_values(c.noise_key, first_cell + static_cast<int64_t>(i));
+        lattice[i] = value.x;
+        lattice[cells + i] = value.y;
+        lattice[2 * cells + i] = value.z;
+    }
+    apply_frizz_lattice(v[V::X], v[V::Y], v[V::Z], v[V::UX], v[V::UY], v[V::UZ], v[V::VX], v[V::VY], v[V::VZ], v[V::WX],
+                        v[V::WY], v[V::WZ], w, first, v.size(), lattice.data(), lattice.data() + cells,
+                        lattice.data() + 2 * cells, static_cast<int32_t>(first_cell), static_cast<int32_t>(cells) - 2,
+                        frizz.frequency, frizz.amplitude, c.at_root);
 }
 
 }  // namespace

@@ -46,9 +46,7 @@ void interior_tangents(const float* x, const float* y, const float* z, glm::vec3
         const Float4 dx = load4(x + k + 1) - load4(x + k - 1), dy = load4(y + k + 1) - load4(y + k - 1),
                      dz = load4(z + k + 1) - load4(z + k - 1);
         const Float4 length_squared = dx * dx + dy * dy + dz * dz;
-        Float4 inverse;
-        for (int j = 0; j < 4; ++j) inverse[j] = 1.0f / std::sqrt(length_squared[j]);
-        const Float4 scale = where4((length_squared > 0.0f) & (length_squared <= FLT_MAX), inverse);
+        const Float4 scale = where4((length_squared > 0.0f) & (length_squared <= FLT_MAX), 1.0f / sqrt4(length_squared));
         store_interleaved4(&out[k].x, dx * scale, dy * scale, dz * scale);
     }
     for (; k + 1 < n; ++k) out[k] = unit_or_zero(glm::vec3(x[k + 1] - x[k - 1], y[k + 1] - y[k - 1], z[k + 1] - z[k - 1]));

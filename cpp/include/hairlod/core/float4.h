@@ -2,6 +2,7 @@
 // Four floats in one SSE register, through the GCC / Clang vector extension: for loops whose blocks
 // the auto-vectoriser will not form itself (short runs, gathers from small tables). Arithmetic
 // operators work lane by lane and mix with scalars.
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -17,6 +18,15 @@ inline Float4 load4(const float* from) {
 }
 
 inline void store4(float* to, Float4 value) { std::memcpy(to, &value, sizeof value); }
+
+// Square root lane by lane (correctly rounded, as std::sqrt).
+inline Float4 sqrt4(Float4 value) {
+#if defined(__SSE__)
+    return __builtin_ia32_sqrtps(value);
+#else
+    return Float4{std::sqrt(value[0]), std::sqrt(value[1]), std::sqrt(value[2]), std::sqrt(value[3])};
+#endif
+}
 
 // Lanes of `if_true` where `mask` is set, else 0.
 inline Float4 where4(Int4 mask, Float4 if_true) {

@@ -127,7 +127,7 @@ struct StrandStyling {
         float profile = 0.0f;
         std::vector<float> t, pull;
     };
-    std::vector<glm::vec3> noise_lattice;
+    std::vector<float> noise_lattice;
     std::vector<ClumpPull> clump_pulls;
 };
 
