@@ -6,7 +6,7 @@ Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their 
 levels) and previews it on an empty, lit by a sun. A camera dolly from 0.7x to 30x the hair's size
 over --frames frames (one redraw, so one Eq. 16 step, per frame) is captured twice: with the LoD at
 eps_w = 2 px and with every strand. Prints one JSON object: per frame the segments drawn, the
-selection + index update time, the PSNR of the LoD frame against the all-strand frame, and the
+selection + selection-texture upload time, the PSNR of the LoD frame against the all-strand frame, and the
 adjacent-frame PSNR of both (over the hair's bounding box) (the paper's Fig. 9 measure of popping); and the draw time of a frame at
 the far view without hair, with the LoD and with every strand (wm.redraw_timer, 10 redraws).
 """

@@ -77,3 +77,60 @@ def test_view_selection_indices_address_the_vertex_buffers(asset_and_strands):
                 assert strips.max() < 2 * items * asset.control_points
     with pytest.raises(ValueError, match="primitive"):
         view_selection.indices(0, "points")
+
+
+def test_selection_keys_name_each_vertex_cluster_and_point(asset_and_strands):
+    asset, _ = asset_and_strands
+    n_c = asset.control_points
+    for level in range(len(asset.levels) + 1):
+        first = preview_buffers.cluster_items(asset, level)
+        items = len(asset.levels[level].n_total) if level < len(asset.levels) else asset.strand_count
+        assert first[0] == 0 and first[-1] == items and len(first) == asset.cluster_count + 1
+        per_point = 2 if level < len(asset.levels) else 1
+        keys = preview_buffers.selection_keys(first, n_c, per_point)
+        assert keys.shape == (items * n_c * per_point, 2) and keys.dtype == np.float32
+        item = np.arange(len(keys)) // (n_c * per_point)
+        np.testing.assert_array_equal(keys[:, 1], (np.arange(len(keys)) // per_point) % n_c)
+        np.testing.assert_array_equal(keys[:, 0], np.searchsorted(first, item, side="right") - 1)
+
+
+def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and_strands):
+    asset, strands = asset_and_strands
+    n_c = asset.control_points
+    view_selection = asset.view_selection()
+    lower, upper = strands.bounding_box()
+    centre, size = (lower + upper) / 2, float(np.linalg.norm(upper - lower))
+    view_selection.update(look_at(centre + np.array([0.0, -4.0 * size, 0.2 * size]), centre),
+                          perspective(np.radians(40), 16 / 9, 0.01 * size, 100 * size), (1280, 720), 2.0)
+    selection = view_selection.selection
+    for level in range(view_selection.level_count):
+        primitive = "strips" if level < len(asset.levels) else "lines"
+        first = preview_buffers.cluster_items(asset, level)
+        bounds = preview_buffers.cluster_blocks(first, n_c, max_segments=7 * (n_c - 1))
+        assert bounds[0] == 0 and bounds[-1] == asset.cluster_count and np.all(np.diff(bounds) > 0)
+        blocks = [preview_buffers.block_indices(first, a, b, n_c, primitive) for a, b in zip(bounds[:-1], bounds[1:])]
+        every = np.concatenate(blocks).reshape(-1)
+        # Every segment of the level once: the selection's own indices are a subset of the same elements.
+        width = 6 if primitive == "strips" else 2
+        assert every.size == width * first[-1] * (n_c - 1)
+        elements = {tuple(e) for e in every.reshape(-1, width)}
+        assert len(elements) == first[-1] * (n_c - 1)
+        selected = view_selection.indices(level, primitive).reshape(-1, width)
+        assert all(tuple(e) in elements for e in selected)
+        # A block is drawn exactly when the selection puts one of its visible segments at this level.
+        present = preview_buffers.levels_present(selection.levels, selection.visible, view_selection.level_count)
+        to_draw = preview_buffers.blocks_to_draw(present[:, level], bounds)
+        for block, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
+            wanted = ((selection.levels[a:b] == level) & selection.visible[a:b, None]).any()
+            assert to_draw[block] == wanted
+    with pytest.raises(ValueError, match="primitive"):
+        preview_buffers.block_indices(first, 0, 1, n_c, "points")
+
+
+def test_selection_texture_marks_culled_clusters():
+    levels = np.array([[0, 1, 2], [3, 3, 3]], np.uint8)
+    texture = preview_buffers.selection_texture(levels, np.array([True, False]))
+    np.testing.assert_array_equal(texture, [[0, 1, 2], [-1, -1, -1]])
+    assert texture.dtype == np.float32
+    with pytest.raises(ValueError, match="do not match"):
+        preview_buffers.selection_texture(levels, np.array([True]))

@@ -5,7 +5,8 @@ Generates 20,000 strands in the bundled hair mesh examples/data/wavy_cap.hairmes
 LoD and attaches it to an empty object. Screenshots the viewport at a near, a mid and a far camera
 distance with the preview on and off: the preview must draw hair pixels; the far view must draw at
 least 10x fewer segments than the near one; at mid distance the LoD image must be close to drawing
-every strand (PSNR reported). Draw times per frame (wm.redraw_timer) at the far view with the LoD and
+every strand (PSNR reported). At a view with several levels, drawing the static cluster blocks with
+the per-segment discard must give the image of the exact per-level index lists. Draw times per frame (wm.redraw_timer) at the far view with the LoD and
 with every strand are printed, not asserted. Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
 """
 
@@ -93,6 +94,37 @@ def steps():
     region_3d.view_rotation = (0.8, 0.45, 0.2, 0.35)
     region_3d.view_rotation.normalize()
 
+    # Levels mixed within the view (strands near the camera, thick hairs further back): drawing the
+    # static blocks with the shader's per-segment discard must give the image of exact per-level
+    # index lists (what ViewSelection.indices selects), in the Levels overlay.
+    region_3d.view_distance = 6.0 * size
+    settings.enabled, settings.overlay = True, 'LEVELS'
+    yield from settle(area, preview)
+    mixed = preview.stats["segments_per_level"]
+    check(sum(count > 0 for count in mixed) >= 2, f"mixed view: several levels drawn {mixed}")
+    blocks_image = screenshot(window, area, "lod_preview_mixed_blocks.png")
+    state = next(iter(preview.views.values()))
+    check(any(flags is not None for flags in state.to_draw), "mixed view: some level is drawn from its blocks")
+    saved = list(state.to_draw), list(state.exact)
+    for level in range(preview.level_count):
+        kind = "thick" if level < preview.level_count - 1 else "strand"
+        elements = state.selection.indices(level, "strips" if kind == "thick" else "lines").reshape(-1, 3 if kind == "thick" else 2)
+        state.to_draw[level] = None
+        state.exact[level] = lod_preview._batch(kind, preview.vertex_buffers[level], elements) if elements.size else None
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    exact_image = screenshot(window, area, "lod_preview_mixed_exact.png")
+    state.to_draw[:], state.exact[:] = saved
+    settings.enabled = False
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    background = screenshot(window, area, "lod_preview_mixed_off.png")
+    hair = (np.abs(blocks_image - background).max(axis=2) > 0.05) | (np.abs(exact_image - background).max(axis=2) > 0.05)
+    differ = (np.abs(blocks_image - exact_image).max(axis=2) > 0.05) & hair
+    check(hair.sum() > 100 and differ.sum() <= 0.002 * hair.sum(),
+          f"mixed view: blocks + discard match the exact selection ({differ.sum()} of {hair.sum()} hair pixels differ)")
+    settings.overlay = 'SHADED'
+
     results = {}
     for view, distance in (("near", 0.7), ("mid", 1.2), ("far", 30.0)):
         region_3d.view_distance = distance * size
@@ -140,7 +172,7 @@ def steps():
     lod_ms, strands_ms = far_lod_ms - far_off_ms, far_strands_ms - far_off_ms
     print(f"far view frame: {far_off_ms:.2f} ms without hair; hair adds {lod_ms:.2f} ms with the LoD, "
           f"{strands_ms:.2f} ms with every strand ({strands_ms / max(lod_ms, 1e-3):.1f}x); "
-          f"selection + index update {results['far']['select_ms']:.3f} ms")
+          f"selection + its texture upload {results['far']['select_ms']:.3f} ms")
 
 
 harness.run(steps)

@@ -3,9 +3,14 @@
 For every object with an LoD asset attached (``attach``), a POST_VIEW draw handler selects levels for
 each viewport's camera with the C++ selection (the initial selection, then one step of Eq. 16 per
 redraw, kept per view) and draws camera-facing strips for the selected thick hairs and lines for the
-selected strands. Vertex buffers are built once per asset and level; a redraw only rebuilds the index
-buffers of a view whose selection changed. While the selection is still converging after a camera
-move the handler asks for another redraw, so Eq. 16 reaches its fixed point without popping.
+selected strands. Vertex and index buffers are built once per asset: each level is cut into blocks
+of whole L0 clusters whose index buffers hold all their segments (preview_buffers). A redraw uploads
+the selection (level per L0 cluster and segment) as a small texture; the fragment shader drops
+segments selected at another level, and a block is drawn only when one of its clusters has a segment
+at that level. A level with few selected segments (EXACT_SEGMENTS) is drawn from an exact index list
+instead, small enough to rebuild within the frame budget when its ranges change. While the selection is
+still converging after a camera move the handler asks for another redraw, so Eq. 16 reaches its
+fixed point without popping.
 """
 
 import time
@@ -26,6 +31,16 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
 _shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
+
+# Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
+# segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
+# levels). About 1100 blocks for 100k strands of 32 points; a frame draws only the flagged ones.
+BLOCK_SEGMENTS = 1 << 12
+# A level with at most this many selected segments is drawn from an exact index list instead,
+# rebuilt when its draw ranges change: at most 6 x 4096 indices (about 0.1 ms), and a sparse level
+# spread over many blocks (a far view's few finer clusters) draws no more than it selected.
+EXACT_SEGMENTS = 1 << 12
+SELECTION_SLOT = 6  # sampler slot of the selection texture (the BCSDF tables take 0-2)
 
 
 def level_colour(level, level_count):
@@ -78,19 +93,19 @@ def _create_shader(kind):
     interface.smooth('FLOAT', "v_across")
     interface.flat('VEC3', "v_ellipse")
     interface.flat('VEC2', "v_cluster")
+    interface.flat('INT', "v_select_cluster")
+    interface.smooth('FLOAT', "v_select_point")
     info = gpu.types.GPUShaderCreateInfo()
     # Per-frame data in a uniform block (push constants are limited to 128 bytes).
     info.typedef_source(FRAME_BLOCK)
     info.uniform_buf(0, "HairFrame", "frame")
     info.push_constant('VEC4', "level_colour")
     info.push_constant('INT', "shading_mode")
+    info.push_constant('INT', "draw_level")
+    info.sampler(SELECTION_SLOT, 'FLOAT_2D', "selection_levels")
     bcsdf_textures.declare(info)
-    info.vertex_in(0, 'VEC3', "position")
-    info.vertex_in(1, 'VEC3', "tangent")
-    if kind == "thick":
-        info.vertex_in(2, 'VEC3', "major")
-        info.vertex_in(3, 'VEC3', "minor")
-        info.vertex_in(4, 'VEC2', "cluster")
+    for slot, (name, length) in enumerate(_attributes(kind)):
+        info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
@@ -104,35 +119,58 @@ def shader(kind):
     return _shaders[kind]
 
 
+def _attributes(kind):
+    """(name, components) of the vertex attributes of a level's buffers, in shader input order."""
+    common = (("position", 3), ("tangent", 3))
+    if kind == "thick":
+        return common + (("major", 3), ("minor", 3), ("cluster", 2), ("select_key", 2))
+    return common + (("select_key", 2),)
+
+
 def _vertex_buffers(kind, arrays):
     """One vertex buffer per attribute: Blender fills a one-attribute buffer with a single memcpy,
     an interleaved one vertex by vertex (about 25x slower)."""
-    names = ("position", "tangent", "major", "minor", "cluster") if kind == "thick" else ("position", "tangent")
     buffers = []
-    for name in names:
+    for name, length in _attributes(kind):
         values = np.ascontiguousarray(arrays[name], dtype=np.float32)
         vertex_format = gpu.types.GPUVertFormat()
-        vertex_format.attr_add(id=name, comp_type='F32', len=values.shape[1], fetch_mode='FLOAT')
+        vertex_format.attr_add(id=name, comp_type='F32', len=length, fetch_mode='FLOAT')
         buffer = gpu.types.GPUVertBuf(vertex_format, len(values))
         buffer.attr_fill(name, values)
         buffers.append(buffer)
     return buffers
 
 
-def _batch(kind, buffers, index_buffer):
-    batch = gpu.types.GPUBatch(type='TRIS' if kind == "thick" else 'LINES', buf=buffers[0], elem=index_buffer)
+def _batch(kind, buffers, elements):
+    primitive = 'TRIS' if kind == "thick" else 'LINES'
+    batch = gpu.types.GPUBatch(type=primitive, buf=buffers[0],
+                               elem=gpu.types.GPUIndexBuf(type=primitive, seq=elements.view(np.int32)))
     for buffer in buffers[1:]:
         batch.vertbuf_add(buffer)
     return batch
 
 
-class ViewState:
-    """The selection of one viewport and the batches that draw it."""
+class LevelBlocks:
+    """The static batches of one level: blocks of whole L0 clusters, all their segments."""
 
-    def __init__(self, selection):
+    def __init__(self, kind, buffers, item_first, control_points):
+        self.bounds = preview_buffers.cluster_blocks(item_first, control_points, BLOCK_SEGMENTS)
+        primitive = "strips" if kind == "thick" else "lines"
+        self.batches = []
+        for first, end in zip(self.bounds[:-1], self.bounds[1:]):
+            elements = preview_buffers.block_indices(item_first, first, end, control_points, primitive)
+            self.batches.append(_batch(kind, buffers, elements) if elements.size else None)
+
+
+class ViewState:
+    """The selection of one viewport, its texture and how each level is drawn."""
+
+    def __init__(self, selection, level_count):
         self.selection = selection
-        self.batches = None    # per level: GPUBatch or None (nothing selected)
-        self.draw_keys = None  # per level: the draw ranges its batch was built for
+        self.texture = None                  # GPUTexture [segments x clusters] of selected levels, -1 when culled
+        self.to_draw = [None] * level_count  # per dense level: bool per block; None for a sparse level
+        self.exact = [None] * level_count    # per sparse level: GPUBatch of its selected segments, or None
+        self.exact_keys = [None] * level_count  # the draw ranges each exact batch was built for
 
 
 class LodPreview:
@@ -142,6 +180,7 @@ class LodPreview:
         self.asset = asset
         self.views = {}  # RegionView3D pointer -> ViewState
         self.vertex_buffers = None
+        self.blocks = None       # per level: LevelBlocks
         self.hair_volume = None  # self_shadow.HairVolume of the rest strands, with the vertex buffers
         self.stats = {}
         self.max_hair_count = None
@@ -155,42 +194,68 @@ class LodPreview:
 
     def _build_vertex_buffers(self):
         geometry = self.asset.skin(self.asset.rest_guides)
+        control_points = self.asset.control_points
+        self.blocks = []
         buffers = []
-        for level, geometry_level in zip(self.asset.levels, geometry["levels"]):
+        for index, (level, geometry_level) in enumerate(zip(self.asset.levels, geometry["levels"])):
             arrays = preview_buffers.thick_strip_vertices(geometry_level, level.n_total, level.density)
+            item_first = preview_buffers.cluster_items(self.asset, index)
+            arrays["select_key"] = preview_buffers.selection_keys(item_first, control_points, 2)
             buffers.append(_vertex_buffers("thick", arrays))
+            self.blocks.append(LevelBlocks("thick", buffers[-1], item_first, control_points))
         strands = geometry["strands"]
         strand_order = self.asset.arrays()["strand_order"]
-        arrays = preview_buffers.strand_line_vertices(strands, strand_order, self.asset.control_points)
+        arrays = preview_buffers.strand_line_vertices(strands, strand_order, control_points)
+        item_first = preview_buffers.cluster_items(self.asset, len(self.asset.levels))
+        arrays["select_key"] = preview_buffers.selection_keys(item_first, control_points, 1)
         buffers.append(_vertex_buffers("strand", arrays))
+        self.blocks.append(LevelBlocks("strand", buffers[-1], item_first, control_points))
         self.vertex_buffers = buffers
         self.hair_volume = self_shadow.hair_volume(strands.points, strands.offsets, strands.radius)
 
     def view_state(self, key):
         if key not in self.views:
-            self.views[key] = ViewState(self.asset.view_selection())
+            self.views[key] = ViewState(self.asset.view_selection(), self.level_count)
         return self.views[key]
 
-    def update_batches(self, state):
-        """Rebuilds the index buffers of the levels whose draw ranges changed: Blender builds an index
-        buffer at about 12 ns per index, so a level that kept its ranges keeps its batch."""
-        if state.batches is None:
-            state.batches = [None] * self.level_count
-            state.draw_keys = [None] * self.level_count
-        draws = state.selection.selection.draws
-        for level in range(self.level_count):
+    def upload_selection(self, state):
+        """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
+        the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
+        when its draw ranges change. A few tens of kB per frame and small index lists."""
+        selection = state.selection.selection
+        levels, visible, draws = selection.levels, selection.visible, selection.draws
+        values = preview_buffers.selection_texture(levels, visible)
+        clusters, segments = values.shape
+        state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
+                                             data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
+        selected = state.selection.segments_per_level()
+        present = None
+        for level, blocks in enumerate(self.blocks):
+            if selected[level] > EXACT_SEGMENTS:
+                if present is None:
+                    present = preview_buffers.levels_present(levels, visible, self.level_count)
+                state.to_draw[level] = preview_buffers.blocks_to_draw(present[:, level], blocks.bounds)
+                state.exact[level], state.exact_keys[level] = None, None
+                continue
+            state.to_draw[level] = None
             key = draws[draws[:, 0] == level].tobytes()
-            if key == state.draw_keys[level]:
+            if key == state.exact_keys[level]:
                 continue
-            state.draw_keys[level] = key
+            state.exact_keys[level] = key
             thick = level < self.level_count - 1
-            indices = state.selection.indices(level, "strips" if thick else "lines")
-            if indices.size == 0:
-                state.batches[level] = None
-                continue
-            elements = indices.view(np.int32).reshape(-1, 3 if thick else 2)
-            index_buffer = gpu.types.GPUIndexBuf(type='TRIS' if thick else 'LINES', seq=elements)
-            state.batches[level] = _batch("thick" if thick else "strand", self.vertex_buffers[level], index_buffer)
+            elements = state.selection.indices(level, "strips" if thick else "lines").reshape(-1, 3 if thick else 2)
+            state.exact[level] = (_batch("thick" if thick else "strand", self.vertex_buffers[level], elements)
+                                  if elements.size else None)
+
+    def _draw_level(self, state, level, program):
+        if state.to_draw[level] is None:
+            if state.exact[level] is not None:
+                state.exact[level].draw(program)
+            return
+        batches = self.blocks[level].batches
+        for block in np.flatnonzero(state.to_draw[level]):
+            if batches[block] is not None:
+                batches[block].draw(program)
 
     def bcsdf_textures(self, obj, settings):
         """The BCSDF tables for the hair's current parameters, baked again only when they change;
@@ -217,8 +282,8 @@ class LodPreview:
         projection = region_3d.window_matrix
         changed = state.selection.update(np.array(model_view, dtype=np.float32), np.array(projection, dtype=np.float32),
                                          (region.width, region.height), settings.width_px)
-        if changed or state.batches is None:
-            self.update_batches(state)
+        if changed or state.texture is None:
+            self.upload_selection(state)
         selected = time.perf_counter()
 
         textures = self.bcsdf_textures(obj, settings)
@@ -236,17 +301,19 @@ class LodPreview:
                             light_colours, self.hair_volume, settings.self_shadowing)
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
-        for level, batch in enumerate(state.batches):
-            if batch is None:
+        for level in range(self.level_count):
+            if state.exact[level] is None and (state.to_draw[level] is None or not state.to_draw[level].any()):
                 continue
             program = shader("thick" if level < self.level_count - 1 else "strand")
             program.bind()
             program.uniform_block("frame", frame)
             program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))
             program.uniform_int("shading_mode", 0 if settings.overlay == 'SHADED' else 1)
+            program.uniform_int("draw_level", level)
+            program.uniform_sampler("selection_levels", state.texture)
             if settings.overlay == 'SHADED':
                 textures.bind(program)
-            batch.draw(program)
+            self._draw_level(state, level, program)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')
 

@@ -48,15 +48,9 @@ def _filled_buffer(name, values):
 def chunk_curves(offsets, chunk_points=CHUNK_POINTS):
     """Curve index bounds [c_0 = 0, c_1, ..., C] of chunks of whole curves with at most
     ``chunk_points`` points each (a longer curve is a chunk of its own)."""
-    offsets = np.asarray(offsets, dtype=np.int64)
-    curve_count = len(offsets) - 1
-    bounds = [0]
-    while bounds[-1] < curve_count:
-        first = bounds[-1]
-        # The last curve end within chunk_points of the chunk's first point; at least one curve.
-        end = int(np.searchsorted(offsets, offsets[first] + chunk_points, side="right")) - 1
-        bounds.append(min(max(end, first + 1), curve_count))
-    return bounds
+    from ...preview_buffers import whole_chunks
+
+    return whole_chunks(offsets, chunk_points)
 
 
 def line_indices(offsets):

@@ -16,6 +16,13 @@ float srgb_encode(float linear)
 
 void main()
 {
+  /* Only the segments Eq. 16 selected at this batch's level: the selection texture holds the level
+   * per segment (x) and L0 cluster (y), -1 for culled clusters. v_select_point runs from k to k + 1
+   * along segment k. */
+  int segment = clamp(int(floor(v_select_point)), 0, textureSize(selection_levels, 0).x - 1);
+  if (int(texelFetch(selection_levels, ivec2(segment, v_select_cluster), 0).r) != draw_level) {
+    discard;
+  }
   float across = clamp(v_across, -1.0, 1.0);
   if (shading_mode == 1) {
     float facing = sqrt(max(1.0 - across * across, 0.0));
