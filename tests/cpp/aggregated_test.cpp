@@ -139,9 +139,17 @@ TEST(Aggregated, ClusterGeometry) {
     EXPECT_DOUBLE_EQ(cluster_density(1e6, 1.0, 1.0, 1.0), 1.0);
     EXPECT_NEAR(hairs_crossed(0.5, 0.4, 100.0, 0.2, 0.1), 0.5 * 0.4 * std::sqrt(100.0 / (kPi * 0.02)), 1e-12);
     EXPECT_DOUBLE_EQ(hairs_crossed(0.5, 0.0, 100.0, 0.2, 0.1), 1.0);
+    // 1 - exp(-lambda), lambda = 2 r n_total l / (pi r_A r_B), r from rho = n_total r^2 / (r_A r_B).
+    const double r = std::sqrt(0.5 * 0.02 / 100.0);
+    EXPECT_NEAR(hair_hit_probability(0.5, 0.4, 100.0, 0.2, 0.1), 1.0 - std::exp(-2.0 * r * 100.0 * 0.4 / (kPi * 0.02)),
+                1e-12);
+    EXPECT_DOUBLE_EQ(hair_hit_probability(0.5, 0.0, 100.0, 0.2, 0.1), 0.0);
+    EXPECT_NEAR(hair_hit_probability(1.0, 1.0, 1e6, 0.2, 0.1), 1.0, 1e-12);
     for (const auto& [name, call] : std::initializer_list<std::pair<std::string, std::function<void()>>>{
              {"hair_radius", [] { cluster_density(10.0, -1.0, 1.0, 1.0); }},
              {"ray_length", [] { hairs_crossed(0.5, std::nan(""), 10.0, 1.0, 1.0); }},
+             {"ray_length", [] { hair_hit_probability(0.5, -1.0, 10.0, 1.0, 1.0); }},
+             {"density", [] { hair_hit_probability(0.0, 1.0, 10.0, 1.0, 1.0); }},
              {"hair_count", [] { AggregatedBcsdf(brown(), {0.5, 0.5}, brown_table()); }},
              {"density", [] { AggregatedBcsdf(brown(), {2.0, 0.0}, brown_table()); }}}) {
         try {

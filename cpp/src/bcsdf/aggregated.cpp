@@ -55,6 +55,17 @@ double hairs_crossed(double density, double ray_length, double hair_total, doubl
     return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
 }
 
+double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
+    require_positive("density", density);
+    require_positive("hair_total", hair_total);
+    require_positive("major_axis", major_axis);
+    require_positive("minor_axis", minor_axis);
+    if (!(std::isfinite(ray_length) && ray_length >= 0.0))
+        throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
+    const double expected = 2.0 / kPi * ray_length * std::sqrt(density * hair_total / (major_axis * minor_axis));
+    return -std::expm1(-expected);
+}
+
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count) {
     // sum_{i=1..n} a_F^(2i-1) = a_F (1 - a_F^(2n)) / (1 - a_F^2), n at a_F = 1.
     glm::dvec3 a_1_plus;

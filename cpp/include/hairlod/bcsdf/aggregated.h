@@ -33,6 +33,13 @@ double cluster_density(double hair_total, double hair_radius, double major_axis,
 // Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)) hairs along a ray of length l, at least 1.
 double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
 
+// The probability that a ray of length l through the cross-section meets at least one of its hairs:
+// 1 - exp(-lambda), the hairs taken as n_total discs of radius r placed independently and uniformly in
+// the ellipse (a Poisson count), each blocking a width 2 r, so lambda = 2 r n_total l / (pi |r_A| |r_B|)
+// with r = sqrt(rho |r_A| |r_B| / n_total) from Sec. 4's rho. Sec. 4 draws the thick hair opaque; where
+// rho is small (the tips) its gaps let the background and the light through, as the strands do.
+double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
+
 // Eq. 10: A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) in closed form (n need not be an integer).
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count);
 
