@@ -70,11 +70,16 @@ public:
     // attenuation is capped by the energy budget 1 - a_F^(n-1) (a_f + a_b) at theta_o, so the lossless model's
     // white furnace stays <= 1 + 1e-3 for every n >= 1 and rho.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    // The same at another cluster state (a renderer's n and rho per hit): equal to the model built with
+    // `cluster`, without building one (the state enters only Eq. 7, 9, 10 and 12-15). Throws Error unless
+    // hair_count >= 1 and density is in (0, 1].
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "aggregated"; }
 
     // Eq. 12-15 for |phi| < pi/2 (1 otherwise); the probabilities are clamped to [0, 1].
     glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f) const;
+    static glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f, double density);
     const std::shared_ptr<const AggregatedTable>& table() const { return table_; }
     const FiberRtdBcsdf& fiber() const { return fiber_; }
 
