@@ -47,6 +47,24 @@ TEST(Aggregated, ReducesToTheSingleFibreThroughTheBack) {
     EXPECT_GT(checked, 2000);
 }
 
+// A renderer evaluates one model at each hit's n and rho: it must equal the model built for them.
+TEST(Aggregated, EvaluationAtAnyStateEqualsTheModelBuiltForIt) {
+    const AggregatedBcsdf shared(brown(), {}, brown_table());
+    std::mt19937_64 rng(21);
+    for (const ClusterState state : {ClusterState{1.0, 1.0}, ClusterState{1.7, 0.05}, ClusterState{12.3, 0.4},
+                                     ClusterState{300.0, 0.9}}) {
+        const AggregatedBcsdf built(brown(), state, brown_table());
+        for (int k = 0; k < 500; ++k) {
+            const glm::dvec3 wi = test::random_direction(rng), wo = test::random_direction(rng);
+            const LobeValues a = shared.eval_lobes(wi, wo, state), b = built.eval_lobes(wi, wo);
+            ASSERT_EQ(a.count, b.count);
+            for (int p = 0; p < a.count; ++p) EXPECT_EQ(a.value[p], b.value[p]) << state.hair_count << " " << p;
+        }
+    }
+    EXPECT_THROW(shared.eval_lobes(glm::dvec3(0, 0, 1), glm::dvec3(0, 0, 1), {0.5, 0.5}), Error);
+    EXPECT_THROW(shared.eval_lobes(glm::dvec3(0, 0, 1), glm::dvec3(0, 0, 1), {2.0, 0.0}), Error);
+}
+
 TEST(Aggregated, ShadowingMaskingEq12To15) {
     const AggregatedBcsdf aggregated(brown(), {2.0, 0.25}, brown_table());
     const glm::dvec3 a_f{0.5, 0.3, 0.1};
@@ -139,9 +157,17 @@ TEST(Aggregated, ClusterGeometry) {
     EXPECT_DOUBLE_EQ(cluster_density(1e6, 1.0, 1.0, 1.0), 1.0);
     EXPECT_NEAR(hairs_crossed(0.5, 0.4, 100.0, 0.2, 0.1), 0.5 * 0.4 * std::sqrt(100.0 / (kPi * 0.02)), 1e-12);
     EXPECT_DOUBLE_EQ(hairs_crossed(0.5, 0.0, 100.0, 0.2, 0.1), 1.0);
+    // 1 - exp(-lambda), lambda = 2 r n_total l / (pi r_A r_B), r from rho = n_total r^2 / (r_A r_B).
+    const double r = std::sqrt(0.5 * 0.02 / 100.0);
+    EXPECT_NEAR(hair_hit_probability(0.5, 0.4, 100.0, 0.2, 0.1), 1.0 - std::exp(-2.0 * r * 100.0 * 0.4 / (kPi * 0.02)),
+                1e-12);
+    EXPECT_DOUBLE_EQ(hair_hit_probability(0.5, 0.0, 100.0, 0.2, 0.1), 0.0);
+    EXPECT_NEAR(hair_hit_probability(1.0, 1.0, 1e6, 0.2, 0.1), 1.0, 1e-12);
     for (const auto& [name, call] : std::initializer_list<std::pair<std::string, std::function<void()>>>{
              {"hair_radius", [] { cluster_density(10.0, -1.0, 1.0, 1.0); }},
              {"ray_length", [] { hairs_crossed(0.5, std::nan(""), 10.0, 1.0, 1.0); }},
+             {"ray_length", [] { hair_hit_probability(0.5, -1.0, 10.0, 1.0, 1.0); }},
+             {"density", [] { hair_hit_probability(0.0, 1.0, 10.0, 1.0, 1.0); }},
              {"hair_count", [] { AggregatedBcsdf(brown(), {0.5, 0.5}, brown_table()); }},
              {"density", [] { AggregatedBcsdf(brown(), {2.0, 0.0}, brown_table()); }}}) {
         try {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -46,8 +47,9 @@ TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
     hairs.offsets = {0, 4};
     hairs.major_axis.assign(4, glm::vec3(0, 1, 0));
     hairs.radii.assign(4, glm::vec2(2.0f, 0.5f));
-    hairs.density.assign(4, 0.5f);
-    hairs.n_total = {40.0f};
+    // Packed so densely that every chord meets a hair (hit probability 1 - exp(-30) at the shortest).
+    hairs.density.assign(4, 1.0f);
+    hairs.n_total = {1e5f};
     HairScene scene(std::make_shared<Device>());
     scene.add_thick_hairs(hairs);
     scene.commit();
@@ -63,9 +65,62 @@ TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
         if (!found) continue;
         EXPECT_EQ(hit.kind, CurveKind::Thick);
         EXPECT_NEAR(hit.chord, r.chord, 2e-3f);
-        EXPECT_FLOAT_EQ(hit.n_total, 40.0f);
-        EXPECT_NEAR(hit.density, 0.5f, 1e-6f);
+        EXPECT_FLOAT_EQ(hit.n_total, 1e5f);
+        EXPECT_NEAR(hit.density, 1.0f, 1e-6f);
         EXPECT_EQ(scene.occluded(r.origin, r.direction, kInf, {}), true);
+    }
+}
+
+// Brute force: the strands of a sparse cluster, placed uniformly at random in an ellipse, against the
+// thick hair standing for them. The thick hair must let as many rays through its gaps as the strands
+// do (an opaque ellipse stops every ray that crosses it: hit fraction 1 against about 0.6 here).
+TEST(HairScene, SparseThickHairLetsRaysThroughLikeItsStrands) {
+    const glm::vec2 radii(1.0f, 0.4f);
+    const float r = 0.02f;
+    const int n_total = 80;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    std::vector<glm::vec3> starts;
+    while (static_cast<int>(starts.size()) < n_total) {
+        const float y = unit(rng), z = unit(rng);
+        if (y * y + z * z <= 1.0f) starts.emplace_back(0.0f, radii.x * y, radii.y * z);
+    }
+    HairScene strands(std::make_shared<Device>());
+    strands.add_strands(straight_strands(starts, r));
+    strands.commit();
+    ThickHairs hairs;
+    hairs.centres = {{-2, 0, 0}, {-0.5f, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    hairs.offsets = {0, 4};
+    hairs.major_axis.assign(4, glm::vec3(0, 1, 0));
+    hairs.radii.assign(4, radii);
+    const float density = n_total * r * r / (radii.x * radii.y);  // Sec. 4's rho: 0.08
+    hairs.density.assign(4, density);
+    hairs.n_total = {float(n_total)};
+    HairScene thick(std::make_shared<Device>());
+    thick.add_thick_hairs(hairs);
+    thick.commit();
+    // Parallel rays over the ellipse's shadow, along the minor axis (z) and the major axis (y), each
+    // from many x along the fibres (the same gaps, fresh random choices for the thick hair).
+    for (const glm::vec3 direction : {glm::vec3(0, 0, -1), glm::vec3(0, -1, 0)}) {
+        const glm::vec3 across = direction.z != 0.0f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+        const float extent = direction.z != 0.0f ? radii.x : radii.y;
+        int crossing = 0, strand_hits = 0, thick_hits = 0;
+        for (int k = 0; k < 400; ++k) {
+            const float offset = extent * (-0.995f + 1.99f * (k + 0.5f) / 400.0f);
+            for (int j = 0; j < 25; ++j) {
+                const glm::vec3 origin = glm::vec3(-0.9f + 0.07f * j, 0, 0) + offset * across - 10.0f * direction;
+                ++crossing;
+                strand_hits += strands.occluded(origin, direction, kInf, {});
+                SurfaceHit hit;
+                thick_hits += thick.intersect(origin, direction, kInf, {}, hit);
+            }
+        }
+        const double strand_fraction = double(strand_hits) / crossing, thick_fraction = double(thick_hits) / crossing;
+        if (direction.z != 0.0f) {  // across the thin side the strands leave gaps
+            EXPECT_GT(strand_fraction, 0.3);
+            EXPECT_LT(strand_fraction, 0.9);
+        }
+        EXPECT_NEAR(thick_fraction, strand_fraction, 0.06) << direction.y;
     }
 }
 

@@ -35,6 +35,13 @@ auto interpolate(const Table& table, double theta_d, Get&& get) {
     return (1.0 - t) * get(table[k]) + t * get(table[k + 1]);
 }
 
+void validate_cluster(const ClusterState& cluster) {
+    if (!(std::isfinite(cluster.hair_count) && cluster.hair_count >= 1.0))
+        throw Error("hair_count must be finite and >= 1, got " + std::to_string(cluster.hair_count));
+    if (!(cluster.density > 0.0 && cluster.density <= 1.0))
+        throw Error("density must be in (0, 1], got " + std::to_string(cluster.density));
+}
+
 }  // namespace
 
 double cluster_density(double hair_total, double hair_radius, double major_axis, double minor_axis) {
@@ -53,6 +60,17 @@ double hairs_crossed(double density, double ray_length, double hair_total, doubl
     if (!(std::isfinite(ray_length) && ray_length >= 0.0))
         throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
     return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
+}
+
+double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
+    require_positive("density", density);
+    require_positive("hair_total", hair_total);
+    require_positive("major_axis", major_axis);
+    require_positive("minor_axis", minor_axis);
+    if (!(std::isfinite(ray_length) && ray_length >= 0.0))
+        throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
+    const double expected = 2.0 / kPi * ray_length * std::sqrt(density * hair_total / (major_axis * minor_axis));
+    return -std::expm1(-expected);
 }
 
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count) {
@@ -113,10 +131,7 @@ AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples, double
 AggregatedBcsdf::AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
                                  std::shared_ptr<const AggregatedTable> table)
     : fiber_(params), cluster_(cluster), table_(std::move(table)) {
-    if (!(std::isfinite(cluster_.hair_count) && cluster_.hair_count >= 1.0))
-        throw Error("hair_count must be finite and >= 1, got " + std::to_string(cluster_.hair_count));
-    if (!(cluster_.density > 0.0 && cluster_.density <= 1.0))
-        throw Error("density must be in (0, 1], got " + std::to_string(cluster_.density));
+    validate_cluster(cluster_);
     if (!table_) table_ = std::make_shared<const AggregatedTable>(aggregated_table(fiber_));
     const auto shapes = fiber_.lobe_shapes();
     // B^ varies with theta_d; its shape at theta_d = 0 (channel mean) stands for it in lobe_shapes().
@@ -127,8 +142,12 @@ AggregatedBcsdf::AggregatedBcsdf(const HairParams& params, const ClusterState& c
 }
 
 glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f) const {
+    return shadowing_masking(phi, a_f, cluster_.density);
+}
+
+glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f, double density) {
     if (std::abs(phi) >= 0.5 * kPi) return glm::dvec3(1.0);
-    const double open = 1.0 - cluster_.density;
+    const double open = 1.0 - density;
     const double p_m = open * kMultipleShadowing;                                  // Eq. 13
     const double p_s = std::clamp(open * (1.0 - std::cos(phi)), 0.0, 1.0 - p_m);  // Eq. 12
     const double p_n = 1.0 - p_m - p_s;                                            // Eq. 14
@@ -136,11 +155,16 @@ glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f)
 }
 
 LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
+    return eval_lobes(wi, wo, cluster_);
+}
+
+LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const {
+    validate_cluster(cluster);
     const FiberDirection di = fiber_direction(wi);
     const FiberDirection dout = fiber_direction(wo);
     const HalfAngles angles = half_angles(di, dout);
     const DualScatteringSample hair = table_->sample(angles.theta_d);
-    const double crossed = cluster_.hair_count - 1.0;
+    const double crossed = cluster.hair_count - 1.0;
 
     // Eq. 7 and 9: R^, TT^, D^ after n - 1 forward scatterings (variances in theta_h, x4 in theta_i).
     RtdSpread spread;
@@ -155,13 +179,13 @@ LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& w
     // Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with
     // A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) = d_1+ a_B a_F (1 - a_F^(2n)) / (1 - a_F^2).
     if (std::abs(angles.phi) < 0.5 * kPi) {
-        const glm::dvec3 a_1_plus = side_scatter_series(hair.a_f, hair.a_b, cluster_.hair_count);
+        const glm::dvec3 a_1_plus = side_scatter_series(hair.a_f, hair.a_b, cluster.hair_count);
         // Energy bound (decision; Sec. 4 leaves it open): B^ returns light that the cluster's hairs
         // scattered, so it carries at most what the direct lobes leave of the unit budget seen from
         // wo, 1 - a_F^(n-1) (a_f + a_b) at theta_o (a_f + a_b is the fibre's furnace there, and B^'s
         // lobe integrates to at most its attenuation). A lone lossless hair (n = 1) thus gets almost
         // no B^; without the cap the lossless aggregate reached 1.10 at n = 1, theta_o = 0.
-        const glm::dvec3 budget = back_lobe_budget(table_->sample(dout.theta), cluster_.hair_count);
+        const glm::dvec3 budget = back_lobe_budget(table_->sample(dout.theta), cluster.hair_count);
         const glm::dvec3 a_b = glm::min(a_1_plus + hair.A_1 + hair.A_3, budget);
         const glm::dvec3 sigma_b2 = hair.sigma_b * hair.sigma_b;
         for (int c = 0; c < 3; ++c) {
@@ -171,7 +195,7 @@ LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& w
         }
     }
 
-    const glm::dvec3 shadowing = shadowing_masking(angles.phi, hair.a_f);
+    const glm::dvec3 shadowing = shadowing_masking(angles.phi, hair.a_f, cluster.density);
     for (int p = 0; p < out.count; ++p) out.value[p] *= shadowing;
     return out;
 }

@@ -77,48 +77,6 @@ double power_heuristic(double a, double b) {
     return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
 }
 
-// The aggregated BCSDF on a grid of hair counts n (geometric, ratio 1.5) and densities rho, bilinear
-// in (log n, rho): AggregatedBcsdf fixes its ClusterState at construction, while n varies per ray.
-// Without shadowing (the ablation) rho = 1, which makes Eq. 15's S = 1 (open fraction 0).
-class AggregatedGrid {
-public:
-    AggregatedGrid(const HairParams& params, std::shared_ptr<const AggregatedTable> table, bool shadowing) {
-        for (double n = 1.0; n < kMaxHairCount * 1.5; n *= 1.5) log_n_.push_back(std::log(std::min(n, kMaxHairCount)));
-        rho_ = shadowing ? std::vector<double>{0.05, 0.2, 0.4, 0.6, 0.8, 1.0} : std::vector<double>{1.0};
-        models_.resize(log_n_.size() * rho_.size());
-        tbb::parallel_for(size_t(0), models_.size(), [&](size_t k) {
-            const ClusterState state{std::exp(log_n_[k / rho_.size()]), rho_[k % rho_.size()]};
-            models_[k] = std::make_unique<AggregatedBcsdf>(params, state, table);
-        });
-    }
-
-    // S(wi, wo) for n hairs crossed at density rho.
-    glm::dvec3 eval(const glm::dvec3& wi, const glm::dvec3& wo, double n, double rho) const {
-        const double log_n = std::log(std::clamp(n, 1.0, kMaxHairCount));
-        const size_t i1 = std::clamp<size_t>(std::upper_bound(log_n_.begin(), log_n_.end(), log_n) - log_n_.begin(), 1,
-                                             log_n_.size() - 1);
-        const size_t i0 = i1 - 1;
-        const double tn = std::clamp((log_n - log_n_[i0]) / (log_n_[i1] - log_n_[i0]), 0.0, 1.0);
-        size_t j0 = 0, j1 = 0;
-        double tr = 0.0;
-        if (rho_.size() > 1) {
-            const double r = std::clamp(rho, rho_.front(), rho_.back());
-            j1 = std::min<size_t>(std::upper_bound(rho_.begin(), rho_.end(), r) - rho_.begin(), rho_.size() - 1);
-            j0 = j1 - 1;
-            tr = std::clamp((r - rho_[j0]) / (rho_[j1] - rho_[j0]), 0.0, 1.0);
-        }
-        auto at = [&](size_t a, size_t b) { return models_[a * rho_.size() + b]->eval(wi, wo); };
-        glm::dvec3 value = (1.0 - tn) * (1.0 - tr) * at(i0, j0) + tn * (1.0 - tr) * at(i1, j0);
-        if (tr > 0.0) value += (1.0 - tn) * tr * at(i0, j1) + tn * tr * at(i1, j1);
-        return value;
-    }
-
-private:
-    static constexpr double kMaxHairCount = 4096.0;
-    std::vector<double> log_n_, rho_;
-    std::vector<std::unique_ptr<AggregatedBcsdf>> models_;
-};
-
 // One shading point: its frame, wo in it, and which BCSDF applies there.
 struct Vertex {
     Frame frame;
@@ -136,7 +94,7 @@ public:
             const FiberRtdBcsdf fiber(params);
             table_ = std::make_shared<const AggregatedTable>(aggregated_table(fiber, 33, options.backscatter_density));
         }
-        if (lod_aggregated) grid_ = std::make_unique<AggregatedGrid>(params, table_, method_ == Method::LodAggregated);
+        if (lod_aggregated) aggregated_ = std::make_unique<AggregatedBcsdf>(params, ClusterState{}, table_);
         if (method_ == Method::DualScattering) fiber_ = std::make_unique<FiberRtdBcsdf>(params);
     }
 
@@ -144,11 +102,13 @@ public:
         Vertex v;
         v.frame = fibre_frame(hit, wo_world, v.h);
         v.wo = v.frame.local(wo_world);
-        if (hit.kind == CurveKind::Thick && grid_) {
+        if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
             // Sec. 4: n from the chord through the ellipse, rho = n_total r^2 / (|r_A| |r_B|).
             v.density = std::clamp(static_cast<double>(hit.density), 1e-3, 1.0);
             v.hair_count = hairs_crossed(v.density, hit.chord, hit.n_total, hit.radii.x, hit.radii.y);
+            // Without shadowing (the ablation) rho = 1 in Eq. 15, which makes S = 1 (open fraction 0).
+            if (method_ == Method::LodNoShadowing) v.density = 1.0;
             v.h = 2.0 * rng.uniform() - 1.0;  // the Chiang proposal's offset (the aggregate has no h)
         }
         return v;
@@ -157,7 +117,8 @@ public:
     // S(wi, wo) cos(theta_i), wi in the vertex frame.
     glm::dvec3 eval(const Vertex& v, const glm::dvec3& wi) const {
         const double cos_i = std::sqrt(std::max(0.0, 1.0 - wi.x * wi.x));
-        if (v.aggregated) return grid_->eval(wi, v.wo, v.hair_count, v.density) * cos_i;
+        // The model at this hit's n and rho directly: one evaluation, no table of models to interpolate.
+        if (v.aggregated) return aggregated_->eval_lobes(wi, v.wo, {v.hair_count, v.density}).sum() * cos_i;
         return chiang_.eval_lobes(wi, v.wo, v.h).sum() * std::max(cos_i, kMinCos);
     }
 
@@ -212,7 +173,7 @@ private:
     ChiangBcsdf chiang_;
     Method method_;
     std::shared_ptr<const AggregatedTable> table_;
-    std::unique_ptr<AggregatedGrid> grid_;
+    std::unique_ptr<AggregatedBcsdf> aggregated_;
     std::unique_ptr<FiberRtdBcsdf> fiber_;
 };
 

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <bit>
 #include <span>
 #include <string>
 
 #include <glm/geometric.hpp>
 
+#include "hairlod/bcsdf/aggregated.h"
 #include "hairlod/core/error.h"
+#include "hairlod/render/random.h"
 
 namespace hairlod::render {
 
@@ -120,6 +123,19 @@ Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
     return s;
 }
 
+// Whether the ray meets one of the thick hair's strands along its chord (stochastic transparency with
+// bcsdf::hair_hit_probability). The uniform number hashes the ray and the hair, so that every segment
+// of one hair that the ray crosses makes the same choice, and a render stays deterministic.
+bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve, float chord,
+                  const Section& s, float n_total) {
+    const double p = bcsdf::hair_hit_probability(std::clamp(static_cast<double>(s.density), 1e-3, 1.0), chord, n_total,
+                                                 s.radii.x, s.radii.y);
+    uint64_t key = mix64((uint64_t(geometry) << 32) | curve);
+    for (float c : {origin.x, origin.y, origin.z, direction.x, direction.y, direction.z})
+        key = mix64(key ^ std::bit_cast<uint32_t>(c));
+    return static_cast<double>(key >> 11) * 0x1.0p-53 < p;
+}
+
 // What the context filter needs: the ray's origin record, the geometries and the counting state.
 struct RayContext {
     RTCIntersectContext context;  // first member: Embree passes its address back
@@ -150,7 +166,8 @@ void filter(const RTCFilterFunctionNArguments* args) {
             const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                                 RTCRayN_dir_z(args->ray, args->N, i));
             const Section s = thick_section(g, prim, RTCHitN_u(args->hit, args->N, i));
-            if (ellipse_chord(origin, dir, s.centre, s.major, s.minor, s.radii) <= 0.0f) {
+            const float chord = ellipse_chord(origin, dir, s.centre, s.major, s.minor, s.radii);
+            if (chord <= 0.0f || !meets_a_hair(origin, dir, geom_id, curve, chord, s, g.n_total[curve])) {
                 args->valid[i] = 0;
                 continue;
             }

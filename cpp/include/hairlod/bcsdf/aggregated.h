@@ -33,6 +33,13 @@ double cluster_density(double hair_total, double hair_radius, double major_axis,
 // Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)) hairs along a ray of length l, at least 1.
 double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
 
+// The probability that a ray of length l through the cross-section meets at least one of its hairs:
+// 1 - exp(-lambda), the hairs taken as n_total discs of radius r placed independently and uniformly in
+// the ellipse (a Poisson count), each blocking a width 2 r, so lambda = 2 r n_total l / (pi |r_A| |r_B|)
+// with r = sqrt(rho |r_A| |r_B| / n_total) from Sec. 4's rho. Sec. 4 draws the thick hair opaque; where
+// rho is small (the tips) its gaps let the background and the light through, as the strands do.
+double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
+
 // Eq. 10: A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) in closed form (n need not be an integer).
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count);
 
@@ -63,11 +70,16 @@ public:
     // attenuation is capped by the energy budget 1 - a_F^(n-1) (a_f + a_b) at theta_o, so the lossless model's
     // white furnace stays <= 1 + 1e-3 for every n >= 1 and rho.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    // The same at another cluster state (a renderer's n and rho per hit): equal to the model built with
+    // `cluster`, without building one (the state enters only Eq. 7, 9, 10 and 12-15). Throws Error unless
+    // hair_count >= 1 and density is in (0, 1].
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "aggregated"; }
 
     // Eq. 12-15 for |phi| < pi/2 (1 otherwise); the probabilities are clamped to [0, 1].
     glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f) const;
+    static glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f, double density);
     const std::shared_ptr<const AggregatedTable>& table() const { return table_; }
     const FiberRtdBcsdf& fiber() const { return fiber_; }
 
