@@ -18,7 +18,7 @@ import numpy as np
 from . import _core
 from .bcsdf import DEFAULT_TABLE_SAMPLES, as_params
 
-__all__ = ["ShaderTables", "shader_tables"]
+__all__ = ["ShaderTables", "SrbfTables", "shader_tables", "srbf_tables", "theta_nodes"]
 
 _ROWS = {
     "fiber_attenuation": ("A_R", "A_TT", "A_D"),
@@ -69,3 +69,62 @@ def shader_tables(params, max_hair_count=64.0, theta_samples=64, hair_count_samp
         aggregated=_rows(tables["aggregated_attenuation"], _ROWS["aggregated_attenuation"]),
         lobe_shapes=(lobes["r_shift"], lobes["r_variance"], lobes["tt_shift"], lobes["tt_variance"]),
         lut_constants=(lobes["tt_azimuthal_variance"], float(n_axis["range"][1])))
+
+
+@dataclass(frozen=True)
+class SrbfTables:
+    """The hair's response to one SRBF light of bandwidth ``lam`` (Xu et al. 2011, Eq. 2 and 11-14),
+    for shaders/srbf_world.glsl. ``response`` [samples^2 + 1, samples, 4]: row j samples + o holds
+    theta_j node j and theta_o node o (both over [-pi/2, pi/2]) across |phi_o - phi_j| in [0, pi];
+    the last row holds the response to a uniform unit world across theta_o. The theta nodes are
+    theta_nodes(samples), the phi nodes uniform."""
+    response: np.ndarray
+    lam: float
+
+    @property
+    def samples(self):
+        return self.response.shape[1]
+
+    @property
+    def nbytes(self):
+        return self.response.nbytes
+
+
+def theta_nodes(samples):
+    """The theta nodes of SrbfTables: theta = pi/2 sin(pi s / 2) for s uniform in [-1, 1], denser
+    towards the grazing angles, where the response changes fastest (the Marschner energy
+    normalisation and the lobes' cos(theta) factors). srbf_world.glsl inverts the map."""
+    return 0.5 * np.pi * np.sin(0.5 * np.pi * np.linspace(-1.0, 1.0, samples))
+
+
+def srbf_tables(params, lam, samples=20):
+    """Tabulates hairlod.bcsdf.srbf_single_scattering (the Marschner fibre of `params` under one unit
+    SRBF light of bandwidth `lam`) over the light's and the view's angles in the fibre frame: the
+    response depends only on theta_o, theta_j and |phi_o - phi_j| (the fibre is symmetric about its
+    normal plane's azimuth), so any lobe direction is a lookup. About 1 s at 20 samples, where trilinear
+    interpolation stays within about 3% of the peak response (tests/ui/test_bcsdf_shader.py)."""
+    from .bcsdf import srbf_single_scattering
+    from .world_lighting import UNIFORM_BANDWIDTH
+
+    params = as_params(params)
+    lam = float(lam)
+    if not (np.isfinite(lam) and lam > 0.0):
+        raise ValueError(f"SRBF bandwidth must be finite and > 0, got {lam}")
+    samples = int(samples)
+    if samples < 2:
+        raise ValueError(f"srbf table samples must be >= 2, got {samples}")
+    theta = theta_nodes(samples)
+    phi = np.linspace(0.0, np.pi, samples)
+    theta_o, delta_phi = np.meshgrid(theta, phi, indexing="ij")
+    wo = np.stack([np.sin(theta_o), np.cos(theta_o) * np.cos(delta_phi), np.cos(theta_o) * np.sin(delta_phi)],
+                  axis=-1).reshape(-1, 3)
+    response = np.ones((samples * samples + 1, samples, 4), np.float32)
+    for j, theta_j in enumerate(theta):
+        light = {"directions": [[np.sin(theta_j), np.cos(theta_j), 0.0]], "lambdas": [lam],
+                 "coefficients": [[1.0, 1.0, 1.0]]}
+        values = srbf_single_scattering(params, light, wo)
+        response[j * samples:(j + 1) * samples, :, :3] = values.reshape(samples, samples, 3)
+    uniform = {"directions": [[0.0, 1.0, 0.0]], "lambdas": [UNIFORM_BANDWIDTH], "coefficients": [[1.0, 1.0, 1.0]]}
+    wo_uniform = np.stack([np.sin(theta), np.cos(theta), np.zeros_like(theta)], axis=1)
+    response[-1, :, :3] = srbf_single_scattering(params, uniform, wo_uniform)
+    return SrbfTables(response=np.ascontiguousarray(response), lam=lam)

@@ -33,6 +33,12 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
     self_shadowing: FloatProperty(name="Self-Shadowing", description="Light lost through the hair volume, as a "
                                   "share of the strands' geometric extinction (exponential falloff; 0 disables)",
                                   default=0.2, min=0.0, soft_max=1.0, update=_redraw)
+    world_lighting: EnumProperty(name="World Lighting", description="How the scene's world lights the shaded preview",
+                                 items=(('SRBF', "SRBF", "The world fitted by SRBF lights (Xu et al. 2011) where "
+                                         "it can be read (a colour or an equirectangular Environment Texture), "
+                                         "else ambient"),
+                                        ('AMBIENT', "Ambient", "The world colour times the hair's albedo")),
+                                 default='SRBF', update=_redraw)
     show_statistics: BoolProperty(name="Statistics", description="Show segments drawn per level and times",
                                   default=True)
 
@@ -100,6 +106,9 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
         column.prop(settings, "overlay")
         if settings.overlay == 'SHADED':
             column.prop(settings, "self_shadowing")
+            column.prop(settings, "world_lighting")
+            if preview.world_status:
+                column.label(text=preview.world_status)
             column.prop(settings, "use_material")
             material = column.column(align=True)
             for key in ("melanin", "melanin_redness", "roughness", "radial_roughness"):

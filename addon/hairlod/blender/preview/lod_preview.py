@@ -84,7 +84,7 @@ def frame_block(model, view_projection, camera, viewport, ambient, light_count, 
 
 
 def _create_shader(kind):
-    from . import bcsdf_textures
+    from . import bcsdf_textures, world_srbf
 
     interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_interface")
     interface.smooth('VEC3', "v_position")
@@ -97,8 +97,9 @@ def _create_shader(kind):
     interface.smooth('FLOAT', "v_select_point")
     info = gpu.types.GPUShaderCreateInfo()
     # Per-frame data in a uniform block (push constants are limited to 128 bytes).
-    info.typedef_source(FRAME_BLOCK)
+    info.typedef_source(FRAME_BLOCK + world_srbf.WORLD_BLOCK)
     info.uniform_buf(0, "HairFrame", "frame")
+    world_srbf.declare(info)
     info.push_constant('VEC4', "level_colour")
     info.push_constant('INT', "shading_mode")
     info.push_constant('INT', "draw_level")
@@ -109,7 +110,8 @@ def _create_shader(kind):
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
-    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "self_shadow.glsl", "hair.frag.glsl"))
+    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
+                                     "hair.frag.glsl"))
     return gpu.shader.create_from_info(info)
 
 
@@ -186,6 +188,7 @@ class LodPreview:
         self.max_hair_count = None
         self.textures = None
         self.textures_key = None
+        self.world = None  # (key, WorldLights or None, reason, uniform block, response texture)
         self.packed = False
 
     @property
@@ -273,6 +276,37 @@ class LodPreview:
             self.textures_key = key
         return self.textures
 
+    def world_lighting(self, obj, settings):
+        """(HairWorld block, srbf_lut texture) for the scene's world: its SRBF lights and the hair's
+        response table when the world is one world_srbf reads and World Lighting is SRBF, else the
+        ambient path. Fitted and tabulated again only when the world or the hair's parameters change;
+        `self.world_status` says which path is in use and why."""
+        from ... import bcsdf, preview_luts
+        from . import world_srbf
+
+        world = bpy.context.scene.world
+        params = hair_params(obj, settings)
+        key = (settings.world_lighting, world_srbf.world_key(world), repr(bcsdf.params_to_dict(params)))
+        if self.world is None or self.world[0] != key:
+            lights, reason = (None, "World Lighting is Ambient") if settings.world_lighting == 'AMBIENT' else \
+                world_srbf.world_lights(world)
+            if lights is None:
+                texture = world_srbf.empty_texture()
+            else:
+                texture = world_srbf.response_texture(preview_luts.srbf_tables(params, lights.lam))
+            self.world = (key, lights, reason, world_srbf.world_block(lights), texture)
+        return self.world[3], self.world[4]
+
+    @property
+    def world_status(self):
+        """A line for the panel: the world's fit error, or why the ambient term is used."""
+        if self.world is None:
+            return ""
+        lights, reason = self.world[1], self.world[2]
+        if lights is None:
+            return f"World: ambient ({reason})"
+        return f"World: {len(lights.directions)} SRBF lights, fit error {100.0 * lights.relative_error:.1f}%"
+
     def draw(self, obj, region, region_3d, settings):
         start = time.perf_counter()
         if self.vertex_buffers is None:
@@ -287,6 +321,7 @@ class LodPreview:
         selected = time.perf_counter()
 
         textures = self.bcsdf_textures(obj, settings)
+        world_block, world_texture = self.world_lighting(obj, settings)
         view_to_world = region_3d.view_matrix.inverted_safe()
         if region_3d.is_perspective:
             camera = (*view_to_world.translation, 1.0)
@@ -313,6 +348,8 @@ class LodPreview:
             program.uniform_sampler("selection_levels", state.texture)
             if settings.overlay == 'SHADED':
                 textures.bind(program)
+                program.uniform_block("hair_world", world_block)
+                program.uniform_sampler("srbf_lut", world_texture)
             self._draw_level(state, level, program)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')

@@ -4,9 +4,10 @@
  * light_colours[k].rgb = the sun's irradiance, or the point light's intensity (its power over 4 pi)
  * that falls off with the squared distance, each times its self-shadowing transmittance through the
  * hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the object-space
- * ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus an unshadowed ambient term: the world colour
- * times the hair's directional albedo, approximated by the fibre's A_R + A_TT + A_D at theta_o
- * attenuated by a_F^(n-1). shading_mode 1: the level's colour, darkened towards the silhouette.
+ * ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the unshadowed world: as SRBF lights
+ * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
+ * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
+ * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Eq. 7). shading_mode 1: the level's colour, darkened towards the silhouette.
  * Radiance is tone-mapped (x / (1 + x)) and encoded to sRGB for the viewport. */
 
 float srgb_encode(float linear)
@@ -53,10 +54,15 @@ void main()
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
     radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
   }
-  float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
-  vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
-                lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
-  radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n);
+  if (hair_world.constant.w > 0.5) {
+    radiance += srbf_world(wo, t) * aggregated_lookup(0, 0.0, n);
+  }
+  else {
+    float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
+    vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
+                  lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
+    radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n);
+  }
   vec3 mapped = radiance / (1.0 + radiance);
   fragColor = vec4(srgb_encode(mapped.r), srgb_encode(mapped.g), srgb_encode(mapped.b), 1.0);
 }

@@ -1,0 +1,164 @@
+"""The world (environment) as SRBF lights for the viewport preview (no bpy).
+
+Xu et al. 2011 (circular-gaussian-hair-env-lighting.txt, Sec. 3) light hair with a sum of spherical
+radial basis functions, L(w) = sum_j L_j G(w; w_j, lambda), G = exp(2 (w . w_j - 1) / lambda^2).
+``fit_world`` fits radiance samples of a world (a uniform colour, an environment map) with a uniform
+term c_0 (one SRBF of infinite bandwidth, so a uniform world is represented exactly) plus ``count``
+lobes whose centres are a fixed spherical Fibonacci set and whose shared bandwidth is the set's mean
+spacing sqrt(4 pi / count): the amplitudes solve a solid-angle-weighted non-negative least-squares
+problem per colour channel (Lawson and Hanson 1974), since a negative light would darken the hair
+where the world is dark and the shader cannot tell. A shared bandwidth lets the preview tabulate
+the hair's response to one lobe once (hairlod.preview_luts.srbf_tables).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .bcsdf import fibonacci_directions, srbf
+
+__all__ = ["DEFAULT_LOBE_COUNT", "UNIFORM_BANDWIDTH", "WorldLights", "blender_equirectangular_directions",
+           "blender_equirectangular_world", "fit_world",
+           "lobe_bandwidth", "uniform_world", "world_radiance"]
+
+DEFAULT_LOBE_COUNT = 16
+# The bandwidth standing for "infinite" where an SRBF evaluation needs a number: G >= 1 - 4e-6.
+UNIFORM_BANDWIDTH = 1e3
+
+
+@dataclass(frozen=True)
+class WorldLights:
+    constant: np.ndarray      # float64 [3]: c_0, the uniform part of the radiance (>= 0)
+    directions: np.ndarray    # float64 [K, 3]: unit lobe centres w_j, world space
+    lam: float                # the lobes' shared bandwidth lambda
+    coefficients: np.ndarray  # float64 [K, 3]: L_j >= 0
+    relative_error: float     # weighted RMS error of the fit over the weighted RMS of the samples
+
+    def srbf_lights(self):
+        """The lobes in the form hairlod.bcsdf.srbf_single_scattering takes, the uniform term as one
+        more lobe of bandwidth UNIFORM_BANDWIDTH."""
+        return {"directions": np.vstack([self.directions, [[0.0, 0.0, 1.0]]]),
+                "lambdas": np.append(np.full(len(self.directions), self.lam), UNIFORM_BANDWIDTH),
+                "coefficients": np.vstack([self.coefficients, self.constant[None, :]])}
+
+
+def lobe_bandwidth(count):
+    """The mean spacing sqrt(4 pi / count) of `count` Fibonacci centres: neighbouring lobes overlap
+    at about exp(-2) of their peak, smooth enough to fit a smooth world without ringing."""
+    return float(np.sqrt(4.0 * np.pi / count))
+
+
+def world_radiance(lights, w):
+    """The fitted radiance c_0 + sum_j L_j G(w; w_j, lambda) for unit directions w [N, 3], [N, 3]."""
+    basis = srbf(np.asarray(w, np.float64), lights.directions.T, lights.lam)
+    return lights.constant[None, :] + basis @ lights.coefficients
+
+
+def uniform_world(colour, count=DEFAULT_LOBE_COUNT):
+    """A uniform world of radiance `colour` (RGB): exactly c_0, every lobe zero."""
+    colour = np.asarray(colour, np.float64).reshape(-1)
+    if colour.shape != (3,) or not np.all(np.isfinite(colour)) or np.any(colour < 0.0):
+        raise ValueError(f"world colour must be 3 finite values >= 0, got {colour.tolist()}")
+    count = _lobe_count(count)
+    return WorldLights(constant=colour.copy(), directions=fibonacci_directions(count), lam=lobe_bandwidth(count),
+                       coefficients=np.zeros((count, 3)), relative_error=0.0)
+
+
+def fit_world(directions, solid_angles, radiance, count=DEFAULT_LOBE_COUNT):
+    """WorldLights fitting radiance samples: ``directions`` [P, 3] (unit, world space), their
+    ``solid_angles`` [P] (> 0, the quadrature weights of the sphere) and ``radiance`` [P, 3] (>= 0)."""
+    directions = np.asarray(directions, np.float64)
+    solid_angles = np.asarray(solid_angles, np.float64).reshape(-1)
+    radiance = np.asarray(radiance, np.float64)
+    if directions.ndim != 2 or directions.shape[1] != 3 or len(directions) == 0:
+        raise ValueError(f"directions must have shape [P, 3] with P >= 1, got {directions.shape}")
+    if radiance.shape != directions.shape:
+        raise ValueError(f"radiance must have shape {directions.shape} like directions, got {radiance.shape}")
+    if solid_angles.shape != (len(directions),):
+        raise ValueError(f"solid_angles must have shape [{len(directions)}], got {solid_angles.shape}")
+    for name, values in (("directions", directions), ("solid_angles", solid_angles), ("radiance", radiance)):
+        if not np.all(np.isfinite(values)):
+            raise ValueError(f"{name} must be finite (found NaN or infinity)")
+    if np.any(solid_angles <= 0.0):
+        raise ValueError("solid_angles must be > 0")
+    if np.any(radiance < 0.0):
+        raise ValueError("radiance must be >= 0")
+    lengths = np.linalg.norm(directions, axis=1)
+    if np.any(lengths < 1e-12):
+        raise ValueError("directions must be non-zero")
+    count = _lobe_count(count)
+    centres = fibonacci_directions(count)
+    lam = lobe_bandwidth(count)
+    basis = np.concatenate([np.ones((len(directions), 1)), srbf(directions / lengths[:, None], centres.T, lam)], axis=1)
+    root_weight = np.sqrt(solid_angles)[:, None]
+    weighted_basis = basis * root_weight
+    amplitudes = np.stack([_nnls(weighted_basis, radiance[:, c] * root_weight[:, 0]) for c in range(3)], axis=1)
+    residual = (basis @ amplitudes - radiance) * root_weight
+    total = float(np.sum((radiance * root_weight) ** 2))
+    relative = float(np.sqrt(np.sum(residual ** 2) / total)) if total > 0.0 else 0.0
+    return WorldLights(constant=amplitudes[0], directions=centres, lam=lam, coefficients=amplitudes[1:],
+                       relative_error=relative)
+
+
+def blender_equirectangular_directions(height, width):
+    """Pixel-centre directions [H, W, 3] and solid angles [H, W] of an equirectangular image as
+    Blender's Environment Texture maps it (Cycles' direction_to_equirectangular): row 0 at the bottom
+    (elevation -pi/2 to pi/2 upwards), u = 0.5 - atan2(y, x) / (2 pi), so the image's middle column
+    looks along +x."""
+    elevation = ((np.arange(height) + 0.5) / height - 0.5) * np.pi
+    azimuth = np.pi - 2.0 * np.pi * (np.arange(width) + 0.5) / width
+    cos_e = np.cos(elevation)[:, None]
+    directions = np.stack(np.broadcast_arrays(cos_e * np.cos(azimuth)[None, :], cos_e * np.sin(azimuth)[None, :],
+                                              np.sin(elevation)[:, None]), axis=-1)
+    solid_angle = np.broadcast_to(cos_e * (np.pi / height) * (2.0 * np.pi / width), (height, width))
+    return directions, solid_angle
+
+
+def blender_equirectangular_world(image, count=DEFAULT_LOBE_COUNT, max_height=32):
+    """WorldLights fitting an equirectangular radiance image ``image`` [H, W, 3] laid out as
+    Blender's pixels (blender_equirectangular_directions). Images taller than ``max_height`` are
+    box-filtered down first: the lobes are far wider than a texel."""
+    image = np.asarray(image, np.float64)
+    if image.ndim != 3 or image.shape[2] != 3 or image.shape[0] < 1 or image.shape[1] < 1:
+        raise ValueError(f"image must have shape [H, W, 3], got {image.shape}")
+    factor = max(1, int(np.ceil(image.shape[0] / max_height)))
+    height, width = image.shape[0] // factor, image.shape[1] // factor
+    if width < 1:
+        raise ValueError(f"image {image.shape[1]}x{image.shape[0]} is too narrow for its height")
+    image = image[:height * factor, :width * factor].reshape(height, factor, width, factor, 3).mean(axis=(1, 3))
+    directions, solid_angles = blender_equirectangular_directions(height, width)
+    return fit_world(directions.reshape(-1, 3), solid_angles.reshape(-1), image.reshape(-1, 3), count)
+
+
+def _lobe_count(count):
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+        raise ValueError(f"lobe count must be an integer >= 1, got {count!r}")
+    return int(count)
+
+
+def _nnls(a, b):
+    """min |a x - b| subject to x >= 0: Lawson and Hanson's active-set method (Solving Least Squares
+    Problems, 1974, Ch. 23), small dense problems only."""
+    columns = a.shape[1]
+    x = np.zeros(columns)
+    passive = np.zeros(columns, bool)
+    tolerance = 1e-12 * max(1.0, float(np.abs(a).max()) * float(np.abs(b).max()))
+    for _ in range(3 * columns):
+        gradient = a.T @ (b - a @ x)
+        candidates = np.where(passive, -np.inf, gradient)
+        if passive.all() or candidates.max() <= tolerance:
+            break
+        passive[int(np.argmax(candidates))] = True
+        while True:
+            z = np.zeros(columns)
+            z[passive] = np.linalg.lstsq(a[:, passive], b, rcond=None)[0]
+            if np.all(z[passive] > 0.0):
+                x = z
+                break
+            # Step from x towards z until the first passive variable reaches zero, then drop it.
+            blocking = passive & (z <= 0.0)
+            step = np.min(x[blocking] / (x[blocking] - z[blocking]))
+            x = x + step * (z - x)
+            passive &= x > tolerance
+            x[~passive] = 0.0
+    return x

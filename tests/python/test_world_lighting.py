@@ -1,0 +1,119 @@
+"""hairlod.world_lighting: the world fitted by a uniform term and SRBF lobes (Xu et al. 2011, Sec. 3),
+and hairlod.preview_luts.srbf_tables, the response table the viewport preview reads."""
+
+import numpy as np
+import pytest
+
+from hairlod import bcsdf, preview_luts, world_lighting
+
+
+def sphere_samples(height=24, width=48):
+    directions, solid_angles = world_lighting.blender_equirectangular_directions(height, width)
+    return directions.reshape(-1, 3), solid_angles.reshape(-1)
+
+
+def test_equirectangular_samples_cover_the_sphere_as_blender_maps_them():
+    directions, solid_angles = world_lighting.blender_equirectangular_directions(16, 32)
+    assert solid_angles.sum() == pytest.approx(4.0 * np.pi, rel=2e-3)
+    np.testing.assert_allclose(np.linalg.norm(directions, axis=-1), 1.0, atol=1e-12)
+    # Cycles' direction_to_equirectangular: the middle column looks along +x, the top row up.
+    assert directions[8, 16, 0] > 0.99 or directions[8, 15, 0] > 0.99
+    assert directions[-1, 0, 2] > 0.99 and directions[0, 0, 2] < -0.99
+
+
+def test_a_constant_world_fits_exactly():
+    directions, solid_angles = sphere_samples()
+    colour = np.array([0.3, 0.5, 0.05])
+    lights = world_lighting.fit_world(directions, solid_angles, np.tile(colour, (len(directions), 1)))
+    np.testing.assert_allclose(lights.constant, colour, rtol=1e-9)
+    np.testing.assert_allclose(lights.coefficients, 0.0, atol=1e-9)
+    assert lights.relative_error < 1e-9
+    uniform = world_lighting.uniform_world(colour)
+    np.testing.assert_array_equal(uniform.constant, colour)
+    np.testing.assert_allclose(world_lighting.world_radiance(uniform, directions), np.tile(colour, (len(directions), 1)))
+
+
+def test_a_single_srbf_world_is_recovered():
+    directions, solid_angles = sphere_samples()
+    count = 16
+    centre = bcsdf.fibonacci_directions(count)[5]
+    amplitude = np.array([1.0, 2.0, 0.5])
+    radiance = bcsdf.srbf(directions, centre, world_lighting.lobe_bandwidth(count))[:, None] * amplitude
+    lights = world_lighting.fit_world(directions, solid_angles, radiance, count)
+    np.testing.assert_allclose(lights.coefficients[5], amplitude, rtol=1e-6)
+    np.testing.assert_allclose(np.delete(lights.coefficients, 5, axis=0), 0.0, atol=1e-6)
+    np.testing.assert_allclose(lights.constant, 0.0, atol=1e-6)
+    assert lights.relative_error < 1e-6
+
+
+def test_amplitudes_are_non_negative_where_least_squares_would_go_negative():
+    directions, solid_angles = sphere_samples()
+    # A bright sharp spot over a black sky: unconstrained least squares rings below zero around it.
+    radiance = np.where((directions @ np.array([0.0, 0.6, 0.8]) > 0.97)[:, None], 20.0, 0.0) * np.ones(3)
+    lights = world_lighting.fit_world(directions, solid_angles, radiance)
+    assert np.all(lights.coefficients >= 0.0) and np.all(lights.constant >= 0.0)
+    assert lights.coefficients.max() > 0.0
+    basis = np.concatenate([np.ones((len(directions), 1)), bcsdf.srbf(directions, lights.directions.T, lights.lam)], 1)
+    unconstrained = np.linalg.lstsq(basis * np.sqrt(solid_angles)[:, None],
+                                    radiance[:, 0] * np.sqrt(solid_angles), rcond=None)[0]
+    assert unconstrained.min() < 0.0  # the case is one where the constraint matters
+    assert 0.0 < lights.relative_error < 1.0
+
+
+def test_fit_of_an_image_in_blender_layout():
+    rng = np.random.default_rng(3)
+    image = 0.5 + 0.1 * rng.uniform(size=(64, 128, 3))
+    lights = world_lighting.blender_equirectangular_world(image)
+    assert lights.relative_error < 0.1
+    assert len(lights.directions) == world_lighting.DEFAULT_LOBE_COUNT
+
+
+@pytest.mark.parametrize("directions, solid_angles, radiance, message", [
+    (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)), "P >= 1"),
+    ([[0.0, 0.0, 1.0]], [1.0], [[np.nan, 0.0, 0.0]], "radiance must be finite"),
+    ([[0.0, 0.0, np.nan]], [1.0], [[1.0, 0.0, 0.0]], "directions must be finite"),
+    ([[0.0, 0.0, 1.0]], [0.0], [[1.0, 0.0, 0.0]], "solid_angles must be > 0"),
+    ([[0.0, 0.0, 1.0]], [1.0], [[-1.0, 0.0, 0.0]], "radiance must be >= 0"),
+    ([[0.0, 0.0, 0.0]], [1.0], [[1.0, 0.0, 0.0]], "non-zero"),
+    ([[0.0, 0.0, 1.0]], [1.0], [[1.0, 0.0]], "radiance must have shape"),
+    ([[0.0, 0.0, 1.0]], [1.0, 2.0], [[1.0, 0.0, 0.0]], "solid_angles must have shape"),
+])
+def test_bad_samples_raise_clear_errors(directions, solid_angles, radiance, message):
+    with pytest.raises(ValueError, match=message):
+        world_lighting.fit_world(directions, solid_angles, radiance)
+
+
+def test_bad_counts_colours_and_images_raise():
+    directions, solid_angles = sphere_samples(4, 8)
+    with pytest.raises(ValueError, match="lobe count"):
+        world_lighting.fit_world(directions, solid_angles, np.ones_like(directions), count=0)
+    with pytest.raises(ValueError, match="world colour"):
+        world_lighting.uniform_world([np.nan, 0.0, 0.0])
+    with pytest.raises(ValueError, match="image must have shape"):
+        world_lighting.blender_equirectangular_world(np.zeros((4, 8)))
+    with pytest.raises(ValueError, match="bandwidth"):
+        preview_luts.srbf_tables({}, lam=0.0, samples=4)
+
+
+def test_srbf_table_holds_the_cpp_srbf_response_at_its_nodes():
+    params = {"sigma_a": (0.3, 0.6, 1.2), "beta_m": 0.3, "beta_n": 0.3}
+    lam = world_lighting.lobe_bandwidth(16)
+    tables = preview_luts.srbf_tables(params, lam, samples=6)
+    samples = tables.samples
+    assert tables.response.shape == (samples * samples + 1, samples, 4)
+    theta = preview_luts.theta_nodes(samples)
+    phi = np.linspace(0.0, np.pi, samples)
+    for j, o, p in ((1, 2, 3), (4, 0, 5), (2, 5, 0)):
+        # The light need not sit at azimuth 0: only |phi_o - phi_j| matters.
+        light = {"directions": [[np.sin(theta[j]), np.cos(theta[j]) * np.cos(0.7), np.cos(theta[j]) * np.sin(0.7)]],
+                 "lambdas": [lam], "coefficients": [[1.0, 1.0, 1.0]]}
+        wo = [[np.sin(theta[o]), np.cos(theta[o]) * np.cos(0.7 - phi[p]), np.cos(theta[o]) * np.sin(0.7 - phi[p])]]
+        expected = bcsdf.srbf_single_scattering(params, light, wo)[0]
+        np.testing.assert_allclose(tables.response[j * samples + o, p, :3], expected, rtol=1e-5)
+    # The last row: a uniform unit world, close to the white furnace of the same fibre (Xu's
+    # factorisation of G, Eq. 11, drifts at grazing views; mid angles agree within 3%).
+    middle = samples // 2
+    furnace = bcsdf.white_furnace("marschner_cg", params, wo=(np.sin(theta[middle]), np.cos(theta[middle]), 0.0),
+                                  tolerance=1e-4)
+    np.testing.assert_allclose(tables.response[-1, middle, :3], furnace, rtol=0.03)
+    assert np.all(np.isfinite(tables.response)) and np.all(tables.response >= 0.0)
