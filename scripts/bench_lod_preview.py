@@ -1,8 +1,8 @@
 """Benchmarks the viewport LoD preview in a real Blender window (run under Xvfb).
 
 Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_lod_preview.py
-     [-- --count 100000 --frames 24 --out FILE.json]
-Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their LoD (256 guides, 6
+     [-- --count 100000 --frames 24 --guides 256 --out FILE.json]
+Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their LoD (--guides guides, 6
 levels) and previews it on an empty, lit by a sun. A camera dolly from 0.7x to 30x the hair's size
 over --frames frames (one redraw, so one Eq. 16 step, per frame) is captured twice: with the LoD at
 eps_w = 2 px and with every strand. Prints one JSON object: per frame the segments drawn, the
@@ -31,6 +31,7 @@ def parse_args():
     parser = argparse.ArgumentParser()
     parser.add_argument("--count", type=int, default=100000)
     parser.add_argument("--frames", type=int, default=24)
+    parser.add_argument("--guides", type=int, default=256)
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -75,7 +76,7 @@ def run(args):
 
     strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=args.count, vertices=17, seed=1)
     start = time.perf_counter()
-    asset = lod.build_lod(strands, guides=256, levels=6, control_points=16, seed=0)
+    asset = lod.build_lod(strands, guides=args.guides, levels=6, control_points=16, seed=0)
     build_seconds = time.perf_counter() - start
     lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
     centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
@@ -147,7 +148,7 @@ def run(args):
             redraw(window, area, region)
         timings[name] = 1e3 * min(redraw(window, area, region, 10) for _ in range(3))
     result = {"strands": len(strands), "build_seconds": build_seconds,
-              "levels": [len(level.n_total) for level in asset.levels], "frames": frames,
+              "clusters": asset.cluster_count, "levels": [len(level.n_total) for level in asset.levels], "frames": frames,
               "far_frame_ms": timings,
               "far_hair_ms_ratio": (timings["all_strands"] - timings["no_hair"]) /
                                    max(timings["lod"] - timings["no_hair"], 1e-3)}
