@@ -6,8 +6,8 @@ Drawing a selection without rebuilding index buffers: every level is cut once in
 L0 clusters with static index buffers over all their segments (``cluster_blocks``,
 ``block_indices``); each vertex carries its L0 cluster and control point (``selection_keys``); per
 frame the selection's level per cluster and segment goes to the GPU as a small texture
-(``selection_texture``), the shader drops the fragments of segments selected at another level, and
-only blocks holding some segment selected at a level are drawn (``levels_present``, ``blocks_to_draw``).
+(``ViewSelection.frame_levels``), the shader drops the fragments of segments selected at another
+level, and only blocks holding some segment selected at a level are drawn (``blocks_to_draw``).
 
 Thick-hair vertices carry what the viewport shader needs to shade the aggregated BCSDF
 (hair-lod-aggregated-bcsdf.txt Sec. 4): the centre, tangent, the major and minor semi-axis vectors
@@ -18,8 +18,7 @@ cluster's strand count n_total and density rho.
 import numpy as np
 
 __all__ = ["strand_line_vertices", "thick_strip_vertices", "polyline_tangents", "cluster_items", "selection_keys",
-           "whole_chunks", "cluster_blocks", "block_indices", "selection_texture", "levels_present",
-           "blocks_to_draw"]
+           "whole_chunks", "cluster_blocks", "block_indices", "blocks_to_draw"]
 
 
 def polyline_tangents(points):
@@ -126,30 +125,9 @@ def block_indices(item_first, first_cluster, end_cluster, control_points, primit
     raise ValueError(f"primitive must be 'lines' or 'strips', got {primitive!r}")
 
 
-def selection_texture(levels, visible):
-    """float32 [clusters, segments]: the selected level of each L0 cluster and segment (a Selection's
-    ``level``), -1 for clusters outside the view (``visible`` false), which then draw nothing."""
-    levels = np.asarray(levels)
-    visible = np.asarray(visible, dtype=bool)
-    if levels.ndim != 2 or visible.shape != (levels.shape[0],):
-        raise ValueError(f"levels [clusters, segments] and visible [clusters] do not match: "
-                         f"{list(levels.shape)} and {list(visible.shape)}")
-    return np.ascontiguousarray(np.where(visible[:, None], levels.astype(np.float32), np.float32(-1.0)))
-
-
-def levels_present(levels, visible, level_count):
-    """bool [clusters, level_count]: whether a visible cluster has some segment selected at each
-    level (one bincount over the selection, instead of a comparison per level)."""
-    levels = np.asarray(levels, dtype=np.int64)
-    clusters = levels.shape[0]
-    keys = (np.arange(clusters, dtype=np.int64)[:, None] * level_count + levels).ravel()
-    present = np.bincount(keys, minlength=clusters * level_count).reshape(clusters, level_count) > 0
-    return present & np.asarray(visible, dtype=bool)[:, None]
-
-
 def blocks_to_draw(present, bounds):
     """bool per block of ``bounds`` (cluster_blocks): whether any of its clusters is ``present``
-    (one column of levels_present)."""
+    (one level's column of ``ViewSelection.frame_levels``)."""
     present = np.asarray(present, dtype=bool)
     bounds = np.asarray(bounds, dtype=np.int64)
     if len(bounds) < 2:

@@ -320,6 +320,15 @@ void bind_lod(py::module_& m) {
             const std::vector<int64_t> s = v.segments_per_level();
             return to_numpy<int64_t>(s, {as_size(s.size())});
         })
+        .def("frame_levels", [](const ViewSelection& v) {
+            std::vector<float> levels;
+            std::vector<uint8_t> present;
+            v.frame_levels(levels, present);
+            const auto clusters = as_size(v.selection().visible.size());
+            return py::make_tuple(to_numpy<float>(levels, {clusters, static_cast<py::ssize_t>(v.selection().segments)}),
+                                  to_numpy<uint8_t>(present, {clusters, static_cast<py::ssize_t>(v.level_count())}).attr("astype")("bool"));
+        }, "(levels float32 [clusters, segments], -1 where culled; present bool [clusters, level_count]): the "
+           "selection as a texture and which levels each visible cluster uses.")
         .def("indices", [](const ViewSelection& v, int level, const std::string& primitive) {
             if (primitive != "lines" && primitive != "strips")
                 throw Error("primitive must be 'lines' or 'strips', got '" + primitive + "'");

@@ -93,6 +93,35 @@ TEST_F(ViewSelectionTest, IndicesCoverEveryVisibleSegmentOnce) {
     }
 }
 
+// The per-frame texture and presence flags restate the selection: the level of each visible
+// cluster and segment, -1 for culled clusters, and a flag per (visible cluster, level in use);
+// a camera that sees only part of the hair culls some clusters.
+TEST_F(ViewSelectionTest, FrameLevelsRestateTheSelection) {
+    for (const auto& [distance, direction] : {std::pair{6.0f, glm::vec3(1.0f, 0.3f, 0.2f)}, {0.4f, glm::vec3(0.2f, 1.0f, 0.1f)}}) {
+        ViewSelection view(*asset_, asset_->rest_geometry());
+        view.update(camera_at(distance, direction), 2.0f);
+        const Selection& selection = view.selection();
+        std::vector<float> levels;
+        std::vector<uint8_t> present;
+        view.frame_levels(levels, present);
+        const size_t clusters = selection.visible.size(), segments = static_cast<size_t>(selection.segments);
+        const auto level_count = static_cast<size_t>(view.level_count());
+        ASSERT_EQ(levels.size(), clusters * segments);
+        ASSERT_EQ(present.size(), clusters * level_count);
+        std::vector<uint8_t> expected_present(present.size(), 0);
+        for (size_t c = 0; c < clusters; ++c)
+            for (size_t s = 0; s < segments; ++s) {
+                const uint8_t level = selection.level[c * segments + s];
+                EXPECT_EQ(levels[c * segments + s], selection.visible[c] ? static_cast<float>(level) : -1.0f);
+                if (selection.visible[c]) expected_present[c * level_count + level] = 1;
+            }
+        EXPECT_EQ(present, expected_present);
+        if (distance < 1.0f) {
+            EXPECT_NE(std::count(selection.visible.begin(), selection.visible.end(), uint8_t{0}), 0) << "some cluster culled";
+        }
+    }
+}
+
 TEST_F(ViewSelectionTest, FartherViewsDrawFewerSegments) {
     // Cameras that see the whole hair: the drawn segments never grow with distance, and far away
     // only thick hairs are drawn.

@@ -118,19 +118,11 @@ def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and
         selected = view_selection.indices(level, primitive).reshape(-1, width)
         assert all(tuple(e) in elements for e in selected)
         # A block is drawn exactly when the selection puts one of its visible segments at this level.
-        present = preview_buffers.levels_present(selection.levels, selection.visible, view_selection.level_count)
+        texture, present = view_selection.frame_levels()
+        np.testing.assert_array_equal(texture, np.where(selection.visible[:, None], selection.levels, -1))
         to_draw = preview_buffers.blocks_to_draw(present[:, level], bounds)
         for block, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
             wanted = ((selection.levels[a:b] == level) & selection.visible[a:b, None]).any()
             assert to_draw[block] == wanted
     with pytest.raises(ValueError, match="primitive"):
         preview_buffers.block_indices(first, 0, 1, n_c, "points")
-
-
-def test_selection_texture_marks_culled_clusters():
-    levels = np.array([[0, 1, 2], [3, 3, 3]], np.uint8)
-    texture = preview_buffers.selection_texture(levels, np.array([True, False]))
-    np.testing.assert_array_equal(texture, [[0, 1, 2], [-1, -1, -1]])
-    assert texture.dtype == np.float32
-    with pytest.raises(ValueError, match="do not match"):
-        preview_buffers.selection_texture(levels, np.array([True]))

@@ -53,6 +53,21 @@ std::vector<uint32_t> ViewSelection::indices(int level, DrawPrimitive primitive)
     return out;
 }
 
+void ViewSelection::frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present) const {
+    const size_t clusters = selection_.visible.size(), segments = static_cast<size_t>(selection_.segments);
+    const auto level_total = static_cast<size_t>(level_count());
+    levels.resize(clusters * segments);
+    present.assign(clusters * level_total, 0);
+    for (size_t c = 0; c < clusters; ++c) {
+        const bool visible = selection_.visible[c] != 0;
+        for (size_t s = 0; s < segments; ++s) {
+            const uint8_t level = selection_.level[c * segments + s];
+            levels[c * segments + s] = visible ? static_cast<float>(level) : -1.0f;
+            if (visible && level < level_total) present[c * level_total + level] = 1;
+        }
+    }
+}
+
 std::vector<int64_t> ViewSelection::segments_per_level() const {
     std::vector<int64_t> segments(static_cast<size_t>(level_count()), 0);
     for (const DrawRange& draw : selection_.draws)

@@ -225,22 +225,19 @@ class LodPreview:
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
         the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
         when its draw ranges change. A few tens of kB per frame and small index lists."""
-        selection = state.selection.selection
-        levels, visible, draws = selection.levels, selection.visible, selection.draws
-        values = preview_buffers.selection_texture(levels, visible)
+        values, present = state.selection.frame_levels()
         clusters, segments = values.shape
         state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
                                              data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
         selected = state.selection.segments_per_level()
-        present = None
+        draws = None
         for level, blocks in enumerate(self.blocks):
             if selected[level] > EXACT_SEGMENTS:
-                if present is None:
-                    present = preview_buffers.levels_present(levels, visible, self.level_count)
                 state.to_draw[level] = preview_buffers.blocks_to_draw(present[:, level], blocks.bounds)
                 state.exact[level], state.exact_keys[level] = None, None
                 continue
             state.to_draw[level] = None
+            draws = state.selection.selection.draws if draws is None else draws
             key = draws[draws[:, 0] == level].tobytes()
             if key == state.exact_keys[level]:
                 continue

@@ -36,6 +36,11 @@ public:
     int level_count() const { return static_cast<int>(asset_->thick_levels.size()) + 1; }  // the strands last
 
     std::vector<uint32_t> indices(int level, DrawPrimitive primitive) const;
+    // What a renderer drawing from static per-cluster buffers needs each frame, in one pass:
+    // `levels` [clusters * segments] the selected level of each L0 cluster and segment as a float,
+    // -1 for clusters outside the view (a texture the shader compares with the level it draws);
+    // `present` [clusters * level_count()] 1 where a visible cluster has a segment at that level.
+    void frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present) const;
     // Segments selected per level (thick hairs or strands times their selected segments).
     std::vector<int64_t> segments_per_level() const;
 
