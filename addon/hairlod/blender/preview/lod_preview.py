@@ -37,7 +37,7 @@ _shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
 # levels). About 1100 blocks for 100k strands of 32 points; a frame draws only the flagged ones.
 BLOCK_SEGMENTS = 1 << 12
 # A level with at most this many selected segments is drawn from an exact index list instead,
-# rebuilt when its draw ranges change: at most 6 x 4096 indices (about 0.1 ms), and a sparse level
+# rebuilt when its selected segments change: at most 6 x 4096 indices (about 0.1 ms), and a sparse level
 # spread over many blocks (a far view's few finer clusters) draws no more than it selected.
 EXACT_SEGMENTS = 1 << 12
 SELECTION_SLOT = 6  # sampler slot of the selection texture (the BCSDF tables take 0-2)
@@ -172,7 +172,7 @@ class ViewState:
         self.texture = None                  # GPUTexture [segments x clusters] of selected levels, -1 when culled
         self.to_draw = [None] * level_count  # per dense level: bool per block; None for a sparse level
         self.exact = [None] * level_count    # per sparse level: GPUBatch of its selected segments, or None
-        self.exact_keys = [None] * level_count  # the draw ranges each exact batch was built for
+        self.exact_keys = [None] * level_count  # the selected segments each exact batch was built for
 
 
 class LodPreview:
@@ -224,21 +224,20 @@ class LodPreview:
     def upload_selection(self, state):
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
         the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
-        when its draw ranges change. A few tens of kB per frame and small index lists."""
+        when its selected segments change. A few tens of kB per frame and small index lists."""
         values, present = state.selection.frame_levels()
         clusters, segments = values.shape
         state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
                                              data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
         selected = state.selection.segments_per_level()
-        draws = None
         for level, blocks in enumerate(self.blocks):
             if selected[level] > EXACT_SEGMENTS:
                 state.to_draw[level] = preview_buffers.blocks_to_draw(present[:, level], blocks.bounds)
                 state.exact[level], state.exact_keys[level] = None, None
                 continue
             state.to_draw[level] = None
-            draws = state.selection.selection.draws if draws is None else draws
-            key = draws[draws[:, 0] == level].tobytes()
+            # The level's segments (the texture's cells equal to it) decide its list.
+            key = np.packbits(values == level).tobytes()
             if key == state.exact_keys[level]:
                 continue
             state.exact_keys[level] = key
