@@ -10,7 +10,7 @@
 
 #include "hairlod/core/error.h"
 #include "hairlod/core/fast_math.h"
-#include "hairlod/core/float4.h"
+#include "hairlod/core/vector_clones.h"
 #include "hairlod/hairmesh/hash_random.h"
 
 namespace hairlod {
@@ -124,9 +124,9 @@ void draw_strand_styling(std::span<const StylingOperation> operations, uint64_t 
 
 namespace {
 
-// One function per operation over restrict-qualified component arrays: kept out of line so the
-// compiler keeps the no-aliasing facts and vectorises the loops.
-[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_curl(float* __restrict x, float* __restrict y, float* __restrict z,
+// One function per operation over restrict-qualified component arrays, out of line and cloned for
+// AVX2 (core/vector_clones.h) so that the loops vectorise.
+HAIRLOD_VECTOR_CLONES void apply_curl(float* __restrict x, float* __restrict y, float* __restrict z,
                                   const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
                                   const float* __restrict vx, const float* __restrict vy, const float* __restrict vz,
                                   const float* __restrict w, size_t first, size_t n, const OperationConstants c) {
@@ -139,7 +139,7 @@ namespace {
     }
 }
 
-[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_wave(float* __restrict x, float* __restrict y, float* __restrict z,
+HAIRLOD_VECTOR_CLONES void apply_wave(float* __restrict x, float* __restrict y, float* __restrict z,
                                   const float* __restrict ux, const float* __restrict uy, const float* __restrict uz,
                                   const float* __restrict w, size_t first, size_t n, const OperationConstants c) {
     for (size_t k = first; k < n; ++k) {
@@ -151,7 +151,7 @@ namespace {
 }
 
 // Rodrigues' rotation of the offset r from the centre curve about the unit axis w.
-[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_twist(float* __restrict x, float* __restrict y, float* __restrict z,
+HAIRLOD_VECTOR_CLONES void apply_twist(float* __restrict x, float* __restrict y, float* __restrict z,
                                    const float* __restrict ax, const float* __restrict ay, const float* __restrict az,
                                    const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
                                    const float* __restrict w, size_t first, size_t n, float angular_rate) {
@@ -165,7 +165,7 @@ namespace {
     }
 }
 
-[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_clump(float* __restrict x, float* __restrict y, float* __restrict z,
+HAIRLOD_VECTOR_CLONES void apply_clump(float* __restrict x, float* __restrict y, float* __restrict z,
                                    const float* __restrict cx, const float* __restrict cy, const float* __restrict cz,
                                    const float* __restrict pull, size_t first, size_t n, float amount) {
     for (size_t k = first; k < n; ++k) {
@@ -197,7 +197,7 @@ constexpr float kLatticeReach = 1073741824.0f;  // 2^30
 // (value_noise with the hashing done beforehand, the table stored component by component),
 // moved along the frame. A plain loop with int32 cell indices: the AVX2 clone vectorises it with
 // gathers from the table.
-[[gnu::noinline, gnu::target_clones("avx2", "default")]] void apply_frizz_lattice(
+HAIRLOD_VECTOR_CLONES void apply_frizz_lattice(
     float* __restrict x, float* __restrict y, float* __restrict z, const float* __restrict ux,
     const float* __restrict uy, const float* __restrict uz, const float* __restrict vx, const float* __restrict vy,
     const float* __restrict vz, const float* __restrict wx, const float* __restrict wy, const float* __restrict wz,
