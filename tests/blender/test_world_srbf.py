@@ -1,0 +1,67 @@
+"""The world as SRBF lights reads an Environment Texture in the directions Cycles shows it: the image
+is rendered as the background by Cycles through a narrow camera looking along a few directions, and
+the colour seen must be the image's at the pixel hairlod.world_lighting maps that direction to."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+from mathutils import Euler, Vector
+
+from hairlod.world_lighting import blender_equirectangular_directions
+
+WIDTH, HEIGHT = 64, 32
+
+
+@pytest.fixture
+def environment_scene(tmp_path):
+    # Quadrants of distinct colours: red / blue halves in u, green added in the top rows.
+    pixels = np.zeros((HEIGHT, WIDTH, 4), np.float32)
+    pixels[..., 3] = 1.0
+    pixels[:, :WIDTH // 2, 0] = 1.0
+    pixels[:, WIDTH // 2:, 2] = 1.0
+    pixels[3 * HEIGHT // 4:, :, 1] = 1.0
+    image = bpy.data.images.new("hairlod_env_test", WIDTH, HEIGHT, float_buffer=True)
+    image.pixels.foreach_set(pixels.ravel())
+    scene = bpy.data.scenes.new("hairlod_env_test")
+    world = bpy.data.worlds.new("hairlod_env_test")
+    world.use_nodes = True
+    environment = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    environment.image = image
+    environment.interpolation = 'Closest'
+    world.node_tree.links.new(environment.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
+    scene.world = world
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 1
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = 4
+    scene.render.image_settings.file_format = 'OPEN_EXR'
+    camera = bpy.data.objects.new("hairlod_env_test", bpy.data.cameras.new("hairlod_env_test"))
+    camera.data.angle = 0.05
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    yield scene, camera, pixels, tmp_path
+    bpy.data.scenes.remove(scene)
+    bpy.data.worlds.remove(world)
+    bpy.data.images.remove(image)
+
+
+def test_environment_directions_match_cycles(environment_scene):
+    scene, camera, pixels, folder = environment_scene
+    directions, _ = blender_equirectangular_directions(HEIGHT, WIDTH)
+    # Away from the poles and from the colour edges, so one pixel's colour is seen.
+    for index, (pitch, yaw) in enumerate(((90, 45), (90, 135), (90, 225), (90, 315), (150, 60), (30, 200))):
+        rotation = Euler((math.radians(pitch), 0.0, math.radians(yaw)))
+        camera.rotation_euler = rotation
+        forward = np.array(rotation.to_matrix() @ Vector((0.0, 0.0, -1.0)))  # a camera looks along -z
+        path = str(folder / f"env_{index}.exr")
+        scene.render.filepath = path
+        with bpy.context.temp_override(scene=scene):
+            bpy.ops.render.render(write_still=True, scene=scene.name)
+        rendered = bpy.data.images.load(path)
+        seen = np.array(rendered.pixels[:], np.float32).reshape(4, 4, 4)[1:3, 1:3, :3].mean(axis=(0, 1))
+        bpy.data.images.remove(rendered)
+        row, column = np.unravel_index(np.argmax(directions.reshape(-1, 3) @ forward), (HEIGHT, WIDTH))
+        np.testing.assert_allclose(seen, pixels[row, column, :3], atol=0.05,
+                                   err_msg=f"looking along {forward.round(2)}: mapped to row {row}, column {column}")
