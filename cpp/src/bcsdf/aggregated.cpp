@@ -42,6 +42,16 @@ void validate_cluster(const ClusterState& cluster) {
         throw Error("density must be in (0, 1], got " + std::to_string(cluster.density));
 }
 
+// The arguments of a ray crossing a thick hair (hairs_crossed, hair_hit_probability).
+void validate_crossing(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
+    require_positive("density", density);
+    require_positive("hair_total", hair_total);
+    require_positive("major_axis", major_axis);
+    require_positive("minor_axis", minor_axis);
+    if (!(std::isfinite(ray_length) && ray_length >= 0.0))
+        throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
+}
+
 }  // namespace
 
 double cluster_density(double hair_total, double hair_radius, double major_axis, double minor_axis) {
@@ -53,22 +63,12 @@ double cluster_density(double hair_total, double hair_radius, double major_axis,
 }
 
 double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
-    require_positive("density", density);
-    require_positive("hair_total", hair_total);
-    require_positive("major_axis", major_axis);
-    require_positive("minor_axis", minor_axis);
-    if (!(std::isfinite(ray_length) && ray_length >= 0.0))
-        throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
+    validate_crossing(density, ray_length, hair_total, major_axis, minor_axis);
     return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
 }
 
 double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
-    require_positive("density", density);
-    require_positive("hair_total", hair_total);
-    require_positive("major_axis", major_axis);
-    require_positive("minor_axis", minor_axis);
-    if (!(std::isfinite(ray_length) && ray_length >= 0.0))
-        throw Error("ray_length must be finite and >= 0, got " + std::to_string(ray_length));
+    validate_crossing(density, ray_length, hair_total, major_axis, minor_axis);
     const double expected = 2.0 / kPi * ray_length * std::sqrt(density * hair_total / (major_axis * minor_axis));
     return -std::expm1(-expected);
 }
@@ -155,11 +155,15 @@ glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f,
 }
 
 LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
-    return eval_lobes(wi, wo, cluster_);
+    return lobes_at(wi, wo, cluster_);  // validated at construction
 }
 
 LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const {
     validate_cluster(cluster);
+    return lobes_at(wi, wo, cluster);
+}
+
+LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const {
     const FiberDirection di = fiber_direction(wi);
     const FiberDirection dout = fiber_direction(wo);
     const HalfAngles angles = half_angles(di, dout);

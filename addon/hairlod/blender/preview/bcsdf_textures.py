@@ -5,7 +5,8 @@ import gpu
 import numpy as np
 
 
-def _texture(rows):
+def rgba_texture(rows):
+    """An RGBA32F GPUTexture of float rows [height, width, 4]."""
     height, width = rows.shape[:2]
     data = gpu.types.Buffer('FLOAT', width * height * 4, np.ascontiguousarray(rows, dtype=np.float32).ravel())
     return gpu.types.GPUTexture((width, height), format='RGBA32F', data=data)
@@ -16,9 +17,9 @@ class BcsdfTextures:
 
     def __init__(self, tables):
         self.tables = tables
-        self.fiber = _texture(tables.fiber)
-        self.dual = _texture(tables.dual)
-        self.aggregated = _texture(tables.aggregated)
+        self.fiber = rgba_texture(tables.fiber)
+        self.dual = rgba_texture(tables.dual)
+        self.aggregated = rgba_texture(tables.aggregated)
 
     def bind(self, shader):
         shader.uniform_sampler("fiber_lut", self.fiber)

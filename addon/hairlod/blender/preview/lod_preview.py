@@ -23,6 +23,7 @@ from mathutils import Vector
 
 from ... import lod, preview_buffers, self_shadow
 from .shaders import glsl_source
+from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
 LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.35, 0.80, 0.30),
@@ -130,17 +131,8 @@ def _attributes(kind):
 
 
 def _vertex_buffers(kind, arrays):
-    """One vertex buffer per attribute: Blender fills a one-attribute buffer with a single memcpy,
-    an interleaved one vertex by vertex (about 25x slower)."""
-    buffers = []
-    for name, length in _attributes(kind):
-        values = np.ascontiguousarray(arrays[name], dtype=np.float32)
-        vertex_format = gpu.types.GPUVertFormat()
-        vertex_format.attr_add(id=name, comp_type='F32', len=length, fetch_mode='FLOAT')
-        buffer = gpu.types.GPUVertBuf(vertex_format, len(values))
-        buffer.attr_fill(name, values)
-        buffers.append(buffer)
-    return buffers
+    """One vertex buffer per attribute (strand_batch.attribute_buffer), in shader input order."""
+    return [attribute_buffer(name, arrays[name]) for name, _ in _attributes(kind)]
 
 
 def _batch(kind, buffers, elements):

@@ -34,8 +34,9 @@ def _single_format(name, length):
     return vertex_format
 
 
-def _filled_buffer(name, values):
-    """A vertex buffer of one attribute, filled with one copy of the contiguous ``values``."""
+def attribute_buffer(name, values):
+    """A vertex buffer of one attribute, filled with one copy of the contiguous ``values``: Blender
+    fills a one-attribute buffer with a single memcpy, an interleaved one vertex by vertex."""
     import gpu
 
     values = np.ascontiguousarray(values, dtype=np.float32)
@@ -133,7 +134,7 @@ class StrandBatch:
             key = local.tobytes()
             if key not in shared:
                 shared[key] = (gpu.types.GPUIndexBuf(type='LINES', seq=line_indices(local)),
-                               _filled_buffer("along", along_strand(local)))
+                               attribute_buffer("along", along_strand(local)))
             self._chunks.append((int(offsets[first]), int(offsets[last])) + shared[key])
 
     def update(self, points, tangents, offsets):
@@ -155,8 +156,8 @@ class StrandBatch:
             if last - first < 2:
                 continue
             # A vertex buffer cannot be refilled once drawn: every update makes new ones.
-            batch = gpu.types.GPUBatch(type='LINES', buf=_filled_buffer("position", points[first:last]), elem=indices)
-            batch.vertbuf_add(_filled_buffer("tangent", tangents[first:last]))
+            batch = gpu.types.GPUBatch(type='LINES', buf=attribute_buffer("position", points[first:last]), elem=indices)
+            batch.vertbuf_add(attribute_buffer("tangent", tangents[first:last]))
             batch.vertbuf_add(along)
             self.batches.append(batch)
 

@@ -50,9 +50,9 @@ def world_block(lights):
 
 def response_texture(tables):
     """The GPUTexture of a hairlod.preview_luts.SrbfTables (rows as in its docstring)."""
-    height, width = tables.response.shape[:2]
-    data = gpu.types.Buffer('FLOAT', width * height * 4, np.ascontiguousarray(tables.response, np.float32).ravel())
-    return gpu.types.GPUTexture((width, height), format='RGBA32F', data=data)
+    from .bcsdf_textures import rgba_texture
+
+    return rgba_texture(tables.response)
 
 
 def empty_texture():

@@ -84,6 +84,8 @@ public:
     const FiberRtdBcsdf& fiber() const { return fiber_; }
 
 private:
+    LobeValues lobes_at(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const;
+
     FiberRtdBcsdf fiber_;
     ClusterState cluster_;
     std::shared_ptr<const AggregatedTable> table_;
