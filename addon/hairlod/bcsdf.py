@@ -347,14 +347,28 @@ def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forwar
 DEFAULT_TABLE_SAMPLES = 65
 
 
+def bake_bytes(theta_samples, hair_count_samples, table_samples, tables=("aggregated",)):
+    """Bytes bake() holds at its peak (tables as doubles in C++, float32 copies, EXR buffers), for
+    the memory budget."""
+    theta, count, per_hair = (max(int(v), 0) for v in (theta_samples, hair_count_samples, table_samples))
+    aggregated = (30 * theta + 9 * theta * count) * (8 + 4 + 4) + per_hair * 512 if "aggregated" in tables else 0
+    return aggregated + (64 << 20 if "xu" in tables else 0)
+
+
+BAKE_FORMAT = "hairlod-bcsdf-lut"  # the manifest "format" that marks a folder as tables hairlod baked
+BAKE_WHAT = "a BCSDF table folder"  # the kind in messages
+
+
 def bake(params, out_dir, theta_samples=64, hair_count_samples=64, max_hair_count=64.0,
          table_samples=DEFAULT_TABLE_SAMPLES,
-         tables=("aggregated",)):
+         tables=("aggregated",), force=False, inputs=()):
     """Bake lookup tables into ``out_dir``: one float32 OpenEXR per table and manifest.json.
     ``tables`` names the sets: "aggregated" (the aggregated BCSDF's attenuation and dual-scattering
     tables, sampled from a per-hair table of ``table_samples`` theta_d nodes) and "xu" (Xu et al.
-    2011's C_k, H_k^TT, H_k^TRT, global, about 0.3 s). The folder appears complete or not at all (written under a temporary name, then
-    renamed; an existing folder is replaced). Returns the manifest (a dict).
+    2011's C_k, H_k^TT, H_k^TRT, global, about 0.3 s). The folder appears complete or not at all
+    (atomic_output.replace_folder); an existing folder is replaced only when it holds tables hairlod
+    baked, or with ``force``, and never when it holds one of ``inputs`` (paths this run reads, such
+    as the LoD folder the hair-count range came from). Returns the manifest (a dict).
 
     Manifest: {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": {...},
     "tables": [{"name", "file", "equation", "axes": [{"name", "range": [lo, hi], "samples",
@@ -363,51 +377,41 @@ def bake(params, out_dir, theta_samples=64, hair_count_samples=64, max_hair_coun
     interpolation after mapping the coordinate to (k + 0.5) / samples. EXR files store channels sorted
     by name: read them by name.
     """
-    import json
     import os
-    import shutil
-    import tempfile
+
+    from . import atomic_output, memory_budget, strict_json
 
     params = as_params(params)
-    out_dir = os.path.abspath(os.fspath(out_dir))
     if isinstance(tables, str):
         tables = [tables]
-    tables = _core.bcsdf_bake(params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),
-                              max_hair_count=float(max_hair_count), table_samples=int(table_samples),
-                              tables=list(tables))
-    parent = os.path.dirname(out_dir)
-    if not os.path.isdir(parent):
-        raise ValueError(f"{out_dir}: parent folder does not exist")
-    staging = tempfile.mkdtemp(prefix=".bake-", dir=parent)
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(staging, 0o777 & ~umask)
-        manifest = {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": params_to_dict(params),
+    tables = list(tables)
+    memory_budget.check(bake_bytes(theta_samples, hair_count_samples, table_samples, tables),
+                        f"baking {', '.join(tables)} tables of {theta_samples} x {hair_count_samples} samples "
+                        f"(per-hair table {table_samples})")
+    # Refused before the bake runs, so a refusal costs nothing.
+    atomic_output.check_folder_target(os.path.abspath(os.fspath(out_dir)), BAKE_FORMAT, force, inputs, BAKE_WHAT)
+    baked = _core.bcsdf_bake(params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),
+                             max_hair_count=float(max_hair_count), table_samples=int(table_samples), tables=tables)
+
+    def write(folder):
+        manifest = {"format": BAKE_FORMAT, "version": 1, "model": "aggregated", "params": params_to_dict(params),
                     "tables": []}
-        for table in tables:
+        for table in baked:
             file_name = table["name"] + ".exr"
             values = table["values"]
-            _core.write_exr(os.path.join(staging, file_name), values, table["channels"])
+            _core.write_exr(os.path.join(folder, file_name), values, table["channels"])
             axes = [{"name": axis["name"], "range": list(axis["range"]), "samples": axis["samples"],
                      "image_axis": "xy"[k], **({"scale": axis["scale"]} if "scale" in axis else {})}
                     for k, axis in enumerate(table["axes"])]
             manifest["tables"].append({"name": table["name"], "file": file_name, "equation": table["equation"],
                                        "axes": axes, "resolution": [values.shape[1], values.shape[0]],
                                        "channels": list(table["channels"]), "bytes": int(values.nbytes)})
-        with open(os.path.join(staging, "manifest.json"), "w") as f:
-            json.dump(manifest, f, indent=2)
-        if os.path.isdir(out_dir):
-            retired = tempfile.mkdtemp(prefix=".bake-old-", dir=parent)
-            os.rename(out_dir, os.path.join(retired, "old"))
-            os.rename(staging, out_dir)
-            shutil.rmtree(retired)
-        else:
-            os.rename(staging, out_dir)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
-    return manifest
+        text = strict_json.dumps(manifest, indent=2)
+        with open(os.path.join(folder, "manifest.json"), "w") as f:
+            f.write(text)
+        return manifest
+
+    return atomic_output.replace_folder(out_dir, BAKE_FORMAT, write, force=force, inputs=inputs, what=BAKE_WHAT)
 
 
 def lut_lookup(values, axes, coordinates):
@@ -433,12 +437,14 @@ def lut_lookup(values, axes, coordinates):
 
 
 __all__ = [
+    "BAKE_FORMAT",
     "DEFAULT_TABLE_SAMPLES",
     "FIELDS",
     "MODELS",
     "HairParams",
     "as_params",
     "bake",
+    "bake_bytes",
     "cluster_density",
     "hairs_crossed",
     "lod_hair_count_range",

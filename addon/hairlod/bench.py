@@ -197,7 +197,7 @@ def plot_bcsdf(result, path):
     axes.set_ylabel("max relative error")
     axes.set_title("BCSDF tiers: speed against error")
     figure.tight_layout()
-    figure.savefig(path, dpi=120)
+    figure.savefig(path, dpi=120, format="png")
     plt.close(figure)
 
 
@@ -324,7 +324,7 @@ def plot_generate(result, path):
     axes.set_title(f"generate: {result['strands']:,} strands x {result['vertices']} vertices "
                    f"({result['output_bytes'] / 1e6:.0f} MB out)")
     figure.tight_layout()
-    figure.savefig(path, dpi=120)
+    figure.savefig(path, dpi=120, format="png")
     plt.close(figure)
 
 

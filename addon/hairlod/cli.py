@@ -6,14 +6,18 @@ file is left behind.
 """
 
 import argparse
-import json
 import os
+import signal
 import sys
+import threading
 import time
+import warnings
 
-from . import __version__
+from . import __version__, atomic_output, strict_json
 
 EXIT_BAD_INPUT = 2
+INT32_MAX = 2**31 - 1
+SEED_MAX = 2**64 - 1
 
 
 class UsageError(Exception):
@@ -23,6 +27,42 @@ class UsageError(Exception):
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         raise UsageError(message)
+
+
+def _integer(lowest, highest=INT32_MAX):
+    """argparse type: a decimal integer in [lowest, highest] (the bindings' C++ types hold it)."""
+    def parse(text):
+        try:
+            value = int(text, 10)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}") from None
+        if not lowest <= value <= highest:
+            raise argparse.ArgumentTypeError(f"must be between {lowest} and {highest}, got {text[:40]}")
+        return value
+    return parse
+
+
+def _number(above=None, at_least=None, at_most=None):
+    """argparse type: a finite number, > above / >= at_least / <= at_most where given."""
+    def parse(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got {text[:40]!r}") from None
+        if value != value or value in (float("inf"), float("-inf")):
+            raise argparse.ArgumentTypeError(f"must be a finite number, got {text[:40]}")
+        if above is not None and not value > above:
+            raise argparse.ArgumentTypeError(f"must be > {above}, got {text[:40]}")
+        if at_least is not None and not value >= at_least:
+            raise argparse.ArgumentTypeError(f"must be >= {at_least}, got {text[:40]}")
+        if at_most is not None and not value <= at_most:
+            raise argparse.ArgumentTypeError(f"must be <= {at_most}, got {text[:40]}")
+        return value
+    return parse
+
+
+def _print_json(value):
+    print(strict_json.dumps(value))
 
 
 def strand_summary(strands):
@@ -77,7 +117,7 @@ def command_info(args):
     strands, seconds = _read_timed(args.file)
     summary = strand_summary(strands)
     if args.json:
-        print(json.dumps({"file": args.file, **summary, "read_seconds": seconds}))
+        _print_json({"file": args.file, **summary, "read_seconds": seconds})
     else:
         _print_summary(args.file, summary)
     return 0
@@ -103,7 +143,7 @@ def command_convert(args):
         "write_seconds": write_seconds,
     }
     if args.json:
-        print(json.dumps(result))
+        _print_json(result)
     else:
         print(f"{args.input} -> {args.output}: {result['strands']} strands, {result['points']} points")
     return 0
@@ -119,8 +159,7 @@ def command_generate(args):
         if extension not in io.WRITE_FORMATS:
             supported = ", ".join(io.WRITE_FORMATS)
             raise UsageError(f"{args.out}: cannot write '{extension or 'no extension'}' files (supported: {supported})")
-    if args.count < 1 or args.seed < 0:
-        raise UsageError(f"--count must be >= 1 and --seed >= 0, got {args.count} and {args.seed}")
+    hairmesh.check_generate_budget(args.count, args.vertices)
     start = time.perf_counter()
     source = hairmesh.read(args.hairmesh)
     read_seconds = time.perf_counter() - start
@@ -133,6 +172,7 @@ def command_generate(args):
         strands = generator.generate(vertices=args.vertices, styling=styling, strand_lod=args.lod,
                                      vertex_lod=args.lod, radius=radius)
         generate_seconds = time.perf_counter() - start
+        hairmesh.require_finite(strands)
     except ValueError as error:
         raise ValueError(f"{args.hairmesh}: {error}") from None
     write_seconds = None
@@ -154,7 +194,7 @@ def command_generate(args):
         "write_seconds": write_seconds,
     }
     if args.json:
-        print(json.dumps(result))
+        _print_json(result)
     else:
         target = f" -> {args.out}" if args.out else ""
         print(f"{args.hairmesh}{target}: {result['strands']} strands of {result['points_per_strand']} points "
@@ -162,18 +202,12 @@ def command_generate(args):
     return 0
 
 
-def _positive(name, value, lowest=1):
-    if value < lowest:
-        raise UsageError(f"--{name} must be >= {lowest}, got {value}")
-
-
 def command_lod(args):
     from . import lod
 
-    for name in ("guides", "levels", "control_points"):
-        _positive(name.replace("_", "-"), getattr(args, name), 2 if name != "guides" else 1)
-    if not args.width_px > 0:
-        raise UsageError(f"--width-px must be > 0, got {args.width_px}")
+    inputs = [args.input, args.cameras]
+    # Refused before the build, so a refusal costs nothing (lod.save checks again when it writes).
+    atomic_output.check_folder_target(args.out, lod.FORMAT_KIND, args.force, inputs, lod.WHAT)
     cameras = lod.read_cameras(args.cameras) if args.cameras else None
     strands, read_seconds = _read_timed(args.input)
     start = time.perf_counter()
@@ -191,7 +225,7 @@ def command_lod(args):
         "cameras": len(cameras) if cameras else 0,
         "selected_levels": selected,
         "strands_selected": finest in selected,
-    })
+    }, force=args.force, inputs=inputs)
     write_seconds = time.perf_counter() - start
     result = {
         "input": args.input,
@@ -210,7 +244,7 @@ def command_lod(args):
         "write_seconds": write_seconds,
     }
     if args.json:
-        print(json.dumps(result))
+        _print_json(result)
     else:
         print(f"{args.input} -> {args.out}: {len(strands)} strands, {asset.cluster_count} clusters, "
               f"thick levels {[level['hairs'] for level in result['levels']]}, build {build_seconds:.2f} s")
@@ -220,8 +254,6 @@ def command_lod(args):
 def command_render(args):
     from . import lod, render
 
-    _positive("spp", args.spp)
-    _positive("width", args.width)
     if not args.out.lower().endswith((".exr", ".png")):
         raise UsageError(f"--out {args.out}: must end in .exr or .png")
     if args.method.startswith("lod") and not args.lod:
@@ -242,7 +274,7 @@ def command_render(args):
     summary.update(input=args.input, lod=args.lod, output=args.out, method=args.method, view=args.view, spp=args.spp,
                    width=args.width, read_seconds=read_seconds)
     if args.json:
-        print(json.dumps(summary))
+        _print_json(summary)
     else:
         print(f"{args.input} -> {args.out}: {args.method}, {args.view} view, {summary['segments']} segments, "
               f"{result['seconds']:.2f} s, {result['rays_per_second'] / 1e6:.2f} M rays/s")
@@ -252,11 +284,7 @@ def command_render(args):
 def _read_params(path):
     if path is None:
         return {}
-    try:
-        with open(path) as f:
-            params = json.load(f)
-    except json.JSONDecodeError as error:
-        raise UsageError(f"{path}: not valid JSON ({error.msg} at line {error.lineno})")
+    params = strict_json.load(path, "BCSDF parameters")
     if not isinstance(params, dict):
         raise UsageError(f"{path}: expected a JSON object of HairParams fields")
     return params
@@ -277,7 +305,7 @@ def _principled_hair_from_blend(path, material):
                          capture_output=True, text=True)
     for line in run.stdout.splitlines():
         if line.startswith("HAIRLOD_JSON "):
-            return json.loads(line[len("HAIRLOD_JSON "):])
+            return strict_json.loads(line[len("HAIRLOD_JSON "):], f"{path}: the material blender read")
         if line.startswith("HAIRLOD_ERROR "):
             raise UsageError(f"{path}: {line[len('HAIRLOD_ERROR '):]}")
     last = (run.stderr.strip().splitlines() or run.stdout.strip().splitlines() or ["no output"])[-1]
@@ -289,6 +317,8 @@ def command_bake(args):
 
     if args.from_blend and args.params:
         raise UsageError("--params and --from-blend are exclusive")
+    atomic_output.check_folder_target(args.out, bcsdf.BAKE_FORMAT, args.force, [args.lod, args.params, args.from_blend],
+                                      bcsdf.BAKE_WHAT)
     if bool(args.from_blend) != bool(args.material):
         raise UsageError("--from-blend and --material go together")
     source = args.params or (f"{args.from_blend}:{args.material}" if args.from_blend else "params")
@@ -321,15 +351,16 @@ def command_bake(args):
     start = time.perf_counter()
     manifest = bcsdf.bake(params, args.out, theta_samples=args.theta_samples,
                           hair_count_samples=args.hair_count_samples, max_hair_count=max_hair_count,
-                          table_samples=args.table_samples, tables=sets)
+                          table_samples=args.table_samples, tables=sets, force=args.force,
+                          inputs=[args.lod, args.params, args.from_blend])
     seconds = time.perf_counter() - start
     tables = [{"name": t["name"], "file": t["file"], "resolution": t["resolution"], "channels": len(t["channels"]),
                "bytes": t["bytes"]} for t in manifest["tables"]]
     if args.json:
-        print(json.dumps({"params": args.params, "from_blend": args.from_blend, "material": args.material,
-                          "principled_hair": node, "hair_params": manifest["params"], "lod": args.lod,
-                          "densest_cluster_strands": densest, "max_hair_count": max_hair_count, "out": args.out,
-                          "tables": tables, "bytes": sum(t["bytes"] for t in tables), "bake_seconds": seconds}))
+        _print_json({"params": args.params, "from_blend": args.from_blend, "material": args.material,
+                     "principled_hair": node, "hair_params": manifest["params"], "lod": args.lod,
+                     "densest_cluster_strands": densest, "max_hair_count": max_hair_count, "out": args.out,
+                     "tables": tables, "bytes": sum(t["bytes"] for t in tables), "bake_seconds": seconds})
     else:
         for t in tables:
             print(f"{os.path.join(args.out, t['file'])}: {t['resolution'][0]} x {t['resolution'][1]}, "
@@ -348,27 +379,20 @@ def _check_plot_path(path):
 
 def _write_plot(path, draw):
     """Calls draw(file) on a temporary name and renames it to `path`: no partial plot is left."""
-    staging = path + ".tmp.png"
-    try:
+    with atomic_output.replacing_file(path) as staging:
         draw(staging)
-        os.replace(staging, path)
-    finally:
-        if os.path.exists(staging):
-            os.remove(staging)
 
 
 def _bench_bcsdf(args):
     from . import bench
 
     _check_plot_path(args.plot)
-    if args.repeats < 1:
-        raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
     result = bench.bench_bcsdf(repeats=args.repeats)
     if args.plot:
         _write_plot(args.plot, lambda file: bench.plot_bcsdf(result, file))
         result["plot"] = args.plot
     if args.json:
-        print(json.dumps({"component": args.component, **result}))
+        _print_json({"component": args.component, **result})
     else:
         print(f"{'model':<11} {'tier':<26} {'ns/eval':>9} {'max rel':>9} {'mean rel':>9} {'|E-1|':>8} {'bytes':>8}")
         for r in result["rows"]:
@@ -382,23 +406,15 @@ def _bench_bcsdf(args):
 def _bench_lod(args):
     from . import bench
 
-    _positive("strands", args.strands)
-    _positive("points", args.points, 2)
-    _positive("frames", args.frames)
-    for name in ("guides", "levels", "control_points"):
-        _positive(name.replace("_", "-"), getattr(args, name), 2 if name != "guides" else 1)
     result = bench.bench_lod(strands=args.strands, points=args.points, guides=args.guides, levels=args.levels,
                              control_points=args.control_points, width_px=args.width_px, frames=args.frames)
-    print(json.dumps(result) if args.json else json.dumps(result, indent=1))
+    print(strict_json.dumps(result, indent=None if args.json else 1))
     return 0
 
 
 def _bench_generate(args):
     from . import bench
 
-    _positive("strands", args.strands)
-    if args.repeats < 1:
-        raise UsageError(f"--repeats must be >= 1, got {args.repeats}")
     segments = args.vertices - 1
     if segments < 1 or segments & (segments - 1):
         raise UsageError(f"--vertices must be 2^e + 1 (2, 3, 5, 9, 17, 33, ...), got {args.vertices}")
@@ -407,7 +423,7 @@ def _bench_generate(args):
     if args.plot:
         _write_plot(args.plot, lambda file: bench.plot_generate(result, file))
         result["plot"] = args.plot
-    print(json.dumps({"component": args.component, **result}, indent=None if args.json else 1))
+    print(strict_json.dumps({"component": args.component, **result}, indent=None if args.json else 1))
     return 0
 
 
@@ -416,8 +432,6 @@ def _bench_quality(args):
 
     if not args.input:
         raise UsageError("bench quality needs an input hair file: bench quality IN")
-    for name in ("spp", "width", "reference_spp", "guides"):
-        _positive(name.replace("_", "-"), getattr(args, name))
     _check_plot_path(args.plot)
     try:
         eps_w = [float(v) for v in args.eps_w.split(",") if v]
@@ -434,7 +448,7 @@ def _bench_quality(args):
     if args.plot:
         _write_plot(args.plot, lambda file: quality.plot_quality(result, file, titles=[os.path.basename(args.input)]))
         result["plot"] = args.plot
-    print(json.dumps(result) if args.json else quality.format_tables(result))
+    print(strict_json.dumps(result) if args.json else quality.format_tables(result))
     return 0
 
 
@@ -462,24 +476,27 @@ def build_parser():
 
     generate = commands.add_parser("generate", help="generate strands from a hair mesh (.json)")
     generate.add_argument("hairmesh", help="hair mesh file (JSON, docs/hairmesh-format.md)")
-    generate.add_argument("--count", type=int, default=10000, help="strands at full LoD (default 10000)")
-    generate.add_argument("--vertices", type=int, default=17, help="vertices per strand, 2^e + 1 (default 17)")
-    generate.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    generate.add_argument("--lod", type=float, default=1.0, help="level of detail in (0, 1] (default 1)")
-    generate.add_argument("--subdivision", type=int, default=0, help="OpenSubdiv level 0-3 (default 0)")
-    generate.add_argument("--radius", type=float, default=None, help="strand radius (default: the file's)")
+    generate.add_argument("--count", type=_integer(1), default=10000, help="strands at full LoD (default 10000)")
+    generate.add_argument("--vertices", type=_integer(2), default=17, help="vertices per strand, 2^e + 1 (default 17)")
+    generate.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
+    generate.add_argument("--lod", type=_number(above=0, at_most=1), default=1.0, help="level of detail in (0, 1] (default 1)")
+    generate.add_argument("--subdivision", type=_integer(0, 3), default=0, help="OpenSubdiv level 0-3 (default 0)")
+    generate.add_argument("--radius", type=_number(at_least=0), default=None, help="strand radius (default: the file's)")
     generate.add_argument("--out", default=None, help="hair file to write (.hair .data); omitted: generate only")
     generate.add_argument("--json", action="store_true", help="print one JSON object")
     generate.set_defaults(run=command_generate)
 
     lod = commands.add_parser("lod", help="build an LoD asset and export it to a folder")
     lod.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
-    lod.add_argument("--out", required=True, help="folder to write (replaced atomically)")
-    lod.add_argument("--guides", type=int, default=256, help="k of the guide k-means (default 256)")
-    lod.add_argument("--levels", type=int, default=6, help="levels including the strands (default 6)")
-    lod.add_argument("--control-points", type=int, default=16, help="control points per hair (default 16)")
-    lod.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    lod.add_argument("--width-px", type=float, default=2.0, help="screen width threshold in pixels (default 2)")
+    lod.add_argument("--out", required=True, help="folder to write; an existing one is replaced (atomically) only "
+                     "when it is an LoD folder hairlod wrote")
+    lod.add_argument("--force", action="store_true", help="replace --out even when it is not an LoD folder hairlod "
+                     "wrote (never the current, home or root folder, nor one holding the input)")
+    lod.add_argument("--guides", type=_integer(1), default=256, help="k of the guide k-means (default 256)")
+    lod.add_argument("--levels", type=_integer(2), default=6, help="levels including the strands (default 6)")
+    lod.add_argument("--control-points", type=_integer(2), default=16, help="control points per hair (default 16)")
+    lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
+    lod.add_argument("--width-px", type=_number(above=0), default=2.0, help="screen width threshold in pixels (default 2)")
     lod.add_argument("--cameras", help="JSON list of {view, projection, viewport}: export only the levels they select")
     lod.add_argument("--json", action="store_true", help="print one JSON object")
     lod.set_defaults(run=command_lod)
@@ -491,12 +508,15 @@ def build_parser():
     bake.add_argument("--material", metavar="NAME", help="the material of --from-blend")
     bake.add_argument("--lod", metavar="DIR", help="LoD folder (python3 -m hairlod lod): the n range covers the "
                       "most hairs a ray crosses in its thick hairs")
-    bake.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced atomically)")
-    bake.add_argument("--theta-samples", type=int, default=64, help="theta_d resolution (default 64)")
-    bake.add_argument("--hair-count-samples", type=int, default=64, help="hair count n resolution (default 64)")
-    bake.add_argument("--max-hair-count", type=float, default=None,
+    bake.add_argument("--out", required=True, metavar="DIR", help="output folder; an existing one is replaced "
+                      "(atomically) only when it holds tables hairlod baked")
+    bake.add_argument("--force", action="store_true", help="replace --out even when it does not hold tables hairlod "
+                      "baked (never the current, home or root folder, nor the --lod folder)")
+    bake.add_argument("--theta-samples", type=_integer(2), default=64, help="theta_d resolution (default 64)")
+    bake.add_argument("--hair-count-samples", type=_integer(2), default=64, help="hair count n resolution (default 64)")
+    bake.add_argument("--max-hair-count", type=_number(at_least=1), default=None,
                       help="largest hair count n the tables cover (default: from --lod, else 64)")
-    bake.add_argument("--table-samples", type=int, default=65,
+    bake.add_argument("--table-samples", type=_integer(3), default=65,
                       help="theta_d nodes of the per-hair table the aggregated tables interpolate (default 65, "
                            "bcsdf.DEFAULT_TABLE_SAMPLES)")
     bake.add_argument("--tables", default="aggregated",
@@ -512,9 +532,9 @@ def build_parser():
     rend.add_argument("--view", choices=["near", "mid", "far"], default="mid",
                       help="hair covering about 60%%, 20%% or 2%% of the image (default mid)")
     rend.add_argument("--out", required=True, help="image to write (.exr linear or .png sRGB)")
-    rend.add_argument("--spp", type=int, default=16, help="samples per pixel (default 16)")
-    rend.add_argument("--width", type=int, default=256, help="image width and height in pixels (default 256)")
-    rend.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    rend.add_argument("--spp", type=_integer(1), default=16, help="samples per pixel (default 16)")
+    rend.add_argument("--width", type=_integer(1), default=256, help="image width and height in pixels (default 256)")
+    rend.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
     rend.add_argument("--params", help="HairParams JSON (default: the BCSDF defaults)")
     rend.add_argument("--progress", action="store_true", help="progress bar on stderr even when not a terminal")
     rend.add_argument("--json", action="store_true", help="print one JSON object")
@@ -524,22 +544,22 @@ def build_parser():
     bench.add_argument("component", choices=["bcsdf", "lod", "generate", "quality"], help="what to benchmark")
     bench.add_argument("input", nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
-    bench.add_argument("--repeats", type=int, default=5, help="bcsdf: timing repeats (median; default 5)")
+    bench.add_argument("--repeats", type=_integer(1), default=5, help="bcsdf: timing repeats (median; default 5)")
     bench.add_argument("--plot", metavar="FILE.png", help="bcsdf, generate, quality: also write a plot")
-    bench.add_argument("--strands", type=int, default=100_000, help="lod, generate: strands (default 100000)")
-    bench.add_argument("--vertices", type=int, default=33, help="generate: vertices per strand (default 33)")
-    bench.add_argument("--points", type=int, default=32, help="lod: points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=int, default=256, help="lod, quality: guides (default 256)")
-    bench.add_argument("--levels", type=int, default=6, help="lod: levels including the strands (default 6)")
-    bench.add_argument("--control-points", type=int, default=16, help="lod: control points (default 16)")
-    bench.add_argument("--width-px", type=float, default=2.0,
+    bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, generate: strands (default 100000)")
+    bench.add_argument("--vertices", type=_integer(2), default=33, help="generate: vertices per strand (default 33)")
+    bench.add_argument("--points", type=_integer(2), default=32, help="lod: points per synthetic strand (default 32)")
+    bench.add_argument("--guides", type=_integer(1), default=256, help="lod, quality: guides (default 256)")
+    bench.add_argument("--levels", type=_integer(2), default=6, help="lod: levels including the strands (default 6)")
+    bench.add_argument("--control-points", type=_integer(2), default=16, help="lod: control points (default 16)")
+    bench.add_argument("--width-px", type=_number(above=0), default=2.0,
                        help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
-    bench.add_argument("--frames", type=int, default=200, help="lod: selection frames timed per camera (default 200)")
+    bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")
     bench.add_argument("--lod", metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
                        "a quarter of the strands)")
-    bench.add_argument("--spp", type=int, default=16, help="quality: samples per pixel of the methods (default 16)")
-    bench.add_argument("--reference-spp", type=int, default=128, help="quality: spp of the pt reference (default 128)")
-    bench.add_argument("--width", type=int, default=160, help="quality: image width and height (default 160)")
+    bench.add_argument("--spp", type=_integer(1), default=16, help="quality: samples per pixel of the methods (default 16)")
+    bench.add_argument("--reference-spp", type=_integer(1), default=128, help="quality: spp of the pt reference (default 128)")
+    bench.add_argument("--width", type=_integer(1), default=160, help="quality: image width and height (default 160)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "
                        "(default 0.5,1,2,4,8)")
     bench.add_argument("--params", help="quality: HairParams JSON (default: the BCSDF defaults)")
@@ -547,12 +567,93 @@ def build_parser():
     return parser
 
 
-def main(argv=None):
-    try:
-        args = build_parser().parse_args(argv)
+def _subject(args):
+    """The user's file or folder a failure is about, for errors that do not name one themselves."""
+    for name in ("input", "file", "hairmesh", "lod", "params", "out"):
+        value = getattr(args, name, None)
+        if value:
+            return f"{args.command} {value}"
+    return args.command
+
+
+def _one_line(message):
+    return " ".join(str(message).split()) or "failed"
+
+
+def _error_line(error, args):
+    """The one line a failure prints: the message of a bad input (which names the file or argument),
+    otherwise what failed and on which of the user's files."""
+    if isinstance(error, (UsageError, ValueError, OSError)):
+        return _one_line(error)
+    subject = _subject(args) if args is not None else "hairlod"
+    if isinstance(error, MemoryError):
+        return f"{subject}: out of memory (reduce the input or the sizes asked for)"
+    if isinstance(error, RecursionError):
+        return f"{subject}: input nested too deeply"
+    if isinstance(error, RuntimeWarning):
+        return f"{subject}: numeric overflow or invalid value ({_one_line(error)})"
+    return f"{subject}: {type(error).__name__}: {_one_line(error)}"
+
+
+class _Interrupted(BaseException):
+    def __init__(self, signal_number):
+        super().__init__(signal_number)
+        self.signal_number = signal_number
+
+
+def _run_interruptibly(args):
+    """Runs the command in a worker thread so that SIGINT and SIGTERM are handled at once, even during
+    a long C++ call: the process's temporaries are removed and it exits 128 + the signal number."""
+    if threading.current_thread() is not threading.main_thread():
         return args.run(args)
-    except UsageError as error:
-        print(f"hairlod: error: {error}", file=sys.stderr)
-    except (ValueError, OSError) as error:
-        print(f"hairlod: error: {error}", file=sys.stderr)
+    outcome = {}
+
+    def work():
+        try:
+            outcome["code"] = args.run(args)
+        except BaseException as error:  # handed to the main thread, which reports it
+            outcome["error"] = error
+
+    received = []
+
+    def handle(signal_number, _frame):
+        received.append(signal_number)
+
+    previous = {number: signal.signal(number, handle) for number in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        worker = threading.Thread(target=work, name="hairlod-command", daemon=True)
+        worker.start()
+        while worker.is_alive() and not received:
+            worker.join(0.05)
+        if received:
+            raise _Interrupted(received[0])
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["code"]
+
+
+def main(argv=None):
+    args = None
+    with warnings.catch_warnings():
+        # A numeric warning means a result is no longer finite: report it as the failure it is.
+        warnings.simplefilter("error", RuntimeWarning)
+        try:
+            args = build_parser().parse_args(argv)
+            return _run_interruptibly(args)
+        except _Interrupted as interrupted:
+            atomic_output.remove_own_temporaries()
+            name = signal.Signals(interrupted.signal_number).name
+            print(f"hairlod: interrupted by {name}; unfinished output removed", file=sys.stderr, flush=True)
+            sys.stdout.flush()
+            # The worker may still be inside C++: end the process without waiting for it.
+            os._exit(128 + interrupted.signal_number)
+        except KeyboardInterrupt:
+            atomic_output.remove_own_temporaries()
+            print("hairlod: interrupted; unfinished output removed", file=sys.stderr)
+            return 128 + signal.SIGINT
+        except Exception as error:  # the error contract: one line, exit 2, whatever failed
+            print(f"hairlod: error: {_error_line(error, args)}", file=sys.stderr)
     return EXIT_BAD_INPUT

@@ -9,15 +9,13 @@ Files are JSON (``docs/hairmesh-format.md``); ``read`` / ``write`` handle them, 
 raises ValueError naming the file, the key and the problem.
 """
 
-import json
 import math
 import os
-import tempfile
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core
+from . import _core, atomic_output, memory_budget, strict_json
 from ._core import Clump, Curl, Frizz, HairMesh, StrandGenerator, Trim, Twist, Wave, detail_level
 
 FORMAT_NAME = "hairlod.hairmesh"
@@ -102,12 +100,15 @@ def styling_to_dicts(operations):
 
 def _number_array(value, where, dtype, shape_rank):
     try:
-        array = np.asarray(value, dtype=dtype)
-    except (TypeError, ValueError):
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{where}: must be a {'nested ' if shape_rank > 1 else ''}list of numbers") from None
     if array.ndim != shape_rank:
         raise ValueError(f"{where}: expected {shape_rank} levels of nesting, got {array.ndim}")
-    return array
+    limit = np.finfo(dtype).max
+    if not np.all(np.abs(array) <= limit):
+        raise ValueError(f"{where}: numbers must be finite and within +-{limit:.3g} ({np.dtype(dtype).name})")
+    return array.astype(dtype)
 
 
 def hair_mesh_from_dict(data, where="hair mesh"):
@@ -135,6 +136,9 @@ def hair_mesh_from_dict(data, where="hair mesh"):
     flat = [index for face in faces for index in face]
     if not all(isinstance(index, int) and not isinstance(index, bool) for index in flat):
         raise ValueError(f"{where}: faces must hold integer vertex indices")
+    if flat and not (0 <= min(flat) and max(flat) < layers.shape[1]):
+        raise ValueError(f"{where}: faces: vertex index {min(flat) if min(flat) < 0 else max(flat)} is outside "
+                         f"0..{layers.shape[1] - 1} (the vertices of a layer)")
     uv = None
     if data.get("uv") is not None:
         corners = data["uv"]
@@ -191,29 +195,16 @@ def hair_mesh_to_dict(mesh, styling=(), strand_radius=None):
 def read(path) -> HairMeshFile:
     """Reads a hair mesh JSON file."""
     path = os.fspath(path)
-    try:
-        with open(path, encoding="utf-8") as stream:
-            data = json.load(stream)
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path}: not valid JSON ({error})") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a UTF-8 text file") from None
-    return hair_mesh_from_dict(data, where=path)
+    return hair_mesh_from_dict(strict_json.load(path), where=path)
 
 
 def write(path, mesh, styling=(), strand_radius=None):
     """Writes a hair mesh JSON file atomically (temporary file renamed when complete)."""
     path = os.fspath(path)
-    text = json.dumps(hair_mesh_to_dict(mesh, styling, strand_radius), separators=(",", ":"))
-    folder = os.path.dirname(os.path.abspath(path))
-    handle, temporary = tempfile.mkstemp(dir=folder, prefix=".hairmesh-", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+    text = strict_json.dumps(hair_mesh_to_dict(mesh, styling, strand_radius), separators=(",", ":"))
+    with atomic_output.replacing_file(path) as temporary:
+        with open(temporary, "w", encoding="utf-8") as stream:
             stream.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
 
 
 def default_radius(mesh):
@@ -236,6 +227,26 @@ def resolve_inputs(hair_mesh, styling=(), radius=None):
     if radius is None:
         radius = default_radius(hair_mesh)
     return hair_mesh, styling_from_dicts(list(styling)), float(radius)
+
+
+# Bytes per generated vertex (points, radius, tangent, uvw: 40) and per strand (offsets, bundle,
+# root sample sets), with the copies the bindings make when they hand arrays to Python.
+GENERATED_VERTEX_BYTES = 2 * 40
+GENERATED_STRAND_BYTES = 2 * 16 + 256
+
+
+def check_generate_budget(count, vertices):
+    """Raises MemoryBudgetError (a ValueError) when `count` strands of `vertices` vertices would not fit
+    the memory budget; called before anything is allocated."""
+    count, vertices = int(count), int(vertices)
+    memory_budget.check(count * (vertices * GENERATED_VERTEX_BYTES + GENERATED_STRAND_BYTES),
+                        f"{count} strands of {vertices} vertices (--count, --vertices)")
+
+
+def require_finite(strands):
+    """Raises ValueError when generated strands are not finite (styling parameters too large for float32)."""
+    if not np.all(np.isfinite(strands.points)):
+        raise ValueError("the styling produced coordinates that are not finite (reduce its parameters)")
 
 
 def strand_generator(hair_mesh, count=10000, seed=0, subdivision=0, reuse=None):
@@ -266,8 +277,11 @@ def generate_strands(hair_mesh, count=10000, vertices=17, styling=(), seed=0, lo
     Returns Strands with point attributes 'tangent' [N, 3] and 'uvw' [N, 3] and the curve attribute
     'bundle' (index of the root face of the, possibly subdivided, hair mesh).
     """
+    check_generate_budget(count, vertices)
     mesh, operations, radius = resolve_inputs(hair_mesh, styling, radius)
     strand_lod, vertex_lod = (lod, lod) if np.isscalar(lod) else lod
     generator = strand_generator(mesh, count, seed, subdivision)
-    return generator.generate(vertices=int(vertices), styling=operations, strand_lod=float(strand_lod),
-                              vertex_lod=float(vertex_lod), lod_transition=float(lod_transition), radius=radius)
+    strands = generator.generate(vertices=int(vertices), styling=operations, strand_lod=float(strand_lod),
+                                 vertex_lod=float(vertex_lod), lod_transition=float(lod_transition), radius=radius)
+    require_finite(strands)
+    return strands

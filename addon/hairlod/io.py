@@ -18,7 +18,7 @@ problem; writing goes to a temporary file renamed when complete, so no partial f
 
 import os
 
-from . import _core
+from . import _core, atomic_output
 from ._core import Strands
 
 READ_FORMATS = dict(_core.hair_read_formats())
@@ -37,5 +37,8 @@ def read(path, *, default_radius=None) -> Strands:
 
 
 def write(path, strands: Strands) -> None:
-    """Writes Strands to a .hair or .data file (atomically)."""
-    _core.write_hair_file(os.fspath(path), strands)
+    """Writes Strands to a .hair or .data file (atomically: the C++ writer renames a finished
+    temporary file, named as atomic_output names them, over `path`)."""
+    path = os.fspath(path)
+    atomic_output.begin_writing(path)
+    _core.write_hair_file(path, strands)

@@ -3,23 +3,23 @@
 Implements hair-lod-aggregated-bcsdf.txt Sec. 5 over the C++ core (no bpy). Arrays are numpy copies.
 """
 
-import json
 import os
-import shutil
-import tempfile
 import zipfile
+import zlib
 from dataclasses import dataclass
 from io import BytesIO
 
 import numpy as np
 
-from . import _core
+from . import _core, atomic_output, memory_budget, strict_json
 
 __all__ = ["BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
            "read_cameras", "save", "scene_levels", "unpack"]
 
 MANIFEST = "manifest.json"
-FORMAT = "hairlod-lod/2"  # 2: compact cross-sections and strand coordinates, hierarchy order
+FORMAT_KIND = "hairlod-lod/"  # the manifest "format" prefix that marks a folder as an LoD asset hairlod wrote
+WHAT = "an LoD folder"  # the kind in messages
+FORMAT = FORMAT_KIND + "2"  # 2: compact cross-sections and strand coordinates, hierarchy order
 
 
 @dataclass(frozen=True)
@@ -133,10 +133,35 @@ BuildProgress = _core.LodBuildProgress
 BuildCancelled = _core.BuildCancelled
 
 
+# Peak bytes of a build per strand and control point (resampled strands, k-means features, thick
+# levels, skinning coordinates) and per input point; measured with build_lod on 100 to 10^5 strands.
+BUILD_BYTES_PER_CONTROL_POINT = 256
+BUILD_BYTES_PER_POINT = 64
+
+
+def build_bytes(strand_count, point_count, control_points):
+    """Estimated peak bytes of build_lod, for the memory budget."""
+    return int(strand_count) * int(control_points) * BUILD_BYTES_PER_CONTROL_POINT + \
+        int(point_count) * BUILD_BYTES_PER_POINT
+
+
+def _require_integer(name, value, lowest, highest=2**31 - 1):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lowest <= value <= highest:
+        raise _core.HairlodError(f"{name} must be an integer from {lowest} to {highest}, got {value!r}")
+    return int(value)
+
+
 def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_coverage=0.95, progress=None):
-    """Builds an LodAsset from Strands (Sec. 5.1); raises ValueError on invalid input. The C++ build
-    releases the GIL: another thread may watch `progress` (BuildProgress: done / total steps) and
-    call its cancel(), after which this raises BuildCancelled."""
+    """Builds an LodAsset from Strands (Sec. 5.1); raises ValueError on invalid input (before
+    allocating when the sizes asked for exceed the memory budget). The C++ build releases the GIL:
+    another thread may watch `progress` (BuildProgress: done / total steps) and call its cancel(),
+    after which this raises BuildCancelled."""
+    guides = _require_integer("guides", guides, 1)
+    levels = _require_integer("levels", levels, 2)
+    control_points = _require_integer("control_points", control_points, 2)
+    seed = _require_integer("seed", seed, 0, 2**64 - 1)
+    memory_budget.check(build_bytes(len(strands), strands.point_count, control_points),
+                        f"an LoD of {len(strands)} strands with {control_points} control points (control_points)")
     return LodAsset(_core.build_lod(strands, guides=guides, levels=levels, control_points=control_points,
                                     seed=seed, ellipse_coverage=ellipse_coverage, progress=progress))
 
@@ -144,11 +169,7 @@ def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_
 def read_cameras(path):
     """Cameras from JSON: a list of {"view": 4x4, "projection": 4x4, "viewport": [width, height]}
     (numpy row order, as Blender's Matrix). Raises ValueError naming the file and the problem."""
-    try:
-        with open(path, encoding="utf-8") as file:
-            entries = json.load(file)
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path}: not JSON ({error})") from None
+    entries = strict_json.load(path, "cameras")
     if not isinstance(entries, list) or not entries:
         raise ValueError(f"{path}: expected a non-empty list of cameras")
     cameras = []
@@ -234,56 +255,49 @@ def _header(asset):
     }
 
 
-def save(asset, directory, extra=None):
-    """Writes `asset` into folder `directory` atomically (a temporary sibling folder renamed when
-    complete; an existing folder is replaced): manifest.json, one .npy per stored array, the
+def save(asset, directory, extra=None, force=False, inputs=()):
+    """Writes `asset` into folder `directory` atomically (atomic_output.replace_folder: built under a
+    temporary name, moved into place when complete): manifest.json, one .npy per stored array, the
     per-hair arrays of PER_HAIR and one .hair per thick level (thickness = 2 x major radius).
-    `extra` (JSON-able dict) is stored in the manifest under "extra". Returns the manifest."""
+    An existing `directory` is replaced only when it is an LoD folder hairlod wrote, or with
+    `force`; never when it holds one of `inputs` (paths this run reads). `extra` (JSON-able dict)
+    is stored in the manifest under "extra". Returns the manifest."""
+    return atomic_output.replace_folder(directory, FORMAT_KIND, lambda folder: _write_folder(asset, folder, extra),
+                                        force=force, inputs=inputs, what=WHAT)
+
+
+def _write_folder(asset, folder, extra):
     from . import io
 
-    directory = os.path.abspath(os.fspath(directory))
-    parent = os.path.dirname(directory)
-    os.makedirs(parent, exist_ok=True)
-    temporary = tempfile.mkdtemp(prefix=f".{os.path.basename(directory)}.", dir=parent)
-    try:
-        arrays = asset.arrays()
-        manifest = _header(asset)
-        entries = {}
-        for name, array in arrays.items():
-            if name != "levels":
-                _write_array(temporary, name, array, entries)
-        for position, (level, level_arrays) in enumerate(zip(asset.levels, arrays["levels"])):
-            level_entries, per_hair = {}, {}
-            for name, array in level_arrays.items():
-                _write_array(temporary, f"level{position}_{name}", array, level_entries)
-            for name, meaning in PER_HAIR.items():
-                _write_array(temporary, f"level{position}_hair_{name}", getattr(level, name), per_hair, name, meaning)
-            hair_file = f"level{position}.hair"
-            io.write(os.path.join(temporary, hair_file), _level_strands(asset, level))
-            manifest["thick_levels"][position].update({
-                "hair_file": hair_file,
-                # The stored (compact) arrays the asset is read back from: parent (hair one kept level
-                # coarser; the cluster tree), member_first (hair h holds the strands at positions
-                # [member_first[h], member_first[h + 1]) of strand_order), cluster_first, and the
-                # cross-sections centre_offset (uint16 in offset_boxes), major_axis (octahedral int16),
-                # minor_axis (uint16 angle about the major axis), radii (halves x 2^radius_exponent).
-                "arrays": level_entries,
-                # The same data decoded per thick hair, for readers without the decoder.
-                "per_hair": per_hair,
-            })
-        manifest.update(arrays=entries, extra=extra or {})
-        with open(os.path.join(temporary, MANIFEST), "w", encoding="utf-8") as file:
-            json.dump(manifest, file, indent=1)
-        if os.path.exists(directory):
-            retired = tempfile.mkdtemp(prefix=f".{os.path.basename(directory)}.old.", dir=parent)
-            os.rename(directory, os.path.join(retired, "asset"))
-            os.rename(temporary, directory)
-            shutil.rmtree(retired, ignore_errors=True)
-        else:
-            os.rename(temporary, directory)
-    except BaseException:
-        shutil.rmtree(temporary, ignore_errors=True)
-        raise
+    arrays = asset.arrays()
+    manifest = _header(asset)
+    entries = {}
+    for name, array in arrays.items():
+        if name != "levels":
+            _write_array(folder, name, array, entries)
+    for position, (level, level_arrays) in enumerate(zip(asset.levels, arrays["levels"])):
+        level_entries, per_hair = {}, {}
+        for name, array in level_arrays.items():
+            _write_array(folder, f"level{position}_{name}", array, level_entries)
+        for name, meaning in PER_HAIR.items():
+            _write_array(folder, f"level{position}_hair_{name}", getattr(level, name), per_hair, name, meaning)
+        hair_file = f"level{position}.hair"
+        io.write(os.path.join(folder, hair_file), _level_strands(asset, level))
+        manifest["thick_levels"][position].update({
+            "hair_file": hair_file,
+            # The stored (compact) arrays the asset is read back from: parent (hair one kept level
+            # coarser; the cluster tree), member_first (hair h holds the strands at positions
+            # [member_first[h], member_first[h + 1]) of strand_order), cluster_first, and the
+            # cross-sections centre_offset (uint16 in offset_boxes), major_axis (octahedral int16),
+            # minor_axis (uint16 angle about the major axis), radii (halves x 2^radius_exponent).
+            "arrays": level_entries,
+            # The same data decoded per thick hair, for readers without the decoder.
+            "per_hair": per_hair,
+        })
+    manifest.update(arrays=entries, extra=extra or {})
+    text = strict_json.dumps(manifest, indent=1)
+    with open(os.path.join(folder, MANIFEST), "w", encoding="utf-8") as file:
+        file.write(text)
     return manifest
 
 
@@ -291,10 +305,10 @@ def _read_array(folder, entry, what):
     try:
         path = os.path.join(folder, os.path.basename(entry["file"]))
         array = np.load(path, allow_pickle=False)
-    except (KeyError, TypeError) as error:
+    except (KeyError, TypeError, AttributeError) as error:
         raise ValueError(f"{folder}: manifest entry for {what} is malformed ({error})") from None
-    except (OSError, ValueError) as error:
-        raise ValueError(f"{folder}: cannot read {what} ({error})") from None
+    except (OSError, ValueError, EOFError, MemoryError) as error:
+        raise ValueError(f"{folder}: cannot read {what} ({type(error).__name__}: {error})") from None
     if list(array.shape) != list(entry.get("shape", [])) or str(array.dtype) != entry.get("dtype"):
         raise ValueError(f"{folder}: {what} does not match its manifest shape/dtype")
     return array
@@ -316,7 +330,7 @@ def _asset_from(header, read, where):
                    "mean_area": [float(level["mean_area"]) for level in levels]}
         level_ids = [int(level["level"]) for level in levels]
         timings = {str(stage): float(seconds) for stage, seconds in header["timings"].items()}
-    except (KeyError, TypeError, AttributeError, IndexError) as error:
+    except (KeyError, TypeError, AttributeError, IndexError, ValueError, OverflowError) as error:
         raise ValueError(f"{where}: the asset description is missing or malforms an entry ({error})") from None
     try:
         return LodAsset(_core.LodAsset.from_arrays(scalars, arrays), level_ids, timings)
@@ -328,13 +342,7 @@ def load(directory):
     """Reads a folder written by save() back into an identical LodAsset, checking the per-hair
     arrays against the ones it decodes; raises ValueError naming the folder and the problem."""
     directory = os.fspath(directory)
-    try:
-        with open(os.path.join(directory, MANIFEST), encoding="utf-8") as file:
-            manifest = json.load(file)
-    except OSError as error:
-        raise ValueError(f"{directory}: no readable {MANIFEST} ({error.strerror})") from None
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{directory}: {MANIFEST} is not JSON ({error})") from None
+    manifest = strict_json.load(os.path.join(directory, MANIFEST), f"the manifest of LoD folder {directory}")
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise ValueError(f"{directory}: not a hairlod LoD folder (format must be {FORMAT})")
     try:
@@ -344,7 +352,7 @@ def load(directory):
         level_names = list(manifest["thick_levels"][0]["arrays"]) if manifest["thick_levels"] else []
         header = dict(manifest, array_names=list(manifest["arrays"]),
                       level_array_names=[name.split("_", 1)[1] for name in level_names])
-    except (KeyError, TypeError, AttributeError, IndexError) as error:
+    except (KeyError, TypeError, AttributeError, IndexError, ValueError) as error:
         raise ValueError(f"{directory}: {MANIFEST} is missing or malforms an entry ({error})") from None
     asset = _asset_from(header, lambda name, _: _read_array(directory, entries.get(name), name), directory)
     for position, (level, entry) in enumerate(zip(asset.levels, manifest["thick_levels"])):
@@ -363,7 +371,7 @@ def pack(asset):
         stored.update({f"level{position}_{name}": array for name, array in level_arrays.items()})
     header = dict(_header(asset), array_names=[name for name in arrays if name != "levels"],
                   level_array_names=list(arrays["levels"][0]) if arrays["levels"] else [])
-    stored["header"] = np.frombuffer(json.dumps(header).encode("utf-8"), np.uint8)
+    stored["header"] = np.frombuffer(strict_json.dumps(header).encode("utf-8"), np.uint8)
     buffer = BytesIO()
     np.savez_compressed(buffer, **stored)
     return buffer.getvalue()
@@ -374,9 +382,12 @@ def unpack(data, where="packed LoD asset"):
     try:
         with np.load(BytesIO(bytes(data)), allow_pickle=False) as archive:
             stored = {name: archive[name] for name in archive.files}
-        header = json.loads(stored.pop("header").tobytes().decode("utf-8"))
-    except (OSError, ValueError, KeyError, zipfile.BadZipFile, UnicodeDecodeError) as error:
-        raise ValueError(f"{where}: not a packed hairlod LoD asset ({error})") from None
+        header = stored.pop("header").tobytes()
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError,
+            RuntimeError, MemoryError, TypeError) as error:
+        # A damaged pack fails anywhere in the zip and .npy readers, each with its own exception.
+        raise ValueError(f"{where}: not a packed hairlod LoD asset ({type(error).__name__}: {error})") from None
+    header = strict_json.loads(header, f"{where} (header)")
 
     def read(name, _):
         if name not in stored:

@@ -151,7 +151,7 @@ def plot_quality(results, path, titles=None):
         ax.set_title(f"{title}: eps_w sweep, {result['sweep']['view']}", fontsize=9)
         ax.grid(alpha=0.3)
     figure.tight_layout()
-    figure.savefig(path, dpi=110)
+    figure.savefig(path, dpi=110, format="png")
     plt.close(figure)
 
 

@@ -7,11 +7,10 @@ single-fibre BCSDF, 'lod-no-s' aggregated BCSDF without the shadowing-masking S 
 """
 
 import os
-import tempfile
 
 import numpy as np
 
-from . import _core
+from . import _core, atomic_output, memory_budget
 from .bcsdf import as_params
 from .camera import look_at, perspective
 
@@ -112,6 +111,8 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if int(spp) < 1 or int(width) < 1:
         raise ValueError(f"spp and width must be >= 1, got spp={spp}, width={width}")
+    # The image in float32 and the renderer's float64 accumulation, with its film copies.
+    memory_budget.check(int(width) ** 2 * 3 * (4 + 8 + 8), f"a {width} x {width} image")
     camera = camera or frame_view(strands.points, view, width)
     lights = lights or default_lights(camera)
     params = as_params(params)
@@ -141,20 +142,12 @@ def write_image(path, image):
     extension = os.path.splitext(path)[1].lower()
     if extension not in (".exr", ".png"):
         raise ValueError(f"{path}: output must end in .exr or .png")
-    folder = os.path.dirname(os.path.abspath(path))
-    handle, temporary = tempfile.mkstemp(suffix=extension, dir=folder)
-    os.close(handle)
-    try:
+    with atomic_output.replacing_file(path) as temporary:
         if extension == ".exr":
             _core.write_exr(temporary, image, ["R", "G", "B"])
         else:
             import matplotlib.image
-            matplotlib.image.imsave(temporary, to_srgb8(image))
-        os.chmod(temporary, 0o644)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
+            matplotlib.image.imsave(temporary, to_srgb8(image), format="png")
 
 
 def psnr(image, reference):

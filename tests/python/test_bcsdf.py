@@ -237,7 +237,7 @@ def test_bake_cli_bad_input_leaves_nothing(tmp_path):
     assert run.stderr.count("\n") == 1 and "eta" in run.stderr and "Traceback" not in run.stderr
     run = subprocess.run([sys.executable, "-m", "hairlod", "bake", "--out", str(tmp_path / "o"),
                           "--hair-count-samples", "1"], capture_output=True, text=True, env=env)
-    assert run.returncode == 2 and "hair_count_samples" in run.stderr
+    assert run.returncode == 2 and "--hair-count-samples" in run.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json"]
     run = subprocess.run([sys.executable, "-m", "hairlod", "bake", "--out", str(tmp_path / "o"), "--json"],
                          capture_output=True, text=True, env=env)

@@ -130,7 +130,7 @@ def test_file_round_trip(tmp_path):
     (lambda d: d["faces"].append([0, 1, 1]), "degenerate"),
     (lambda d: d["layers"].pop(), "at least one extrusion layer"),
     (lambda d: d["layers"][1].pop(), "nested|list of numbers|levels"),
-    (lambda d: d["layers"][1][0].__setitem__(0, float("nan")), "not finite"),
+    (lambda d: d["layers"][1][0].__setitem__(0, float("nan")), "NaN is not a JSON number"),
     (lambda d: d.update(uv=[[[0, 0]]]), "one \\[u, v\\] per face corner"),
     (lambda d: d.update(strand_radius=-1), "strand_radius"),
     (lambda d: d.update(styling=[{"op": "curl", "radius": "big"}]), "radius must be a finite number"),
@@ -192,9 +192,9 @@ def test_cli_generate_json(path):
 @pytest.mark.parametrize("args, message", [
     (["missing.json"], "missing.json"),
     (["{example}", "--vertices", "10"], "vertices must be 2^e + 1"),
-    (["{example}", "--count", "0"], "--count must be >= 1"),
-    (["{example}", "--subdivision", "5"], "subdivision level must be in [0, 3]"),
-    (["{example}", "--lod", "2"], "LoD must be in (0, 1]"),
+    (["{example}", "--count", "0"], "--count: must be between 1 and"),
+    (["{example}", "--subdivision", "5"], "--subdivision: must be between 0 and 3"),
+    (["{example}", "--lod", "2"], "--lod: must be <= 1"),
 ])
 def test_cli_generate_bad_input(args, message):
     example = EXAMPLE_FILES[0]
