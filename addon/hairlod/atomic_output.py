@@ -293,7 +293,11 @@ def replace_folder(target, kind, write, force=False, inputs=(), what=None):
     staging = temporary_path(target)
     os.mkdir(staging)  # 0777 less the umask, as for any folder the user makes
     try:
-        result = write(staging)
+        try:
+            result = write(staging)
+        except ValueError as error:
+            # Name the user's folder, not the temporary one the file was written into.
+            raise ValueError(str(error).replace(staging, target)) from None
         _install(staging, target, lambda: check_folder_target(target, kind, force, inputs, what))
     finally:
         _remove(staging)

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 
@@ -346,6 +347,29 @@ TEST(LodAssetHardCases, ClearErrors) {
     std::vector<glm::vec3> guides = asset.rest_guides;
     guides[0].x = std::numeric_limits<float>::infinity();
     EXPECT_THROW(asset.skin(guides), Error);
+}
+
+// A damaged stored asset is refused by validate() (run by from_arrays) instead of skinning to NaN.
+TEST(LodAssetHardCases, ValidateRefusesValuesThatDecodeToNonFinite) {
+    const LodAsset built = build_lod(test_hair(200, 6, 4), {.guides = 4});
+    EXPECT_NO_THROW(built.validate());
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const std::vector<std::function<void(LodAsset&)>> damages = {
+        [&](LodAsset& a) { a.offset_boxes[0].lower.y = nan; },
+        [&](LodAsset& a) { a.offset_boxes[0].step.z = inf; },
+        [&](LodAsset& a) { a.offset_boxes[0].step.x = -1.0f; },
+        [&](LodAsset& a) { a.offset_boxes[0].step.x = 1e35f; },  // the far corner overflows
+        [&](LodAsset& a) { a.rest_guides[1].x = nan; },
+        [&](LodAsset& a) { a.strand_radius[0] = 0x7c00; },         // half +inf
+        [&](LodAsset& a) { a.strand_radius[0] = 0x8001; },         // negative
+        [&](LodAsset& a) { a.thick_levels[0].radii[0].y = 0x7e00; },  // half NaN
+        [&](LodAsset& a) { a.radius_exponent = 200; },             // every radius overflows float
+    };
+    for (size_t i = 0; i < damages.size(); ++i) {
+        LodAsset damaged = built;
+        damages[i](damaged);
+        EXPECT_THROW(damaged.validate(), Error) << "damage " << i;
+    }
 }
 
 }  // namespace

@@ -58,6 +58,41 @@ TEST(StrandSet, RejectsNonFinitePoints) {
     EXPECT_NE(validation_message(strands).find("point 3"), std::string::npos);
 }
 
+StrandSet scaled(const StrandSet& strands, float scale) {
+    StrandSet result = strands;
+    for (glm::vec3& p : result.points) p *= scale;
+    for (float& r : result.radius) r *= scale;
+    return result;
+}
+
+std::string range_message(const StrandSet& strands) {
+    try {
+        strands.require_float_range("lod");
+    } catch (const Error& error) {
+        return error.what();
+    }
+    return "";
+}
+
+TEST(StrandSet, FloatRangeAcceptsEveryScaleFloat32GeometryHandles) {
+    for (float scale : {1e-9f, 1e-6f, 1.0f, 1e6f, 1e12f}) EXPECT_EQ(range_message(scaled(two_curves(), scale)), "") << scale;
+    // Coincident points (extent 0) are degenerate geometry the algorithms handle, not a scale problem.
+    EXPECT_EQ(range_message(scaled(two_curves(), 0.0f)), "");
+    EXPECT_EQ(range_message(StrandSet{}), "");
+}
+
+TEST(StrandSet, FloatRangeRefusesHugeAndTinyHair) {
+    const std::string huge = range_message(scaled(two_curves(), 1e30f));
+    EXPECT_EQ(huge.rfind("lod: coordinates or radii reach 2e+30", 0), 0u) << huge;
+    EXPECT_NE(huge.find("scale the hair down"), std::string::npos);
+    StrandSet thick = two_curves();
+    thick.radius[0] = 1e20f;
+    EXPECT_NE(range_message(thick).find("reach 1e+20"), std::string::npos);
+    const std::string tiny = range_message(scaled(two_curves(), 1e-30f));
+    EXPECT_NE(tiny.find("lod: the hair is 2.24e-30 across"), std::string::npos) << tiny;
+    EXPECT_NE(tiny.find("scale the hair up"), std::string::npos);
+}
+
 TEST(StrandSet, RejectsOffsetsNotStrictlyIncreasing) {
     StrandSet strands = two_curves();
     strands.offsets = {0, 2, 2, 5};

@@ -1,7 +1,14 @@
 #include "hairlod/core/strand_set.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 #include "hairlod/core/error.h"
 
@@ -83,6 +90,32 @@ void StrandSet::validate() const {
         if (attribute.components < 1 || attribute.values.size() != expected)
             throw Error("attribute '" + name + "' has " + std::to_string(attribute.values.size()) +
                         " values, expected " + std::to_string(expected));
+    }
+}
+
+void StrandSet::require_float_range(std::string_view what) const {
+    glm::vec3 lower(std::numeric_limits<float>::max()), upper(std::numeric_limits<float>::lowest());
+    float largest = 0.0f;
+    for (const glm::vec3& p : points) {
+        lower = glm::min(lower, p);
+        upper = glm::max(upper, p);
+    }
+    for (float r : radius) largest = std::max(largest, r);
+    if (points.empty()) return;
+    largest = std::max({largest, std::abs(lower.x), std::abs(lower.y), std::abs(lower.z), std::abs(upper.x),
+                        std::abs(upper.y), std::abs(upper.z)});
+    char text[160];
+    if (largest > kMaxCoordinate) {
+        std::snprintf(text, sizeof text, ": coordinates or radii reach %.3g; hairlod computes in float32 and "
+                      "supports magnitudes up to %.0e (scale the hair down)", static_cast<double>(largest),
+                      static_cast<double>(kMaxCoordinate));
+        throw Error(std::string(what) + text);
+    }
+    const double extent = glm::distance(glm::dvec3(lower), glm::dvec3(upper));
+    if (extent > 0.0 && extent < kMinExtent) {
+        std::snprintf(text, sizeof text, ": the hair is %.3g across; hairlod computes in float32 and supports "
+                      "hair at least %.0e across (scale the hair up)", extent, static_cast<double>(kMinExtent));
+        throw Error(std::string(what) + text);
     }
 }
 

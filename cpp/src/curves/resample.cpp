@@ -96,6 +96,7 @@ StrandSet resample_strands(const StrandSet& strands, const ResampleOptions& opti
     if (options.subdivisions_per_segment < 1)
         throw Error("resample: subdivisions_per_segment must be >= 1");
     strands.validate();
+    strands.require_float_range("resample");
 
     const size_t curves = strands.curve_count();
     const size_t ku = static_cast<size_t>(k);

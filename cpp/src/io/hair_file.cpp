@@ -8,6 +8,8 @@
 #include <string>
 #include <system_error>
 
+#include <unistd.h>
+
 #include "hairlod/core/error.h"
 #include "hairlod/io/ct2hair_bin.h"
 #include "hairlod/io/cyhair.h"
@@ -67,32 +69,36 @@ std::vector<std::byte> read_whole_file(const std::filesystem::path& path) {
 }
 
 // A name in the same directory (so the rename stays on one file system) that no other writer
-// picks: hidden, with a random suffix.
+// picks: hidden, with the process id and a random token, `.NAME.hairlod-PID-TOKEN.tmp`. The Python
+// package names its temporaries the same way (addon/hairlod/atomic_output.py), so a later write of
+// the same target removes the ones a killed process left.
 std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
     std::random_device random;
-    const uint64_t suffix = (uint64_t{random()} << 32) ^ random();
+    const uint64_t token = (uint64_t{random()} << 32) ^ random();
     std::string name(1, '.');
     name += path.filename().string();
-    name += ".tmp-";
+    name += ".hairlod-" + std::to_string(::getpid()) + "-";
     constexpr char hex[] = "0123456789abcdef";
-    for (int shift = 60; shift >= 0; shift -= 4) name += hex[(suffix >> shift) & 0xf];
+    for (int shift = 60; shift >= 0; shift -= 4) name += hex[(token >> shift) & 0xf];
+    name += ".tmp";
     return path.parent_path() / name;
 }
 
+// Errors name the user's path, not the temporary one.
 void write_file_atomically(const std::filesystem::path& path, std::span<const std::byte> bytes) {
     const std::filesystem::path temporary = temporary_path_for(path);
     try {
         {
             std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
-            if (!stream) throw Error("cannot create " + temporary.string());
+            if (!stream) throw Error("cannot create the file (is its folder there and writable?)");
             stream.write(reinterpret_cast<const char*>(bytes.data()),
                          static_cast<std::streamsize>(bytes.size()));
             stream.close();
-            if (!stream) throw Error("writing " + temporary.string() + " failed");
+            if (!stream) throw Error("writing failed (is the disk full?)");
         }
         std::error_code error;
         std::filesystem::rename(temporary, path, error);
-        if (error) throw Error("cannot rename the finished temporary file: " + error.message());
+        if (error) throw Error("cannot replace it with the finished file: " + error.message());
     } catch (...) {
         std::error_code ignored;
         std::filesystem::remove(temporary, ignored);

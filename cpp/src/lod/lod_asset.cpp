@@ -289,6 +289,8 @@ void check_options(const LodOptions& options) {
 LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     check_options(options);
     if (strands.curve_count() == 0) throw Error("build_lod: no strands");
+    strands.validate();
+    strands.require_float_range("build_lod");
     if (strands.curve_count() > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
         throw Error("build_lod: too many strands");
     if (options.progress != nullptr) {
@@ -532,6 +534,19 @@ void LodAsset::validate() const {
     require_size(offset_boxes, clusters * nc, "offset_boxes");
     require_size(strand_offset, strands * nc, "strand_offset");
     require_size(strand_radius, strands * nc, "strand_radius");
+    // A stored asset (a file, a pack in a .blend) may be damaged: every value skinning decodes
+    // must be finite, or the strands and thick hairs come out NaN without an error.
+    const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    for (const glm::vec3& p : rest_guides) require(finite(p), "rest_guides holds a coordinate that is not finite");
+    for (const QuantisationBox& box : offset_boxes)
+        require(finite(box.lower) && finite(box.step) && glm::all(glm::greaterThanEqual(box.step, glm::vec3(0.0f))) &&
+                    finite(box.decode(glm::u16vec3(std::numeric_limits<uint16_t>::max()))),
+                "offset_boxes holds a box that is not finite (or has a negative step)");
+    const auto finite_radius = [&](uint16_t code) {
+        const float radius = decode_half(code, radius_exponent);
+        return std::isfinite(radius) && radius >= 0.0f;
+    };
+    for (uint16_t code : strand_radius) require(finite_radius(code), "strand_radius holds a radius that is not finite");
     require_size(strand_order, strands, "strand_order");
     require_indices(strand_order, 0, strands, "strand_order");
     std::vector<bool> seen(strands, false);
@@ -563,6 +578,8 @@ void LodAsset::validate() const {
             });
             require(size == hairs * nc, name + array + " must hold n_c entries per hair");
         }
+        for (const glm::u16vec2& code : level.radii)
+            require(finite_radius(code.x) && finite_radius(code.y), name + "radii holds a radius that is not finite");
     }
 }
 

@@ -273,6 +273,7 @@ void HairScene::attach(std::unique_ptr<Geometry> g) {
 
 void HairScene::add_strands(const StrandSet& strands) {
     strands.validate();
+    strands.require_float_range("render");
     for (size_t i = 0; i < strands.radius.size(); ++i)
         if (!(strands.radius[i] > 0.0f))
             throw Error("strands: radius of point " + std::to_string(i) + " must be > 0 to be rendered");

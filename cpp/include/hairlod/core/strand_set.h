@@ -59,7 +59,17 @@ struct StrandSet {
 
     // Throws Error naming the first problem: sizes, offsets, NaN/Inf, negative radius.
     void validate() const;
+
+    // Throws Error ("`what`: ...") when the hair is too large or too small for float32 geometry:
+    // a coordinate or radius beyond kMaxCoordinate (squared lengths would overflow), or a bounding
+    // box diagonal in (0, kMinExtent) (squared spreads would underflow, thick-hair radii become 0).
+    // Every computation that resamples, clusters or renders strands calls it first, so extreme
+    // inputs are refused with this message instead of coming out NaN.
+    void require_float_range(std::string_view what) const;
 };
+
+inline constexpr float kMaxCoordinate = 1e13f;  // measured: renders match scale 1 up to 1e14, nothing at 1e15
+inline constexpr float kMinExtent = 1e-10f;  // measured: renders match scale 1 down to 1e-11 across
 
 // Builds a StrandSet from points and per-curve point counts; validates it.
 StrandSet strands_from_counts(std::vector<glm::vec3> points, std::span<const int64_t> counts,
