@@ -184,18 +184,29 @@ def _files_named(manifest):
 
 
 def _not_replaceable(folder, kind):
-    """Why `folder` is not a folder of `kind` that hairlod wrote, or None when it is one."""
-    manifest_path = os.path.join(folder, MANIFEST)
-    if not os.path.isfile(manifest_path):
-        return f"it has no {MANIFEST}" if os.listdir(folder) else None
+    """Why `folder` is not a folder of `kind` that hairlod wrote, or None when it is one. The folder
+    is opened once and read through that descriptor, so a concurrent writer swapping in its own
+    folder cannot make the listing and the manifest come from two different folders."""
     try:
-        manifest = strict_json.load(manifest_path)
-    except ValueError:
-        return f"its {MANIFEST} is not one hairlod wrote"
+        descriptor = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError as error:
+        return f"it cannot be read ({error.strerror})"
+    try:
+        entries = set(os.listdir(descriptor))
+        if MANIFEST not in entries:
+            return f"it has no {MANIFEST}" if entries else None
+        try:
+            manifest_descriptor = os.open(MANIFEST, os.O_RDONLY, dir_fd=descriptor)
+            with os.fdopen(manifest_descriptor, "rb") as stream:
+                manifest = strict_json.loads(stream.read(), MANIFEST)
+        except (OSError, ValueError):
+            return f"its {MANIFEST} is not one hairlod wrote"
+    finally:
+        os.close(descriptor)
     written = manifest.get("format") if isinstance(manifest, dict) else None
     if not isinstance(written, str) or not written.startswith(kind):
         return f"its {MANIFEST} is not a {kind} manifest"
-    others = sorted(set(os.listdir(folder)) - _files_named(manifest) - {MANIFEST})
+    others = sorted(entries - _files_named(manifest) - {MANIFEST})
     if others:
         shown = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
         return f"it holds files hairlod did not write there ({shown})"

@@ -18,6 +18,7 @@ from . import __version__, atomic_output, strict_json
 EXIT_BAD_INPUT = 2
 INT32_MAX = 2**31 - 1
 SEED_MAX = 2**64 - 1
+FLOAT32_MAX = 3.4028234663852886e38  # numbers the C++ core holds as float
 
 
 class UsageError(Exception):
@@ -481,7 +482,7 @@ def build_parser():
     generate.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
     generate.add_argument("--lod", type=_number(above=0, at_most=1), default=1.0, help="level of detail in (0, 1] (default 1)")
     generate.add_argument("--subdivision", type=_integer(0, 3), default=0, help="OpenSubdiv level 0-3 (default 0)")
-    generate.add_argument("--radius", type=_number(at_least=0), default=None, help="strand radius (default: the file's)")
+    generate.add_argument("--radius", type=_number(at_least=0, at_most=FLOAT32_MAX), default=None, help="strand radius (default: the file's)")
     generate.add_argument("--out", default=None, help="hair file to write (.hair .data); omitted: generate only")
     generate.add_argument("--json", action="store_true", help="print one JSON object")
     generate.set_defaults(run=command_generate)
@@ -496,7 +497,7 @@ def build_parser():
     lod.add_argument("--levels", type=_integer(2), default=6, help="levels including the strands (default 6)")
     lod.add_argument("--control-points", type=_integer(2), default=16, help="control points per hair (default 16)")
     lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
-    lod.add_argument("--width-px", type=_number(above=0), default=2.0, help="screen width threshold in pixels (default 2)")
+    lod.add_argument("--width-px", type=_number(above=0, at_most=FLOAT32_MAX), default=2.0, help="screen width threshold in pixels (default 2)")
     lod.add_argument("--cameras", help="JSON list of {view, projection, viewport}: export only the levels they select")
     lod.add_argument("--json", action="store_true", help="print one JSON object")
     lod.set_defaults(run=command_lod)

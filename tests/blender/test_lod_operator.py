@@ -222,3 +222,32 @@ def test_scene_cameras_option_needs_a_camera(addon, empty_scene):
     with pytest.raises(RuntimeError, match="no camera"):
         bpy.ops.hairlod.build_lod(guides=4, levels=3, control_points=4, scene_cameras=True)
     assert COLLECTION_NAME not in bpy.data.collections
+
+
+def _export(folder):
+    return bpy.ops.hairlod.export_lod(directory=str(folder), bake=True)
+
+
+def test_export_writes_lod_and_tables_beside_the_users_files(hair_object, tmp_path):
+    from hairlod import lod
+
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
+    (tmp_path / "notes.txt").write_text("mine")
+    assert _export(tmp_path) == {'FINISHED'}
+    assert lod.load(tmp_path / "lod").strand_count == 600
+    assert (tmp_path / "bcsdf" / "manifest.json").is_file()
+    # Exporting again replaces the folders it wrote, and only those.
+    assert _export(tmp_path) == {'FINISHED'}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bcsdf", "lod", "notes.txt"]
+    assert (tmp_path / "notes.txt").read_text() == "mine"
+
+
+@pytest.mark.parametrize("foreign", ["lod", "bcsdf"])
+def test_export_refuses_folders_it_did_not_write_and_changes_nothing(hair_object, tmp_path, foreign):
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
+    (tmp_path / foreign).mkdir()
+    (tmp_path / foreign / "mine.txt").write_text("mine")
+    with pytest.raises(RuntimeError, match=f"Cannot export.*{foreign}.*not .* that hairlod wrote"):
+        _export(tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [foreign]
+    assert [p.name for p in (tmp_path / foreign).iterdir()] == ["mine.txt"]

@@ -44,21 +44,24 @@ def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=6
     OpenEXR tables + manifest) for the object's Principled Hair BSDF (the defaults without one), with
     hair counts up to the asset's largest crossing count. Each folder appears complete or not at all.
     Returns a summary dict (paths, counts, the material used)."""
-    from .. import bcsdf, lod
+    from .. import atomic_output, bcsdf, lod
     from .lod_operator import packed_asset
 
     asset = packed_asset(obj)
     if asset is None:
         raise ValueError(f"'{obj.name}' has no LoD asset: build it first (Build Hair LoD)")
     directory = os.path.abspath(bpy.path.abspath(os.fspath(directory)))
-    lod_dir = os.path.join(directory, "lod")
+    lod_dir, bake_dir = os.path.join(directory, "lod"), os.path.join(directory, "bcsdf")
+    # Both folders are checked before either is written, so a refusal leaves the export folder as it was.
+    atomic_output.check_folder_target(lod_dir, lod.FORMAT_KIND, what=lod.WHAT)
+    if bake:
+        atomic_output.check_folder_target(bake_dir, bcsdf.BAKE_FORMAT, what=bcsdf.BAKE_WHAT)
     lod.save(asset, lod_dir, extra={"source_object": obj.name})
     summary = {"object": obj.name, "strands": asset.strand_count, "levels": [len(l.n_total) for l in asset.levels],
                "lod": lod_dir}
     if bake:
         params = material_params(obj)
         crossed, _ = bcsdf.lod_hair_count_range(asset)
-        bake_dir = os.path.join(directory, "bcsdf")
         bcsdf.bake(params if params is not None else bcsdf.as_params(None), bake_dir, theta_samples=theta_samples,
                    hair_count_samples=hair_count_samples, max_hair_count=max(crossed, 1.0 + 1e-6))
         summary.update(bcsdf=bake_dir, material="Principled Hair BSDF" if params is not None else "defaults",
