@@ -640,6 +640,8 @@ def main(argv=None):
     args = None
     with warnings.catch_warnings():
         # A numeric warning means a result is no longer finite: report it as the failure it is.
+        # Other warnings (deprecations in libraries) are not the user's concern: stderr stays one line.
+        warnings.simplefilter("ignore")
         warnings.simplefilter("error", RuntimeWarning)
         try:
             args = build_parser().parse_args(argv)
