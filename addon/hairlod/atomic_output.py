@@ -22,17 +22,25 @@ import os
 import re
 import secrets
 import shutil
+import threading
 from contextlib import contextmanager
 
 from . import strict_json
 
-__all__ = ["MANIFEST", "OutputFolderError", "begin_writing", "check_folder_target", "remove_own_temporaries", "remove_stale_temporaries",
+__all__ = ["MANIFEST", "OutputFolderError", "begin_writing", "check_folder_target", "completed", "installing",
+           "remove_own_temporaries", "stop_writing", "remove_stale_temporaries",
            "replace_folder", "replacing_file", "temporary_path"]
 
 MANIFEST = "manifest.json"
 
 # Parents of targets this process writes into: remove_own_temporaries() looks there.
 _parents_in_use = set()
+# Held while a temporary becomes a target (and while the replaced folder is removed), and while a
+# staging folder is made: stop_writing() takes it for good, so a signal handler never removes a
+# folder that a worker thread is swapping into place, and no later install starts.
+_installing = threading.RLock()
+# Targets this process has completed (for the CLI's message on a signal).
+_completed = []
 
 
 class OutputFolderError(ValueError):
@@ -117,16 +125,47 @@ def remove_stale_temporaries(target):
 
 
 def remove_own_temporaries():
-    """Removes every temporary this process made (for a signal handler about to exit)."""
-    suffix = re.compile(rf"^\..+\.hairlod-{os.getpid()}-[0-9a-f]+\.tmp$")
+    """Removes every temporary this process made. Each is first renamed, so that a thread still
+    writing into a staging folder by its path fails instead of refilling it while it is removed."""
+    suffix = re.compile(rf"^\.(.+)\.hairlod-{os.getpid()}-[0-9a-f]+\.tmp$")
     for parent in list(_parents_in_use):
         try:
             entries = os.listdir(parent)
         except OSError:
             continue
         for entry in entries:
-            if suffix.match(entry):
-                _remove(os.path.join(parent, entry))
+            match = suffix.match(entry)
+            if not match:
+                continue
+            doomed = temporary_path(os.path.join(parent, match.group(1)))
+            try:
+                os.rename(os.path.join(parent, entry), doomed)
+            except OSError:
+                continue
+            _remove(doomed)
+
+
+def stop_writing():
+    """For a process about to exit on a signal while another thread may still be writing: waits for
+    an install in progress to finish, keeps every later one from starting (the lock is never
+    released), removes this process's temporaries and returns the targets it completed."""
+    _installing.acquire()
+    remove_own_temporaries()
+    # Files completed inside a staging folder (an LoD's level files) were removed with it.
+    return [target for target in _completed if ".hairlod-" not in target]
+
+
+def completed(target):
+    """Records that `target` now holds a complete result of this process."""
+    _completed.append(os.path.abspath(os.fspath(target)))
+
+
+@contextmanager
+def installing():
+    """Holds the install lock (see stop_writing) around a writer that moves its own temporary into
+    place, such as the C++ hair-file writer."""
+    with _installing:
+        yield
 
 
 def _umask():
@@ -156,10 +195,13 @@ def replacing_file(path):
     temporary = temporary_path(path)
     try:
         yield temporary
-        os.chmod(temporary, 0o666 & ~_umask())
-        os.replace(temporary, path)
+        with _installing:
+            os.chmod(temporary, 0o666 & ~_umask())
+            os.replace(temporary, path)
+            completed(path)
     finally:
-        _remove(temporary)
+        with _installing:
+            _remove(temporary)
 
 
 def _contains(folder, path):
@@ -184,25 +226,37 @@ def _files_named(manifest):
 
 
 def _not_replaceable(folder, kind):
-    """Why `folder` is not a folder of `kind` that hairlod wrote, or None when it is one. The folder
-    is opened once and read through that descriptor, so a concurrent writer swapping in its own
-    folder cannot make the listing and the manifest come from two different folders."""
-    try:
-        descriptor = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
-    except OSError as error:
-        return f"it cannot be read ({error.strerror})"
-    try:
-        entries = set(os.listdir(descriptor))
-        if MANIFEST not in entries:
-            return f"it has no {MANIFEST}" if entries else None
+    """Why `folder` is not a folder of `kind` that hairlod wrote, or None when it is one."""
+    # Read through one descriptor, so the listing and the manifest come from one folder; and again
+    # when that folder is no longer the one at the path (a concurrent writer swapped its own in and
+    # is removing the old one, which would look half empty).
+    for _ in range(100):
         try:
-            manifest_descriptor = os.open(MANIFEST, os.O_RDONLY, dir_fd=descriptor)
-            with os.fdopen(manifest_descriptor, "rb") as stream:
-                manifest = strict_json.loads(stream.read(), MANIFEST)
-        except (OSError, ValueError):
-            return f"its {MANIFEST} is not one hairlod wrote"
-    finally:
-        os.close(descriptor)
+            descriptor = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
+        except OSError as error:
+            return f"it cannot be read ({error.strerror})"
+        try:
+            reason = _folder_reason(descriptor, kind)
+            opened, now = os.fstat(descriptor), os.stat(folder)
+        except FileNotFoundError:
+            continue
+        finally:
+            os.close(descriptor)
+        if (opened.st_dev, opened.st_ino) == (now.st_dev, now.st_ino):
+            return reason
+    return "it keeps changing while being read"
+
+
+def _folder_reason(descriptor, kind):
+    entries = set(os.listdir(descriptor))
+    if MANIFEST not in entries:
+        return f"it has no {MANIFEST}" if entries else None
+    try:
+        manifest_descriptor = os.open(MANIFEST, os.O_RDONLY, dir_fd=descriptor)
+        with os.fdopen(manifest_descriptor, "rb") as stream:
+            manifest = strict_json.loads(stream.read(), MANIFEST)
+    except (OSError, ValueError):
+        return f"its {MANIFEST} is not one hairlod wrote"
     written = manifest.get("format") if isinstance(manifest, dict) else None
     if not isinstance(written, str) or not written.startswith(kind):
         return f"its {MANIFEST} is not a {kind} manifest"
@@ -302,14 +356,19 @@ def replace_folder(target, kind, write, force=False, inputs=(), what=None):
     os.makedirs(parent, exist_ok=True)
     begin_writing(target)
     staging = temporary_path(target)
-    os.mkdir(staging)  # 0777 less the umask, as for any folder the user makes
+    with _installing:
+        os.mkdir(staging)  # 0777 less the umask, as for any folder the user makes
     try:
         try:
             result = write(staging)
         except ValueError as error:
             # Name the user's folder, not the temporary one the file was written into.
             raise ValueError(str(error).replace(staging, target)) from None
-        _install(staging, target, lambda: check_folder_target(target, kind, force, inputs, what))
+        with _installing:
+            _install(staging, target, lambda: check_folder_target(target, kind, force, inputs, what))
+            completed(target)
+            _remove(staging)  # the replaced folder, after an exchange
     finally:
-        _remove(staging)
+        with _installing:
+            _remove(staging)
     return result

@@ -647,9 +647,10 @@ def main(argv=None):
             args = build_parser().parse_args(argv)
             return _run_interruptibly(args)
         except _Interrupted as interrupted:
-            atomic_output.remove_own_temporaries()
+            written = atomic_output.stop_writing()
             name = signal.Signals(interrupted.signal_number).name
-            print(f"hairlod: interrupted by {name}; unfinished output removed", file=sys.stderr, flush=True)
+            done = f"; {', '.join(written)} complete" if written else ""
+            print(f"hairlod: interrupted by {name}; unfinished output removed{done}", file=sys.stderr, flush=True)
             sys.stdout.flush()
             # The worker may still be inside C++: end the process without waiting for it.
             os._exit(128 + interrupted.signal_number)

@@ -41,4 +41,6 @@ def write(path, strands: Strands) -> None:
     temporary file, named as atomic_output names them, over `path`)."""
     path = os.fspath(path)
     atomic_output.begin_writing(path)
-    _core.write_hair_file(path, strands)
+    with atomic_output.installing():
+        _core.write_hair_file(path, strands)
+        atomic_output.completed(path)
