@@ -386,8 +386,8 @@ def bake(params, out_dir, theta_samples=64, hair_count_samples=64, max_hair_coun
         tables = [tables]
     tables = list(tables)
     memory_budget.check(bake_bytes(theta_samples, hair_count_samples, table_samples, tables),
-                        f"baking {', '.join(tables)} tables of {theta_samples} x {hair_count_samples} samples "
-                        f"(per-hair table {table_samples})")
+                        f"baking {', '.join(tables)} tables of {theta_samples} x {hair_count_samples} samples, "
+                        f"per-hair table {table_samples} (theta_samples, hair_count_samples, table_samples)")
     # Refused before the bake runs, so a refusal costs nothing.
     atomic_output.check_folder_target(os.path.abspath(os.fspath(out_dir)), BAKE_FORMAT, force, inputs, BAKE_WHAT)
     baked = _core.bcsdf_bake(params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from . import _core, bcsdf
+from . import _core, bcsdf, memory_budget
 
 def median_seconds(function, repeats=3):
     """Median wall time of `repeats` calls of `function()`, in seconds."""
@@ -351,6 +351,10 @@ def bench_lod(strands=100_000, points=32, guides=256, levels=6, control_points=1
     from . import lod
     from .camera import look_at, perspective
 
+    # numpy builds the synthetic strands in float64 (about 8 arrays of [strands, points, 3]).
+    memory_budget.check(int(strands) * int(points) * 3 * 8 * 8 +
+                        lod.build_bytes(strands, int(strands) * int(points), control_points),
+                        f"bench lod with {strands} strands of {points} points (--strands, --points)")
     hair = synthetic_hair(strands, points)
     start = time.perf_counter()
     asset = lod.build_lod(hair, guides=guides, levels=levels, control_points=control_points)

@@ -62,6 +62,13 @@ def _number(above=None, at_least=None, at_most=None):
     return parse
 
 
+def _path(text):
+    """argparse type: a non-empty path (an empty one names nothing a message could point at)."""
+    if not text:
+        raise argparse.ArgumentTypeError("expected a path, got an empty string")
+    return text
+
+
 def _print_json(value):
     print(strict_json.dumps(value))
 
@@ -459,57 +466,59 @@ def command_bench(args):
 
 
 def build_parser():
+    from .lod import MAX_CONTROL_POINTS
+
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     commands.required = True
 
     info = commands.add_parser("info", help="summarise a hair file")
-    info.add_argument("file", help="hair file (.hair .data .bin .ply .tfx)")
+    info.add_argument("file", type=_path, help="hair file (.hair .data .bin .ply .tfx)")
     info.add_argument("--json", action="store_true", help="print one JSON object")
     info.set_defaults(run=command_info)
 
     convert = commands.add_parser("convert", help="convert between hair file formats")
-    convert.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
-    convert.add_argument("output", help="hair file to write (.hair .data)")
+    convert.add_argument("input", type=_path, help="hair file to read (.hair .data .bin .ply .tfx)")
+    convert.add_argument("output", type=_path, help="hair file to write (.hair .data)")
     convert.add_argument("--json", action="store_true", help="print one JSON object")
     convert.set_defaults(run=command_convert)
 
     generate = commands.add_parser("generate", help="generate strands from a hair mesh (.json)")
-    generate.add_argument("hairmesh", help="hair mesh file (JSON, docs/hairmesh-format.md)")
+    generate.add_argument("hairmesh", type=_path, help="hair mesh file (JSON, docs/hairmesh-format.md)")
     generate.add_argument("--count", type=_integer(1), default=10000, help="strands at full LoD (default 10000)")
     generate.add_argument("--vertices", type=_integer(2), default=17, help="vertices per strand, 2^e + 1 (default 17)")
     generate.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
     generate.add_argument("--lod", type=_number(above=0, at_most=1), default=1.0, help="level of detail in (0, 1] (default 1)")
     generate.add_argument("--subdivision", type=_integer(0, 3), default=0, help="OpenSubdiv level 0-3 (default 0)")
     generate.add_argument("--radius", type=_number(at_least=0, at_most=FLOAT32_MAX), default=None, help="strand radius (default: the file's)")
-    generate.add_argument("--out", default=None, help="hair file to write (.hair .data); omitted: generate only")
+    generate.add_argument("--out", type=_path, default=None, help="hair file to write (.hair .data); omitted: generate only")
     generate.add_argument("--json", action="store_true", help="print one JSON object")
     generate.set_defaults(run=command_generate)
 
     lod = commands.add_parser("lod", help="build an LoD asset and export it to a folder")
-    lod.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
-    lod.add_argument("--out", required=True, help="folder to write; an existing one is replaced (atomically) only "
+    lod.add_argument("input", type=_path, help="hair file to read (.hair .data .bin .ply .tfx)")
+    lod.add_argument("--out", type=_path, required=True, help="folder to write; an existing one is replaced (atomically) only "
                      "when it is an LoD folder hairlod wrote")
     lod.add_argument("--force", action="store_true", help="replace --out even when it is not an LoD folder hairlod "
                      "wrote (never the current, home or root folder, nor one holding the input)")
     lod.add_argument("--guides", type=_integer(1), default=256, help="k of the guide k-means (default 256)")
     lod.add_argument("--levels", type=_integer(2), default=6, help="levels including the strands (default 6)")
-    lod.add_argument("--control-points", type=_integer(2), default=16, help="control points per hair (default 16)")
+    lod.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="control points per hair (default 16)")
     lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
     lod.add_argument("--width-px", type=_number(above=0, at_most=FLOAT32_MAX), default=2.0, help="screen width threshold in pixels (default 2)")
-    lod.add_argument("--cameras", help="JSON list of {view, projection, viewport}: export only the levels they select")
+    lod.add_argument("--cameras", type=_path, help="JSON list of {view, projection, viewport}: export only the levels they select")
     lod.add_argument("--json", action="store_true", help="print one JSON object")
     lod.set_defaults(run=command_lod)
 
     bake = commands.add_parser("bake", help="bake the aggregated BCSDF's lookup tables (OpenEXR + manifest.json)")
-    bake.add_argument("--params", metavar="FILE.json", help="HairParams fields as a JSON object (default: defaults)")
-    bake.add_argument("--from-blend", metavar="FILE.blend", help="read the parameters from a material's Principled "
+    bake.add_argument("--params", type=_path, metavar="FILE.json", help="HairParams fields as a JSON object (default: defaults)")
+    bake.add_argument("--from-blend", type=_path, metavar="FILE.blend", help="read the parameters from a material's Principled "
                       "Hair BSDF (runs blender -b)")
     bake.add_argument("--material", metavar="NAME", help="the material of --from-blend")
-    bake.add_argument("--lod", metavar="DIR", help="LoD folder (python3 -m hairlod lod): the n range covers the "
+    bake.add_argument("--lod", type=_path, metavar="DIR", help="LoD folder (python3 -m hairlod lod): the n range covers the "
                       "most hairs a ray crosses in its thick hairs")
-    bake.add_argument("--out", required=True, metavar="DIR", help="output folder; an existing one is replaced "
+    bake.add_argument("--out", type=_path, required=True, metavar="DIR", help="output folder; an existing one is replaced "
                       "(atomically) only when it holds tables hairlod baked")
     bake.add_argument("--force", action="store_true", help="replace --out even when it does not hold tables hairlod "
                       "baked (never the current, home or root folder, nor the --lod folder)")
@@ -526,44 +535,44 @@ def build_parser():
     bake.set_defaults(run=command_bake)
 
     rend = commands.add_parser("render", help="render hair with the Embree reference renderer (EXR or PNG)")
-    rend.add_argument("input", help="hair file to read (.hair .data .bin .ply .tfx)")
-    rend.add_argument("--lod", metavar="DIR", help="LoD asset folder (needed by the lod methods)")
+    rend.add_argument("input", type=_path, help="hair file to read (.hair .data .bin .ply .tfx)")
+    rend.add_argument("--lod", type=_path, metavar="DIR", help="LoD asset folder (needed by the lod methods)")
     rend.add_argument("--method", choices=["pt", "ds", "lod", "lod-single", "lod-no-s"], default="pt",
                       help="pt (reference), ds (dual scattering), lod (aggregated BCSDF), lod-single, lod-no-s")
     rend.add_argument("--view", choices=["near", "mid", "far"], default="mid",
                       help="hair covering about 60%%, 20%% or 2%% of the image (default mid)")
-    rend.add_argument("--out", required=True, help="image to write (.exr linear or .png sRGB)")
+    rend.add_argument("--out", type=_path, required=True, help="image to write (.exr linear or .png sRGB)")
     rend.add_argument("--spp", type=_integer(1), default=16, help="samples per pixel (default 16)")
     rend.add_argument("--width", type=_integer(1), default=256, help="image width and height in pixels (default 256)")
     rend.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
-    rend.add_argument("--params", help="HairParams JSON (default: the BCSDF defaults)")
+    rend.add_argument("--params", type=_path, help="HairParams JSON (default: the BCSDF defaults)")
     rend.add_argument("--progress", action="store_true", help="progress bar on stderr even when not a terminal")
     rend.add_argument("--json", action="store_true", help="print one JSON object")
     rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
     bench.add_argument("component", choices=["bcsdf", "lod", "generate", "quality"], help="what to benchmark")
-    bench.add_argument("input", nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
+    bench.add_argument("input", type=_path, nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.add_argument("--repeats", type=_integer(1), default=5, help="bcsdf: timing repeats (median; default 5)")
-    bench.add_argument("--plot", metavar="FILE.png", help="bcsdf, generate, quality: also write a plot")
+    bench.add_argument("--plot", type=_path, metavar="FILE.png", help="bcsdf, generate, quality: also write a plot")
     bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, generate: strands (default 100000)")
     bench.add_argument("--vertices", type=_integer(2), default=33, help="generate: vertices per strand (default 33)")
     bench.add_argument("--points", type=_integer(2), default=32, help="lod: points per synthetic strand (default 32)")
     bench.add_argument("--guides", type=_integer(1), default=256, help="lod, quality: guides (default 256)")
     bench.add_argument("--levels", type=_integer(2), default=6, help="lod: levels including the strands (default 6)")
-    bench.add_argument("--control-points", type=_integer(2), default=16, help="lod: control points (default 16)")
+    bench.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="lod: control points (default 16)")
     bench.add_argument("--width-px", type=_number(above=0), default=2.0,
                        help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
     bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")
-    bench.add_argument("--lod", metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
+    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
                        "a quarter of the strands)")
     bench.add_argument("--spp", type=_integer(1), default=16, help="quality: samples per pixel of the methods (default 16)")
     bench.add_argument("--reference-spp", type=_integer(1), default=128, help="quality: spp of the pt reference (default 128)")
     bench.add_argument("--width", type=_integer(1), default=160, help="quality: image width and height (default 160)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "
                        "(default 0.5,1,2,4,8)")
-    bench.add_argument("--params", help="quality: HairParams JSON (default: the BCSDF defaults)")
+    bench.add_argument("--params", type=_path, help="quality: HairParams JSON (default: the BCSDF defaults)")
     bench.set_defaults(run=command_bench)
     return parser
 
@@ -581,12 +590,22 @@ def _one_line(message):
     return " ".join(str(message).split()) or "failed"
 
 
+def _names_a_path(message, args):
+    paths = [getattr(args, name, None) for name in ("input", "file", "hairmesh", "lod", "params", "cameras",
+                                                    "from_blend", "out", "output", "plot")]
+    return any(isinstance(path, str) and path and (path in message or os.path.abspath(path) in message)
+               for path in paths)
+
+
 def _error_line(error, args):
-    """The one line a failure prints: the message of a bad input (which names the file or argument),
-    otherwise what failed and on which of the user's files."""
-    if isinstance(error, (UsageError, ValueError, OSError)):
-        return _one_line(error)
+    """The one line a failure prints: the message of a bad input, prefixed with the command and its
+    input when it does not name one of the user's files itself; otherwise what failed and on which."""
     subject = _subject(args) if args is not None else "hairlod"
+    if isinstance(error, UsageError):
+        return _one_line(error)
+    if isinstance(error, (ValueError, OSError)):
+        message = _one_line(error)
+        return message if args is None or _names_a_path(message, args) else f"{subject}: {message}"
     if isinstance(error, MemoryError):
         return f"{subject}: out of memory (reduce the input or the sizes asked for)"
     if isinstance(error, RecursionError):

@@ -4,6 +4,7 @@ Implements hair-lod-aggregated-bcsdf.txt Sec. 5 over the C++ core (no bpy). Arra
 """
 
 import os
+import tokenize
 import zipfile
 import zlib
 from dataclasses import dataclass
@@ -136,6 +137,8 @@ BuildCancelled = _core.BuildCancelled
 # Peak bytes of a build per strand and control point (resampled strands, k-means features, thick
 # levels, skinning coordinates) and per input point; measured with build_lod on 100 to 10^5 strands.
 BUILD_BYTES_PER_CONTROL_POINT = 256
+# Each thick level is also written as a .hair file, which stores at most 65536 points per curve.
+MAX_CONTROL_POINTS = 65536
 BUILD_BYTES_PER_POINT = 64
 
 
@@ -158,7 +161,7 @@ def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_
     after which this raises BuildCancelled."""
     guides = _require_integer("guides", guides, 1)
     levels = _require_integer("levels", levels, 2)
-    control_points = _require_integer("control_points", control_points, 2)
+    control_points = _require_integer("control_points", control_points, 2, MAX_CONTROL_POINTS)
     seed = _require_integer("seed", seed, 0, 2**64 - 1)
     memory_budget.check(build_bytes(len(strands), strands.point_count, control_points),
                         f"an LoD of {len(strands)} strands with {control_points} control points (control_points)")
@@ -301,15 +304,23 @@ def _write_folder(asset, folder, extra):
     return manifest
 
 
+# What numpy's .npy / .npz readers raise on damaged data: besides OSError and ValueError, a header
+# that does not parse raises tokenize's or ast's errors, a huge declared shape MemoryError, a
+# damaged zip member zlib.error or EOFError.
+_NPY_ERRORS = (OSError, ValueError, EOFError, MemoryError, SyntaxError, tokenize.TokenError, zipfile.BadZipFile,
+               zlib.error, KeyError, NotImplementedError, RuntimeError, TypeError, OverflowError)
+
+
 def _read_array(folder, entry, what):
     try:
         path = os.path.join(folder, os.path.basename(entry["file"]))
         array = np.load(path, allow_pickle=False)
     except (KeyError, TypeError, AttributeError) as error:
         raise ValueError(f"{folder}: manifest entry for {what} is malformed ({error})") from None
-    except (OSError, ValueError, EOFError, MemoryError) as error:
+    except _NPY_ERRORS as error:
         raise ValueError(f"{folder}: cannot read {what} ({type(error).__name__}: {error})") from None
-    if list(array.shape) != list(entry.get("shape", [])) or str(array.dtype) != entry.get("dtype"):
+    shape = entry.get("shape")
+    if not isinstance(shape, list) or list(array.shape) != shape or str(array.dtype) != entry.get("dtype"):
         raise ValueError(f"{folder}: {what} does not match its manifest shape/dtype")
     return array
 
@@ -356,7 +367,10 @@ def load(directory):
         raise ValueError(f"{directory}: {MANIFEST} is missing or malforms an entry ({error})") from None
     asset = _asset_from(header, lambda name, _: _read_array(directory, entries.get(name), name), directory)
     for position, (level, entry) in enumerate(zip(asset.levels, manifest["thick_levels"])):
-        for name, file_entry in entry.get("per_hair", {}).items():
+        per_hair = entry.get("per_hair", {}) if isinstance(entry, dict) else None
+        if not isinstance(per_hair, dict):
+            raise ValueError(f"{directory}: {MANIFEST}: per_hair of thick level {position} must be an object")
+        for name, file_entry in per_hair.items():
             if name in PER_HAIR and not np.array_equal(_read_array(directory, file_entry, name), getattr(level, name)):
                 raise ValueError(f"{directory}: per-hair {name} of thick level {position} disagrees with the stored arrays")
     return asset
@@ -383,8 +397,7 @@ def unpack(data, where="packed LoD asset"):
         with np.load(BytesIO(bytes(data)), allow_pickle=False) as archive:
             stored = {name: archive[name] for name in archive.files}
         header = stored.pop("header").tobytes()
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError,
-            RuntimeError, MemoryError, TypeError) as error:
+    except _NPY_ERRORS as error:
         # A damaged pack fails anywhere in the zip and .npy readers, each with its own exception.
         raise ValueError(f"{where}: not a packed hairlod LoD asset ({type(error).__name__}: {error})") from None
     header = strict_json.loads(header, f"{where} (header)")

@@ -112,7 +112,8 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
     if int(spp) < 1 or int(width) < 1:
         raise ValueError(f"spp and width must be >= 1, got spp={spp}, width={width}")
     # The image in float32 and the renderer's float64 accumulation, with its film copies.
-    memory_budget.check(int(width) ** 2 * 3 * (4 + 8 + 8), f"a {width} x {width} image")
+    memory_budget.check(int(width) ** 2 * 3 * (4 + 8 + 8), f"a {width} x {width} image (width)")
+    strands.require_float_range("render")  # before framing the view on it
     camera = camera or frame_view(strands.points, view, width)
     lights = lights or default_lights(camera)
     params = as_params(params)

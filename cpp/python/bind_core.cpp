@@ -196,7 +196,10 @@ len(strands) is the number of curves C.)doc")
              },
              py::arg("points_per_curve"),
              "Each curve resampled to K points equally spaced in arc length along its centripetal "
-             "Catmull-Rom curve.");
+             "Catmull-Rom curve.")
+        .def("require_float_range", &StrandSet::require_float_range, py::arg("what"),
+             "Raises ValueError ('what: ...') when coordinates or radii exceed 1e13 in magnitude or the hair "
+             "is less than 1e-10 across: the range hairlod's float32 geometry handles.");
 }
 
 }  // namespace hairlod::python
