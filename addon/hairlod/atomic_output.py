@@ -285,7 +285,8 @@ def check_folder_target(target, kind, force=False, inputs=(), what=None):
         return
     reason = _not_replaceable(real, kind)
     if reason is not None:
-        raise OutputFolderError(f"{target}: exists and is not {what or kind + ' folder'} that hairlod wrote ({reason}); "
+        kind_name = what or f"{kind} folder"
+        raise OutputFolderError(f"{target}: exists and is not {kind_name} that hairlod wrote ({reason}); "
                                 f"choose another output folder, or force the replacement (--force, force=True)")
 
 
@@ -348,8 +349,8 @@ def replace_folder(target, kind, write, force=False, inputs=(), what=None):
     into place atomically. An existing `target` is replaced only when it is a folder of `kind`
     (manifest "format" prefix, e.g. "hairlod-lod/") holding only the files its manifest names, or
     with `force` (never the current, home or root folder); never a file, nor a folder holding one of
-    `inputs`; `what` names the kind in messages. Refusals raise OutputFolderError before write() runs. Missing parent folders are
-    made. Returns write()'s result."""
+    `inputs`; `what` names the kind in messages. Refusals raise OutputFolderError before write()
+    runs. Missing parent folders are made. Returns write()'s result."""
     target = os.path.abspath(os.fspath(target))
     parent = os.path.dirname(target)
     check_folder_target(target, kind, force, inputs, what)

@@ -489,10 +489,13 @@ def build_parser():
     generate.add_argument("--count", type=_integer(1), default=10000, help="strands at full LoD (default 10000)")
     generate.add_argument("--vertices", type=_integer(2), default=17, help="vertices per strand, 2^e + 1 (default 17)")
     generate.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
-    generate.add_argument("--lod", type=_number(above=0, at_most=1), default=1.0, help="level of detail in (0, 1] (default 1)")
+    generate.add_argument("--lod", type=_number(above=0, at_most=1), default=1.0,
+                          help="level of detail in (0, 1] (default 1)")
     generate.add_argument("--subdivision", type=_integer(0, 3), default=0, help="OpenSubdiv level 0-3 (default 0)")
-    generate.add_argument("--radius", type=_number(at_least=0, at_most=FLOAT32_MAX), default=None, help="strand radius (default: the file's)")
-    generate.add_argument("--out", type=_path, default=None, help="hair file to write (.hair .data); omitted: generate only")
+    generate.add_argument("--radius", type=_number(at_least=0, at_most=FLOAT32_MAX), default=None,
+                          help="strand radius (default: the file's)")
+    generate.add_argument("--out", type=_path, default=None,
+                          help="hair file to write (.hair .data); omitted: generate only")
     generate.add_argument("--json", action="store_true", help="print one JSON object")
     generate.set_defaults(run=command_generate)
 
