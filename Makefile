@@ -44,8 +44,16 @@ bench: bootstrap build
 
 FUZZ_TARGET  ?= cyhair
 FUZZ_SECONDS ?= 60
+# C++ readers (libFuzzer, scripts/fuzz.sh): cyhair usc_data ct2hair_bin ply_hair tfx.
+# Python readers (scripts/fuzz_python.py, over the built package):
+PYTHON_FUZZ_TARGETS := hairmesh manifest cameras params unpack
 fuzz:
+ifneq ($(filter $(FUZZ_TARGET),$(PYTHON_FUZZ_TARGETS)),)
+	$(MAKE) --no-print-directory build
+	$(PYTHON) scripts/fuzz_python.py $(FUZZ_TARGET) $(FUZZ_SECONDS)
+else
 	scripts/fuzz.sh $(FUZZ_TARGET) $(FUZZ_SECONDS)
+endif
 
 clean:
 	rm -rf $(BUILD_DIR) dist addon/hairlod/_core*.so
