@@ -69,7 +69,7 @@ def styling_from_dicts(items, where="styling"):
         if not isinstance(item, dict) or "op" not in item:
             raise ValueError(f"{where}[{index}]: must be an object with an 'op' key")
         name = item["op"]
-        if name not in STYLING_OPERATIONS:
+        if not isinstance(name, str) or name not in STYLING_OPERATIONS:
             raise ValueError(f"{where}[{index}]: unknown operation {name!r} (known: {', '.join(STYLING_OPERATIONS)})")
         kind, parameters = STYLING_OPERATIONS[name]
         values = {}
@@ -142,7 +142,8 @@ def hair_mesh_from_dict(data, where="hair mesh"):
     uv = None
     if data.get("uv") is not None:
         corners = data["uv"]
-        if not isinstance(corners, list) or [len(face) for face in corners if isinstance(face, list)] != list(sizes):
+        if not isinstance(corners, list) or not all(isinstance(face, list) for face in corners) or \
+                [len(face) for face in corners] != list(sizes):
             raise ValueError(f"{where}: uv must hold one [u, v] per face corner, shaped like faces")
         uv = _number_array([pair for face in corners for pair in face], f"{where}: uv", np.float32, 2)
         if uv.shape[1] != 2:
