@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core, atomic_output, memory_budget, strict_json
+from . import atomic_output, memory_budget, strict_json
 from ._core import Clump, Curl, Frizz, HairMesh, StrandGenerator, Trim, Twist, Wave, detail_level
 
 FORMAT_NAME = "hairlod.hairmesh"
