@@ -338,7 +338,7 @@ def command_bake(args):
             node = None
             params = bcsdf.as_params(_read_params(args.params))
     except ValueError as error:
-        raise UsageError(f"{source}: {error}")
+        raise UsageError(str(error) if source in str(error) else f"{source}: {error}")
     max_hair_count, densest = args.max_hair_count, None
     if args.lod:
         from . import lod
@@ -676,6 +676,10 @@ def main(argv=None):
             sys.stdout.flush()
             # The worker may still be inside C++: end the process without waiting for it.
             os._exit(128 + interrupted.signal_number)
+        except BrokenPipeError:
+            # The reader of stdout went away (`| head`): not a failure of the command, nothing to say.
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            return 128 + signal.SIGPIPE
         except KeyboardInterrupt:
             atomic_output.remove_own_temporaries()
             print("hairlod: interrupted; unfinished output removed", file=sys.stderr)

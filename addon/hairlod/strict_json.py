@@ -10,13 +10,17 @@ the non-standard `Infinity` / `NaN` that strict readers reject.
 
 import json
 import math
+import os
+import stat
 
-__all__ = ["MAX_DEPTH", "MAX_INTEGER_DIGITS", "dump", "dumps", "load", "loads"]
+__all__ = ["MAX_DEPTH", "MAX_FILE_BYTES", "MAX_INTEGER_DIGITS", "dump", "dumps", "load", "loads"]
 
 # Deeper than any file hairlod writes (a manifest is 5 levels deep), far below Python's recursion limit.
 MAX_DEPTH = 64
 # int64 has 19 digits: larger integers are never valid counts or indices.
 MAX_INTEGER_DIGITS = 19
+# Far above the largest file hairlod writes (a 100k-vertex hair mesh is about 10 MB).
+MAX_FILE_BYTES = 1 << 30
 
 
 class _Refused(Exception):
@@ -84,13 +88,19 @@ def loads(text, where):
 
 def load(path, what=None):
     """Reads and parses a JSON file; ValueError naming `path` (and `what` it is) on any problem,
-    including an unreadable file."""
+    including an unreadable file, one that is not a regular file (a FIFO or /dev/zero would never
+    end) and one larger than MAX_FILE_BYTES."""
     where = f"{path} ({what})" if what else str(path)
     try:
-        with open(path, "rb") as stream:
-            data = stream.read()
+        # O_NONBLOCK: opening a FIFO would otherwise wait for a writer (no effect on regular files).
+        with os.fdopen(os.open(path, os.O_RDONLY | os.O_NONBLOCK), "rb") as stream:
+            if not stat.S_ISREG(os.fstat(stream.fileno()).st_mode):
+                raise ValueError(f"{where}: not a regular file")
+            data = stream.read(MAX_FILE_BYTES + 1)
     except OSError as error:
         raise ValueError(f"{where}: cannot read ({error.strerror or error})") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise ValueError(f"{where}: larger than {MAX_FILE_BYTES >> 20} MB, more than any JSON file hairlod reads")
     return loads(data, where)
 
 

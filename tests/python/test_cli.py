@@ -97,6 +97,13 @@ def test_truncated_file(tmp_path, length):
     assert "truncated.hair" in line
 
 
+def test_a_message_quoting_bytes_that_are_not_utf8_keeps_its_text(tmp_path):
+    path = tmp_path / "x.ply"
+    path.write_bytes(b"ply\n\xef\n")
+    line = one_line_error(run_cli("info", path))
+    assert "x.ply: header line 2: unknown keyword" in line and "\\xef" in line
+
+
 def test_info_on_bundled_input():
     info = json.loads(run_cli("info", BUNDLED, "--json").stdout)
     assert info["strands"] == 2000 and info["points"] == 32000

@@ -1,6 +1,7 @@
 """strict_json and memory_budget: bounded input, strict output, the budget read from the environment."""
 
 import json
+import os
 
 import pytest
 
@@ -56,3 +57,16 @@ def test_budget_from_the_environment(monkeypatch):
             memory_budget.budget_bytes()
     monkeypatch.delenv(memory_budget.ENVIRONMENT_VARIABLE)
     assert memory_budget.budget_bytes() > 0
+
+
+def test_only_regular_files_of_bounded_size_are_read(tmp_path, monkeypatch):
+    fifo = tmp_path / "cameras.json"
+    os.mkfifo(fifo)
+    for path in (fifo, "/dev/zero", tmp_path):
+        with pytest.raises(ValueError, match="not a regular file|cannot read"):
+            strict_json.load(path, "cameras")
+    big = tmp_path / "big.json"
+    big.write_text("[" + "0," * 600 + "0]")
+    monkeypatch.setattr(strict_json, "MAX_FILE_BYTES", 1000)
+    with pytest.raises(ValueError, match="larger than"):
+        strict_json.load(big)
