@@ -292,7 +292,7 @@ def command_render(args):
 def _read_params(path):
     if path is None:
         return {}
-    params = strict_json.load(path, "BCSDF parameters")
+    params = strict_json.load(path, "--params, BCSDF parameters")
     if not isinstance(params, dict):
         raise UsageError(f"{path}: expected a JSON object of HairParams fields")
     return params
