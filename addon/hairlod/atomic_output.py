@@ -27,7 +27,7 @@ from contextlib import contextmanager
 
 from . import strict_json
 
-__all__ = ["MANIFEST", "OutputFolderError", "begin_writing", "check_folder_target", "completed", "installing",
+__all__ = ["MANIFEST", "OutputFolderError", "begin_writing", "check_folder_target", "completed", "files_named", "installing",
            "remove_own_temporaries", "stop_writing", "remove_stale_temporaries",
            "replace_folder", "replacing_file", "temporary_path"]
 
@@ -209,7 +209,7 @@ def _contains(folder, path):
     return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
-def _files_named(manifest):
+def files_named(manifest):
     """Every file name a hairlod manifest refers to ("file" and "hair_file" values, at any depth)."""
     names, stack = set(), [manifest]
     while stack:
@@ -260,7 +260,7 @@ def _folder_reason(descriptor, kind):
     written = manifest.get("format") if isinstance(manifest, dict) else None
     if not isinstance(written, str) or not written.startswith(kind):
         return f"its {MANIFEST} is not a {kind} manifest"
-    others = sorted(entries - _files_named(manifest) - {MANIFEST})
+    others = sorted(entries - files_named(manifest) - {MANIFEST})
     if others:
         shown = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
         return f"it holds files hairlod did not write there ({shown})"
