@@ -237,6 +237,7 @@ struct Tracer {
                 radiance += throughput * env * (environment_lit ? weight : 1.0);
                 break;
             }
+            if (options.coverage_only) break;
             const glm::dvec3 wo = -glm::dvec3(direction);
             const Vertex v = shader.vertex(hit, wo, rng);
             radiance += throughput * direct(v, hit, rng, rays);
