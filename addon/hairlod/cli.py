@@ -225,7 +225,8 @@ def command_lod(args):
     selected = list(range(finest + 1))
     if cameras:
         asset, selected = lod.keep_scene_levels(asset, cameras, args.width_px)
-    options = {name: getattr(args, name) for name in ("guides", "levels", "control_points", "seed", "width_px")}
+    options = {name: getattr(args, name) for name in ("levels", "control_points", "seed", "width_px")}
+    options["guides"] = asset.guide_count
     start = time.perf_counter()
     manifest = lod.save(asset, args.out, extra={
         "input": os.path.abspath(args.input),
@@ -505,7 +506,8 @@ def build_parser():
                      "when it is an LoD folder hairlod wrote")
     lod.add_argument("--force", action="store_true", help="replace --out even when it is not an LoD folder hairlod "
                      "wrote (never the current, home or root folder, nor one holding the input)")
-    lod.add_argument("--guides", type=_integer(1), default=256, help="k of the guide k-means (default 256)")
+    lod.add_argument("--guides", type=_integer(1), default=None, help="k of the guide k-means (default: one per 128 "
+                     "strands, 16 to 256)")
     lod.add_argument("--levels", type=_integer(2), default=6, help="levels including the strands (default 6)")
     lod.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="control points per hair (default 16)")
     lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")

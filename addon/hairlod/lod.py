@@ -154,12 +154,13 @@ def _require_integer(name, value, lowest, highest=2**31 - 1):
     return int(value)
 
 
-def build_lod(strands, guides=256, levels=6, control_points=16, seed=0, ellipse_coverage=0.95, progress=None):
-    """Builds an LodAsset from Strands (Sec. 5.1); raises ValueError on invalid input (before
+def build_lod(strands, guides=None, levels=6, control_points=16, seed=0, ellipse_coverage=0.95, progress=None):
+    """Builds an LodAsset from Strands (Sec. 5.1); `guides` None (or 0) picks auto_guide_count(len(strands)).
+    Raises ValueError on invalid input (before
     allocating when the sizes asked for exceed the memory budget). The C++ build releases the GIL:
     another thread may watch `progress` (BuildProgress: done / total steps) and call its cancel(),
     after which this raises BuildCancelled."""
-    guides = _require_integer("guides", guides, 1)
+    guides = 0 if guides is None else _require_integer("guides", guides, 0)
     levels = _require_integer("levels", levels, 2)
     control_points = _require_integer("control_points", control_points, 2, MAX_CONTROL_POINTS)
     seed = _require_integer("seed", seed, 0, 2**64 - 1)

@@ -351,9 +351,12 @@ void bind_lod(py::module_& m) {
         py::gil_scoped_release release;
         return build_lod(strands, {.guides = guides, .levels = levels, .control_points = control_points, .seed = seed,
                                    .ellipse_coverage = ellipse_coverage, .progress = progress});
-    }, py::arg("strands"), py::arg("guides") = 256, py::arg("levels") = 6, py::arg("control_points") = 16,
-       py::arg("seed") = 0, py::arg("ellipse_coverage") = 0.95f, py::arg("progress") = nullptr,
-       "Builds an LodAsset (the GIL released); `progress` (LodBuildProgress) reports steps and cancels.");
+    }, py::arg("strands"), py::arg("guides") = LodOptions{}.guides, py::arg("levels") = LodOptions{}.levels,
+       py::arg("control_points") = LodOptions{}.control_points, py::arg("seed") = LodOptions{}.seed,
+       py::arg("ellipse_coverage") = LodOptions{}.ellipse_coverage, py::arg("progress") = nullptr,
+       "Builds an LodAsset (the GIL released); guides 0: auto_guide_count; `progress` (LodBuildProgress) reports steps and cancels.");
+    m.def("auto_guide_count", &auto_guide_count, py::arg("strand_count"),
+          "The guide count build_lod uses when guides is 0.");
 }
 
 }  // namespace hairlod::python

@@ -146,26 +146,26 @@ std::vector<std::vector<int32_t>> hairs_per_cluster(const LodAsset& a) {
     return counts;
 }
 
-TEST_F(LodAssetTest, RequestedLevelsShrinkingGeometricallyAtMostFourfold) {
+TEST_F(LodAssetTest, LevelsAboutFourfoldApartInAreaDownToFourStrandsPerHair) {
     const LodAsset& a = *asset_;
-    ASSERT_EQ(a.thick_levels.size(), 5u);  // levels = 6: L0..L4 and the strands
+    ASSERT_GE(a.thick_levels.size(), 2u);
+    ASSERT_LE(a.thick_levels.size(), 5u);  // levels = 6 is the most: L0..L4 and the strands
     const auto counts = hairs_per_cluster(a);
-    for (size_t c = 0; c < a.cluster_count(); ++c) {
-        const double n = a.thick_levels[0].n_total(c);
-        // The schedule of Sec. 5.1 step 2: hair sizes n / f^l, f = clamp((n / 4)^(1/4), 1, 4); a
-        // hair of m strands splits into max(1, round(m / size_l)) children, so a level holds at most
-        // n / size_l children plus one per coarser hair.
-        const double f = std::clamp(std::pow(n / 4.0, 1.0 / 4.0), 1.0, 4.0);
-        for (size_t l = 1; l < counts.size(); ++l) {
-            const double size = n / std::pow(f, static_cast<double>(l));
-            EXPECT_LE(counts[l][c], n / size + counts[l - 1][c]) << "cluster " << c << " level " << l;
-            EXPECT_GE(counts[l][c], counts[l - 1][c]);
-        }
-        // Large clusters end near 4 strands per finest hair (rounding and k-means imbalance aside).
-        if (n >= 40) {
-            const double finest = n / counts.back()[c];
-            EXPECT_GT(finest, 2.0) << "cluster " << c;
-            EXPECT_LT(finest, 8.0) << "cluster " << c;
+    for (size_t l = 1; l < a.thick_levels.size(); ++l) {
+        const ThickHairLevel &coarse = a.thick_levels[l - 1], &fine = a.thick_levels[l];
+        // Sec. 5.1 step 2: each level about 4x smaller in cross-section area (>= 3 on the sampled
+        // control points that decide the split; the mean over every control point is a little lower).
+        const double ratio = coarse.mean_area / fine.mean_area;
+        RecordProperty("area_ratio_L" + std::to_string(l), std::to_string(ratio));
+        EXPECT_GT(ratio, 2.5) << "level " << l;
+        EXPECT_LT(ratio, 8.0) << "level " << l;
+        for (size_t c = 0; c < a.cluster_count(); ++c) EXPECT_GE(counts[l][c], counts[l - 1][c]);
+        // Splits keep at least 4 strands per child on average.
+        for (size_t h = 0; h < coarse.hair_count(); ++h) {
+            int children = 0;
+            for (size_t f = 0; f < fine.hair_count(); ++f) children += fine.parent[f] == static_cast<int32_t>(h) ? 1 : 0;
+            ASSERT_GE(children, 1);
+            if (children > 1) EXPECT_GE(coarse.n_total(h), 4 * children) << "level " << l << " hair " << h;
         }
     }
 }
@@ -188,21 +188,35 @@ TEST(LodAssetLevels, LargeClustersShrinkFourfoldPerLevel) {
     }
 }
 
-TEST(LodAssetLevels, FewerLevelsOnlyWhenNothingSplits) {
+TEST(LodAssetLevels, LevelsStopWhereAreaStopsShrinking) {
     // A single strand has nothing to split: L0 alone.
     const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 4, .levels = 6});
     EXPECT_EQ(one.thick_levels.size(), 1u);
-    // Three strands are already fewer than the finest hair's 4.
-    EXPECT_EQ(build_lod(test_hair(3, 5, 2), {.guides = 1, .levels = 6}).thick_levels.size(), 1u);
-    // Twelve strands in one cluster, sizes 12 / 3^(l/4) = 12, 9.1, 6.9, 5.3, 4: some splits round to
-    // one child, so levels that would copy the one above are not built.
+    // Seven strands cannot make two children of 4 strands on average.
+    EXPECT_EQ(build_lod(test_hair(7, 5, 2), {.guides = 1, .levels = 6}).thick_levels.size(), 1u);
+    // Twelve strands in one cluster: a split makes at most 3 children (4 strands each on average);
+    // k-means may leave them uneven and split the largest again, but never down to single strands.
     const LodAsset twelve = build_lod(test_hair(12, 5, 2), {.guides = 1, .levels = 6});
     ASSERT_GE(twelve.thick_levels.size(), 2u);
-    EXPECT_LT(twelve.thick_levels.size(), 5u);
-    EXPECT_EQ(twelve.thick_levels[1].hair_count(), 2u);  // 12 / 6.9 at the first split that happens
+    EXPECT_LE(twelve.thick_levels[1].hair_count(), 3u);
+    EXPECT_LE(twelve.thick_levels.back().hair_count(), 6u);
     for (size_t l = 1; l < twelve.thick_levels.size(); ++l)
         EXPECT_GT(twelve.thick_levels[l].hair_count(), twelve.thick_levels[l - 1].hair_count());
-    EXPECT_LE(twelve.thick_levels.back().hair_count(), 8u);  // at least 1.5 strands per hair
+    // 4000 strands in one cluster with levels = 3: the option still caps the depth.
+    EXPECT_EQ(build_lod(test_hair(4000, 6, 9), {.guides = 1, .levels = 3, .control_points = 6}).thick_levels.size(), 2u);
+}
+
+TEST(LodAssetLevels, AutomaticGuideCountFollowsTheStrands) {
+    EXPECT_EQ(auto_guide_count(1), 1);
+    EXPECT_EQ(auto_guide_count(10), 10);
+    EXPECT_EQ(auto_guide_count(100), kMinAutoGuides);
+    EXPECT_EQ(auto_guide_count(8000), 8000 / kStrandsPerGuide);
+    EXPECT_EQ(auto_guide_count(100000), kMaxAutoGuides);
+    EXPECT_EQ(auto_guide_count(size_t{1} << 40), kMaxAutoGuides);
+    const StrandSet hair = test_hair(3000, 6, 5);
+    EXPECT_EQ(build_lod(hair, {.guides = 0, .levels = 3, .control_points = 6}).guide_count(),
+              static_cast<size_t>(auto_guide_count(3000)));
+    EXPECT_EQ(build_lod(hair, {.guides = 7, .levels = 3, .control_points = 6}).guide_count(), 7u);
 }
 
 TEST(LodAssetLevels, ProgressCountsEveryStepAndCancels) {
@@ -340,7 +354,7 @@ TEST(LodAssetHardCases, ClearErrors) {
     nan_strands.points[6].y = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(build_lod(nan_strands), Error);
     EXPECT_THROW(build_lod(StrandSet{}), Error);
-    EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.guides = 0}), Error);
+    EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.guides = -1}), Error);
     EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.levels = 1}), Error);
     const LodAsset asset = build_lod(test_hair(5, 4, 1), {.guides = 2});
     EXPECT_THROW(asset.skin(std::vector<glm::vec3>(3)), Error);

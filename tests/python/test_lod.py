@@ -176,13 +176,22 @@ def test_scene_levels_follow_the_cameras(asset):
     assert lod.scene_levels(asset, [near, far]) == sorted(set(near_levels) | set(far_levels))
 
 
-def test_default_levels_are_all_built(asset):
-    # levels=5: L0..L3 thick and the strands; the clusters here (about 90 strands) allow all of them.
-    assert len(asset.levels) == 4
-    mean_sizes = [level.n_total.mean() for level in asset.levels]
-    shrink = [coarse / fine for coarse, fine in zip(mean_sizes, mean_sizes[1:])]
-    print("mean hair sizes", mean_sizes, "area ratios", asset.area_ratios)
-    assert all(1.3 < s <= 4.5 for s in shrink)
+def test_levels_about_fourfold_apart_in_area(asset):
+    # levels=5 is the most (L0..L3 and the strands); the clusters here (about 90 strands) split
+    # about 4x in area per level (Sec. 5.1 step 2) until a split would leave under 4 strands per hair.
+    assert 2 <= len(asset.levels) <= 4
+    print("mean hair sizes", [level.n_total.mean() for level in asset.levels], "area ratios", asset.area_ratios)
+    assert all(2.5 < ratio < 8.0 for ratio in asset.area_ratios)
+    assert all(fine.n_total.mean() >= 4.0 for fine in asset.levels)
+
+
+def test_automatic_guides(tmp_path):
+    from hairlod import _core, lod
+
+    hair = hanging_hair(curves=3000)
+    assert lod.build_lod(hair, levels=3, control_points=6).guide_count == _core.auto_guide_count(3000) == 23
+    assert lod.build_lod(hair, guides=0, levels=3, control_points=6).guide_count == 23
+    assert _core.auto_guide_count(100_000) == 256 and _core.auto_guide_count(5) == 5
 
 
 def test_manifest_states_per_hair_data_and_membership(asset, tmp_path):

@@ -79,7 +79,7 @@ class LodBuildJob:
     starts the build in a worker thread; step() does the next piece of main-thread work and returns
     True when all is done; cancel() stops the build and removes everything the job made."""
 
-    def __init__(self, context, source, guides=256, levels=6, control_points=16, seed=0, scene_cameras_only=False,
+    def __init__(self, context, source, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
                  frame_step=1, width_px=2.0):
         from .. import lod
         from .curves import curves_to_strands
@@ -170,7 +170,8 @@ def _build_properties(options):
     """The build's parameters as property annotations: stored per object (the sidebar's settings)
     and on the operator (its redo panel), declared once."""
     return {
-        "guides": IntProperty(name="Guides", description="Guide hairs chosen by k-means", default=256, min=1,
+        "guides": IntProperty(name="Guides", description="Guide hairs chosen by k-means (0: automatic, one per 128 "
+                              "strands, 16 to 256)", default=0, min=0,
                               options=options),
         "levels": IntProperty(name="Levels", description="LoD levels including the strands themselves",
                               default=6, min=2, max=16, options=options),

@@ -23,7 +23,7 @@ def material_params(obj):
     return None
 
 
-def build_lod(obj, context=None, guides=256, levels=6, control_points=16, seed=0, scene_cameras_only=False,
+def build_lod(obj, context=None, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
               frame_step=1, width_px=2.0):
     """Builds the LoD of the hair Curves object `obj` as the Build Hair LoD operator does (one Curves
     object per level in the "Hair LoD" collection, the asset packed into `obj`) and returns the

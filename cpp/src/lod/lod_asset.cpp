@@ -20,12 +20,21 @@ namespace hairlod {
 
 namespace {
 
-// Sec. 5.1 step 2: the thick-hair cross-section area shrinks about 4x per level. Area follows the
-// member count, so the schedule of hair sizes shrinks at most 4x per level.
-constexpr double kMaxLevelShrink = 4.0;
-// The finest thick level aims at this many strands per hair: fewer (2 or 3 strands, often nearly
-// in a line) leave slivers, and the area would drop far more than 4x at the last level.
+// Sec. 5.1 step 2: the thick-hair cross-section area shrinks about 4x per level.
+constexpr double kLevelAreaRatio = 4.0;
+// Children of a split keep at least this many strands on average: fewer (2 or 3 strands, often
+// nearly in a line) leave slivers no wider than the strands themselves.
 constexpr double kFinestHairStrands = 4.0;
+// Splits tried per hair to reach kLevelAreaRatio; the area measured at this many control points.
+constexpr int kSplitAttempts = 3;
+constexpr size_t kAreaSamples = 4;
+// A split must shrink the mean area at least this much (the geometric middle of 1 and 4), else
+// the hair is carried whole: a level barely finer than its parent costs bytes and draws as much.
+constexpr double kMinSplitAreaRatio = 2.0;
+// A whole level must shrink the mean area (over its hairs, carried ones included) at least this
+// much, the low end of "about 4x": a finer level would be mostly a copy of the one above, so the
+// thick levels stop there and the strands come next.
+constexpr double kMinLevelAreaRatio = 3.0;
 // The largest radius is stored near 2^10 (LodAsset::radius_exponent): room above for the growth
 // that keeps coverage (the half's largest is about 2^16) and 24 binades below in full precision.
 constexpr int kRadiusHeadroomBits = 10;
@@ -68,7 +77,8 @@ std::vector<float> centred_features(const StrandSet& resampled) {
 
 // Sec. 5.1 step 1: k-means guides, each the exact medoid of its (non-empty) cluster.
 std::vector<int64_t> select_guides(const FeatureRows& rows, const LodOptions& options) {
-    std::vector<float> seeds = kmeans_plus_plus_seeds(rows, static_cast<size_t>(options.guides), options.seed);
+    const int count = options.guides > 0 ? options.guides : auto_guide_count(rows.size());
+    std::vector<float> seeds = kmeans_plus_plus_seeds(rows, static_cast<size_t>(count), options.seed);
     const KMeansResult clusters =
         kmeans(rows, std::move(seeds), options.max_kmeans_iterations, options.kmeans_stop_fraction);
     std::vector<int64_t> guides;
@@ -111,44 +121,6 @@ GuideSet guide_set(const std::array<int32_t, 3>& guides, const glm::vec3* guide_
     return set;
 }
 
-// One group of strands per thick hair of a level, in hair order.
-using Groups = std::vector<std::vector<int32_t>>;
-
-// Splits group h into round(size / target_size[h]) children (at least 1) by k-means on the
-// members' control points.
-Groups split_groups(const Groups& parents, std::span<const double> target_size, const FeatureRows& rows, uint64_t seed,
-                    std::vector<int32_t>& parent_of) {
-    std::vector<Groups> children(parents.size());
-    tbb::parallel_for(size_t{0}, parents.size(), [&](size_t h) {
-        const std::vector<int32_t>& members = parents[h];
-        const auto k = static_cast<size_t>(std::clamp<double>(
-            std::round(static_cast<double>(members.size()) / target_size[h]), 1.0, static_cast<double>(members.size())));
-        if (k < 2) {
-            children[h] = {members};
-            return;
-        }
-        std::vector<float> local(members.size() * rows.dim);
-        for (size_t m = 0; m < members.size(); ++m)
-            std::copy_n(rows.row(static_cast<size_t>(members[m])), rows.dim, local.begin() + static_cast<std::ptrdiff_t>(m * rows.dim));
-        const FeatureRows local_rows{local, rows.dim};
-        // A seed per group makes the result independent of scheduling.
-        std::vector<float> seeds = kmeans_plus_plus_seeds(local_rows, k, seed ^ (0x9E3779B97F4A7C15ull * (h + 1)));
-        const KMeansResult split = kmeans(local_rows, std::move(seeds), 100);
-        Groups result(split.centres.size() / rows.dim);
-        for (size_t m = 0; m < members.size(); ++m) result[static_cast<size_t>(split.assignment[m])].push_back(members[m]);
-        std::erase_if(result, [](const std::vector<int32_t>& g) { return g.empty(); });
-        children[h] = std::move(result);
-    });
-    Groups flat;
-    parent_of.clear();
-    for (size_t h = 0; h < children.size(); ++h)
-        for (std::vector<int32_t>& child : children[h]) {
-            flat.push_back(std::move(child));
-            parent_of.push_back(static_cast<int32_t>(h));
-        }
-    return flat;
-}
-
 std::vector<glm::vec3> unit_tangents(const StrandSet& resampled, int control_points) {
     std::vector<glm::vec3> tangents(resampled.points.size());
     const auto nc = static_cast<size_t>(control_points);
@@ -161,6 +133,115 @@ std::vector<glm::vec3> unit_tangents(const StrandSet& resampled, int control_poi
         }
     });
     return tangents;
+}
+
+// One group of strands per thick hair of a level, in hair order.
+using Groups = std::vector<std::vector<int32_t>>;
+
+// Mean area of the ellipses fitted to `members` at kAreaSamples control points spread along the
+// hair: the cross-section area the level would store, at a fraction of the fitting cost.
+double sampled_area(std::span<const int32_t> members, const StrandSet& resampled, const std::vector<glm::vec3>& tangents,
+                    size_t nc, float coverage, std::vector<glm::vec3>& points, std::vector<glm::vec3>& point_tangents,
+                    std::vector<float>& scratch) {
+    const size_t samples = std::min(kAreaSamples, nc);
+    points.resize(members.size());
+    point_tangents.resize(members.size());
+    double area = 0.0;
+    for (size_t i = 0; i < samples; ++i) {
+        const size_t k = std::min(nc - 1, (2 * i + 1) * nc / (2 * samples));
+        double radius = 0.0;
+        for (size_t j = 0; j < members.size(); ++j) {
+            const size_t at = static_cast<size_t>(members[j]) * nc + k;
+            points[j] = resampled.points[at];
+            point_tangents[j] = tangents[at];
+            radius += resampled.radius[at];
+        }
+        area += fit_cross_section(points, point_tangents, static_cast<float>(radius / static_cast<double>(members.size())),
+                                  coverage, scratch).area();
+    }
+    return area / static_cast<double>(samples);
+}
+
+// k-means of `members` into (up to) k non-empty children.
+Groups kmeans_split(std::span<const int32_t> members, size_t k, const FeatureRows& rows, uint64_t seed) {
+    std::vector<float> local(members.size() * rows.dim);
+    for (size_t m = 0; m < members.size(); ++m)
+        std::copy_n(rows.row(static_cast<size_t>(members[m])), rows.dim, local.begin() + static_cast<std::ptrdiff_t>(m * rows.dim));
+    const FeatureRows local_rows{local, rows.dim};
+    const KMeansResult split = kmeans(local_rows, kmeans_plus_plus_seeds(local_rows, k, seed), 100);
+    Groups result(split.centres.size() / rows.dim);
+    for (size_t m = 0; m < members.size(); ++m) result[static_cast<size_t>(split.assignment[m])].push_back(members[m]);
+    std::erase_if(result, [](const std::vector<int32_t>& g) { return g.empty(); });
+    return result;
+}
+
+struct SplitContext {
+    const FeatureRows& rows;
+    const StrandSet& resampled;
+    const std::vector<glm::vec3>& tangents;
+    size_t control_points;
+    float coverage;
+};
+
+// Splits every hair of a level into the children whose mean cross-section area is closest to
+// 1/kLevelAreaRatio of the hair's (Sec. 5.1 step 2). Area does not follow the strand count (a
+// child's strands spread across its parent's section at some control points), so k starts at 4
+// and grows by the exponent the last try measured, area ~ k^-alpha. A hair whose children
+// would average fewer than kFinestHairStrands strands, or that no try shrinks by
+// kMinSplitAreaRatio, is kept whole. `area_ratio` is the parents' mean sampled area over the
+// children's.
+Groups split_level(const Groups& parents, const SplitContext& context, uint64_t seed, std::vector<int32_t>& parent_of,
+                   double& area_ratio) {
+    std::vector<Groups> children(parents.size());
+    std::vector<double> parent_areas(parents.size()), children_areas(parents.size());
+    tbb::parallel_for(size_t{0}, parents.size(), [&](size_t h) {
+        const std::vector<int32_t>& members = parents[h];
+        const auto most = static_cast<size_t>(static_cast<double>(members.size()) / kFinestHairStrands);
+        children[h] = {members};
+        if (most < 2) return;
+        std::vector<glm::vec3> points, point_tangents;
+        std::vector<float> scratch;
+        auto area_of = [&](std::span<const int32_t> group) {
+            return sampled_area(group, context.resampled, context.tangents, context.control_points, context.coverage, points,
+                                point_tangents, scratch);
+        };
+        const double parent_area = parent_areas[h] = children_areas[h] = area_of(members);
+        double best_miss = std::numeric_limits<double>::infinity();
+        size_t k = std::min<size_t>(static_cast<size_t>(kLevelAreaRatio), most);
+        for (int attempt = 0; attempt < kSplitAttempts; ++attempt) {
+            // A seed per hair and attempt makes the result independent of scheduling.
+            Groups split = kmeans_split(members, k, context.rows, seed ^ (0x9E3779B97F4A7C15ull * (3 * h + attempt + 1)));
+            double area_sum = 0.0;
+            for (const std::vector<int32_t>& child : split) area_sum += area_of(child);
+            const double child_area = area_sum / static_cast<double>(split.size());
+            const double ratio = child_area > 0.0 ? parent_area / child_area : kLevelAreaRatio;
+            const double miss = std::abs(std::log(ratio / kLevelAreaRatio));
+            if (miss < best_miss && split.size() > 1 && ratio >= kMinSplitAreaRatio) {
+                best_miss = miss;
+                children_areas[h] = area_sum;
+                children[h] = std::move(split);
+            }
+            if (ratio >= kLevelAreaRatio / 1.25 || k == most) break;
+            const double alpha = std::clamp(std::log(std::max(ratio, 1.01)) / std::log(static_cast<double>(k)), 0.25, 1.0);
+            const auto next = static_cast<size_t>(std::ceil(static_cast<double>(k) * std::pow(kLevelAreaRatio / ratio, 1.0 / alpha)));
+            k = std::min(most, std::max(next, k + 1));
+        }
+    });
+    Groups flat;
+    parent_of.clear();
+    double parent_sum = 0.0, children_sum = 0.0;
+    for (size_t h = 0; h < children.size(); ++h) {
+        parent_sum += parent_areas[h];
+        children_sum += children_areas[h];
+        for (std::vector<int32_t>& child : children[h]) {
+            flat.push_back(std::move(child));
+            parent_of.push_back(static_cast<int32_t>(h));
+        }
+    }
+    const double parent_mean = parent_sum / static_cast<double>(parents.size());
+    const double children_mean = children_sum / static_cast<double>(flat.size());
+    area_ratio = children_mean > 0.0 ? parent_mean / children_mean : 1.0;
+    return flat;
 }
 
 // Sec. 5.1 step 3 for every hair of a level: the exact cross-sections [hairs * n_c].
@@ -272,7 +353,7 @@ float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const s
 }
 
 void check_options(const LodOptions& options) {
-    if (options.guides < 1) throw Error("build_lod: guides must be >= 1, got " + std::to_string(options.guides));
+    if (options.guides < 0) throw Error("build_lod: guides must be >= 1 (or 0: automatic), got " + std::to_string(options.guides));
     if (options.levels < 2 || options.levels > 16)
         throw Error("build_lod: levels must be in [2, 16] (thick levels plus the strands), got " + std::to_string(options.levels));
     if (options.control_points < 2) throw Error("build_lod: control_points must be >= 2, got " + std::to_string(options.control_points));
@@ -285,6 +366,11 @@ void check_options(const LodOptions& options) {
 }
 
 }  // namespace
+
+int auto_guide_count(size_t strand_count) {
+    const size_t wanted = std::clamp<size_t>(strand_count / kStrandsPerGuide, kMinAutoGuides, kMaxAutoGuides);
+    return static_cast<int>(std::max<size_t>(1, std::min(wanted, strand_count)));
+}
 
 LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     check_options(options);
@@ -334,33 +420,18 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     report_step(options.progress);
 
     // Finer levels by splitting L0 (Sec. 5.1 step 2).
+    const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
     std::vector<Groups> level_groups(1);
     std::vector<std::vector<int32_t>> level_parents(1, std::vector<int32_t>(cluster_count, -1));
     for (size_t c = 0; c < cluster_count; ++c)
         level_groups[0].emplace_back(l0.members.begin() + l0.first[c], l0.members.begin() + l0.first[c + 1]);
-    // Per L0 cluster of n strands, a geometric schedule of hair sizes n / f^l from L0 down to
-    // kFinestHairStrands at the finest thick level L_{n_L - 2}, f = (n / 4)^(1 / (n_L - 2)), but
-    // shrinking at most 4x per level (then the finest level keeps more strands per hair). Every
-    // group splits towards its cluster's size for the next level, so rounding does not accumulate.
-    const auto thick_wanted = static_cast<size_t>(options.levels - 1);
-    std::vector<double> shrink(cluster_count, 1.0);
-    for (size_t c = 0; thick_wanted > 1 && c < cluster_count; ++c) {
-        const double span = static_cast<double>(level_groups[0][c].size()) / kFinestHairStrands;
-        shrink[c] = std::clamp(std::pow(span, 1.0 / static_cast<double>(thick_wanted - 1)), 1.0, kMaxLevelShrink);
-    }
-    for (size_t depth = 1; depth < thick_wanted; ++depth) {
-        const Groups& coarser = level_groups.back();
-        std::vector<double> target_size(coarser.size());
-        for (size_t h = 0; h < coarser.size(); ++h) {
-            const auto c = static_cast<size_t>(strand_cluster[static_cast<size_t>(coarser[h][0])]);
-            target_size[h] = static_cast<double>(level_groups[0][c].size()) / std::pow(shrink[c], static_cast<double>(depth));
-        }
+    const SplitContext split_context{rows, resampled, tangents, nc, options.ellipse_coverage};
+    for (int depth = 1; depth < options.levels - 1; ++depth) {
         std::vector<int32_t> parents;
-        Groups finer = split_groups(coarser, target_size, rows, options.seed + depth, parents);
+        double area_ratio = 1.0;
+        Groups finer = split_level(level_groups.back(), split_context, options.seed + static_cast<uint64_t>(depth), parents, area_ratio);
         report_step(options.progress);
-        // A level where no hair splits would copy the previous one: skipped (small inputs only,
-        // whose sizes round to the same counts); the schedule goes on.
-        if (finer.size() == coarser.size()) continue;
+        if (area_ratio < kMinLevelAreaRatio) break;
         level_groups.push_back(std::move(finer));
         level_parents.push_back(std::move(parents));
     }
@@ -401,7 +472,6 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     asset.timings.weights = watch.lap();
     report_step(options.progress);
 
-    const std::vector<glm::vec3> tangents = unit_tangents(resampled, options.control_points);
     std::vector<std::vector<CrossSection>> level_sections;
     float largest_radius = 0.0f;
     for (size_t l = 0; l < level_groups.size(); ++l) {

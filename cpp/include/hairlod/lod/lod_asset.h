@@ -34,8 +34,8 @@ public:
 };
 
 struct LodOptions {
-    int guides = 256;          // k of the guide k-means
-    int levels = 6;            // n_L: thick-hair levels L0 .. L_{n_L - 2}, then the strands
+    int guides = 0;            // k of the guide k-means; 0: auto_guide_count(strand count)
+    int levels = 6;            // n_L at most: thick-hair levels L0 .. L_{n_L - 2}, then the strands
     int control_points = 16;   // n_c per strand and per thick hair
     uint64_t seed = 0;
     int max_kmeans_iterations = 20;  // Lloyd updates for the guides
@@ -173,10 +173,18 @@ struct LodAsset {
     LodGeometry rest_geometry() const { return skin(rest_guides); }
 };
 
+// The default guide count: one guide per kStrandsPerGuide strands, from kMinAutoGuides (or every
+// strand, when there are fewer) to kMaxAutoGuides. L0 clusters (strands sharing their 3 nearest
+// guides, about 3-5 clusters per guide) then hold tens of strands on a few thousand strands and
+// about a hundred on 10^5, room for thick levels 4x apart in area below them.
+inline constexpr int kStrandsPerGuide = 128, kMinAutoGuides = 16, kMaxAutoGuides = 256;
+int auto_guide_count(size_t strand_count);
+
 // Builds the asset; throws Error for invalid strands or options, LodBuildCancelled when cancelled.
-// Levels follow a per-cluster size schedule (at most 4x fewer strands per hair per level); a level
-// that would copy the one above (every L0 cluster too small to split there, e.g. 1 strand) is not
-// built, so only such inputs get fewer thick levels than asked.
+// Each thick hair splits into as many children as bring the mean cross-section area about 4x
+// down (Sec. 5.1 step 2), while the children keep at least 4 strands on average; a hair that
+// cannot split is carried to the next level unchanged. Levels stop when no hair splits, or at
+// options.levels - 1 thick levels.
 LodAsset build_lod(const StrandSet& strands, const LodOptions& options = {});
 
 }  // namespace hairlod
