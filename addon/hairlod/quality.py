@@ -16,8 +16,9 @@ methods' seed): the noise floor the other rows are read against.
 The equal-time table renders every method again at `equal_time_spp` (default 16) against the same
 reference: the error at a real-time sample budget, noise included. A sweep of the LoD width threshold
 eps_w (pixels, Eq. 16) at one view, at `spp`, gives segments and time against error.
-write_view_images() draws per view reference | ds | lod | lod-single | lod - reference; plot_quality()
-the paper's FLIP-against-segments figure. No assertions on times: a benchmark, not a test.
+write_view_images() draws per view reference | ds | lod | lod-single | lod - reference around the
+hair; plot_quality() the paper's FLIP-against-segments figure. No assertions on times: a benchmark,
+not a test.
 """
 
 import os
@@ -179,42 +180,67 @@ def _luminance(image):
     return np.asarray(image, np.float64) @ np.array([0.2126, 0.7152, 0.0722])
 
 
+def _hair_window(reference, others, least=8):
+    """(top, left, side) of the square of `reference` [H, W, 3] that holds every pixel where one of
+    `others` differs from it (the hair, drawn by any method: where no ray meets hair every render reads
+    the same environment), with a margin; the whole image when none differs."""
+    height, width = reference.shape[:2]
+    differs = np.zeros((height, width), bool)
+    for image in others:
+        differs |= np.any(image != reference, axis=-1)
+    if not differs.any():
+        return 0, 0, min(height, width)
+    rows, columns = np.flatnonzero(differs.any(axis=1)), np.flatnonzero(differs.any(axis=0))
+    extent = max(rows[-1] - rows[0], columns[-1] - columns[0]) + 1
+    side = int(min(max(least, int(np.ceil(1.2 * extent)) + 2), height, width))
+    top = int(np.clip((rows[0] + rows[-1] + 1 - side) // 2, 0, height - side))
+    left = int(np.clip((columns[0] + columns[-1] + 1 - side) // 2, 0, width - side))
+    return top, left, side
+
+
 def write_view_images(result, images, folder):
     """Writes, per view of `images` (bench_quality(keep_images=True)["images"]), `folder`/<view>.png:
     the reference | ds | lod | lod-single (those rendered) | lod - reference as linear luminance on a
-    diverging map (scale in its title: the 99th percentile of |difference|). The renders are upscaled by
-    an integer factor (nearest neighbour) to panels at least PANEL_PIXELS wide; titles give the method,
-    PSNR / blurred PSNR and the mean radiance error. `folder` is made when missing; each file replaces
-    its target atomically (atomic_output.replacing_file) and nothing else in the folder is touched.
-    Returns the paths written."""
+    diverging map (scale in its title: the 99th percentile of |difference| over the pixels where it is
+    not 0). Each panel shows the same square around the hair (_hair_window), upscaled by an integer
+    factor (nearest neighbour) to at least PANEL_PIXELS; titles give the window, the method, PSNR /
+    blurred PSNR and the mean radiance error (of the whole image). `folder` is made when missing; each
+    file replaces its target atomically (atomic_output.replacing_file) and nothing else in the folder
+    is touched. Returns the paths written."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     os.makedirs(folder, exist_ok=True)
-    factor = -(-PANEL_PIXELS // result["width"])
-    panel, margin, title_space, dpi = factor * result["width"], 8, 56, 100
+    margin, title_space, dpi = 8, 56, 100
     paths = []
     for view, view_images in images.items():
         rows, reference = result["views"][view]["rows"], view_images["reference"]
-        panels = [(f"{view}: pt reference\n{result['reference_spp']} spp", render.to_srgb8(reference), {})]
-        for method in (m for m in IMAGE_METHODS if m in view_images):
+        shown = [m for m in IMAGE_METHODS if m in view_images]
+        top, left, side = _hair_window(reference, [view_images[m] for m in shown])
+        factor = -(-PANEL_PIXELS // side)
+        panels = [(f"{view}: pt reference, {result['reference_spp']} spp\nx {left}-{left + side - 1}, "
+                   f"y {top}-{top + side - 1} of {result['width']} px, shown x{factor}", render.to_srgb8(reference), {})]
+        for method in shown:
             r = rows[method]
             panels.append((f"{method}, {result['spp']} spp\nPSNR {_db(r['psnr'])}, blurred {_db(r['blurred_psnr'])} dB\n"
                            f"radiance RGB {_rgb(r['radiance_error'])} %", render.to_srgb8(view_images[method]), {}))
         if "lod" in view_images:
             difference = _luminance(view_images["lod"]) - _luminance(reference)
-            scale = max(float(np.percentile(np.abs(difference), 99)), 1e-6)
+            changed = np.abs(difference[difference != 0.0])
+            scale = float(np.percentile(changed, 99)) if changed.size else 1e-6
             panels.append((f"lod - reference, linear luminance\nscale +-{scale:.2g} (red: lod brighter)", difference,
                            {"cmap": "RdBu_r", "vmin": -scale, "vmax": scale}))
+        panel = factor * side
         width_px = len(panels) * (panel + margin) + margin
         height_px = panel + title_space + margin
         figure = plt.figure(figsize=(width_px / dpi, height_px / dpi), dpi=dpi)
         for i, (title, pixels, style) in enumerate(panels):
             ax = figure.add_axes(((margin + i * (panel + margin)) / width_px, margin / height_px, panel / width_px,
                                   panel / height_px))
-            ax.imshow(np.repeat(np.repeat(pixels, factor, axis=0), factor, axis=1), interpolation="nearest", **style)
+            window = pixels[top:top + side, left:left + side]
+            ax.imshow(np.repeat(np.repeat(window, factor, axis=0), factor, axis=1), interpolation="nearest", **style)
             ax.set_title(title, fontsize=7.5)
             ax.set_axis_off()
         path = os.path.join(folder, f"{view}.png")

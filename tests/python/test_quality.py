@@ -106,6 +106,15 @@ def test_coverage_is_one_minus_the_coverage_only_image(tiny_strands):
             render.frame_view(tiny_strands.points, "near", 16)))
 
 
+def test_image_window_holds_the_hair():
+    reference = np.full((64, 48, 3), 0.15)
+    other = reference.copy()
+    other[40:45, 3:6] = 0.5  # the hair, near the left edge
+    top, left, side = quality._hair_window(reference, [other])
+    assert 8 <= side <= 48 and 0 <= top <= 40 and top + side >= 45 and left == 0 and left + side >= 6
+    assert quality._hair_window(reference, [reference.copy()]) == (0, 0, 48)
+
+
 def test_default_guides():
     assert quality.default_guides(100_000) == 256
     assert quality.default_guides(300) == 75
