@@ -436,12 +436,28 @@ def _bench_generate(args):
     return 0
 
 
+def _check_images_folder(path, views):
+    """--images DIR: a folder, or a path where one can be made, whose <view>.png are not folders
+    (checked before a long benchmark runs)."""
+    existing = os.path.abspath(path)
+    while not os.path.lexists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        raise UsageError(f"--images {path}: {existing} exists and is not a folder")
+    for view in views:
+        image = os.path.join(path, f"{view}.png")
+        if os.path.isdir(image):
+            raise UsageError(f"--images {path}: {image} is a folder")
+
+
 def _bench_quality(args):
-    from . import lod, quality
+    from . import lod, quality, render
 
     if not args.input:
         raise UsageError("bench quality needs an input hair file: bench quality IN")
     _check_plot_path(args.plot)
+    if args.images:
+        _check_images_folder(args.images, render.VIEWS)
     try:
         eps_w = [float(v) for v in args.eps_w.split(",") if v]
     except ValueError:
@@ -449,11 +465,15 @@ def _bench_quality(args):
     strands, read_seconds = _read_timed(args.input)
     asset = lod.load(args.lod) if args.lod else None
     say = None if args.json else (lambda message: print(f"bench quality: {message}", file=sys.stderr, flush=True))
+    start = time.perf_counter()
     result = quality.bench_quality(strands, asset=asset, spp=args.spp, width=args.width,
-                                   reference_spp=args.reference_spp, eps_w=eps_w, width_px=args.width_px,
-                                   guides=quality.default_guides(len(strands), args.guides),
-                                   params=_read_params(args.params), progress=say)
-    result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds)
+                                   reference_spp=args.reference_spp, equal_time_spp=args.equal_time_spp, eps_w=eps_w,
+                                   width_px=args.width_px, guides=quality.default_guides(len(strands), args.guides),
+                                   params=_read_params(args.params), keep_images=bool(args.images), progress=say)
+    result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds,
+                  bench_seconds=time.perf_counter() - start)
+    if args.images:
+        result["images"] = quality.write_view_images(result, result.pop("images"), args.images)
     if args.plot:
         _write_plot(args.plot, lambda file: quality.plot_quality(result, file, titles=[os.path.basename(args.input)]))
         result["plot"] = args.plot
@@ -468,6 +488,7 @@ def command_bench(args):
 
 def build_parser():
     from .lod import MAX_CONTROL_POINTS
+    from .render import BLUR_BOX
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -572,9 +593,15 @@ def build_parser():
     bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")
     bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
                        "a quarter of the strands)")
-    bench.add_argument("--spp", type=_integer(1), default=16, help="quality: samples per pixel of the methods (default 16)")
-    bench.add_argument("--reference-spp", type=_integer(1), default=128, help="quality: spp of the pt reference (default 128)")
-    bench.add_argument("--width", type=_integer(1), default=160, help="quality: image width and height (default 160)")
+    bench.add_argument("--spp", type=_integer(1), default=256, help="quality: samples per pixel of the methods (default 256)")
+    bench.add_argument("--reference-spp", type=_integer(1), default=1024,
+                       help="quality: spp of the pt reference (default 1024)")
+    bench.add_argument("--equal-time-spp", type=_integer(1), default=16,
+                       help="quality: spp of the methods in the equal-time table (default 16)")
+    bench.add_argument("--width", type=_integer(BLUR_BOX), default=128,
+                       help=f"quality: image width and height, at least {BLUR_BOX} (default 128)")
+    bench.add_argument("--images", type=_path, metavar="DIR", help="quality: write DIR/<view>.png, reference | ds | lod | "
+                       "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "
                        "(default 0.5,1,2,4,8)")
     bench.add_argument("--params", type=_path, help="quality: HairParams JSON (default: the BCSDF defaults)")
@@ -597,7 +624,7 @@ def _one_line(message):
 
 def _names_a_path(message, args):
     paths = [getattr(args, name, None) for name in ("input", "file", "hairmesh", "lod", "params", "cameras",
-                                                    "from_blend", "out", "output", "plot")]
+                                                    "from_blend", "out", "output", "plot", "images")]
     return any(isinstance(path, str) and path and (path in message or os.path.abspath(path) in message)
                for path in paths)
 

@@ -1,22 +1,42 @@
-"""LoD quality: speed against error of the render methods (hair-lod-aggregated-bcsdf.txt Sec. 6, Fig. 5 and 12).
+"""LoD quality: the bias of the render methods against a converged reference (hair-lod-aggregated-bcsdf.txt
+Sec. 6, Fig. 5 and 12; DESIGN.md, "Judging the LoD's look: bias, not noise").
 
-bench_quality() renders, for each view (near, mid, far), a path-traced full-geometry reference at
-`reference_spp` and every method at `spp`; each row holds the Embree segments in the scene, the render
-time, rays per second and PSNR / SSIM / LDR-FLIP against the reference. A sweep of the LoD width
-threshold eps_w (pixels, Eq. 16) at one view gives segments and time against error. The 'pt' row is an
-independent path-traced render at `spp` (another seed): the noise floor the other methods are read
-against. No assertions on times: a benchmark, not a test.
+bench_quality() renders, for each view (near, mid, far), a path-traced full-geometry reference ('pt' at
+`reference_spp`, default 1024, with a seed of its own) and every method at `spp` (default 256), 128 x 128
+by default, so that noise is small against the differences measured. Each row holds the Embree segments
+in the scene, the render time, rays per second and, against the reference: PSNR, blurred PSNR (of 4 x 4
+box averages in linear radiance, render.blurred_psnr: noise averages out, bias stays), SSIM, LDR-FLIP,
+the signed relative error of the mean linear radiance per channel (R, G, B) over the hair's pixels
+(those the strands cover with alpha > HAIR_ALPHA), and the coverage error of the method's geometry
+against the strands' (render.coverage: relative error of the total alpha, and mean |alpha difference|
+over all pixels). Every coverage render of a view uses the methods' seed and `spp`, so geometry equal
+to the strands reads exactly 0. The 'pt' row is an independent path-traced render at `spp` (the
+methods' seed): the noise floor the other rows are read against.
+
+The equal-time table renders every method again at `equal_time_spp` (default 16) against the same
+reference: the error at a real-time sample budget, noise included. A sweep of the LoD width threshold
+eps_w (pixels, Eq. 16) at one view, at `spp`, gives segments and time against error.
+write_view_images() draws per view reference | ds | lod | lod-single | lod - reference around the
+hair; plot_quality() the paper's FLIP-against-segments figure. No assertions on times: a benchmark,
+not a test.
 """
 
+import os
 import time
 
 import numpy as np
 
-from . import flip, lod, render
+from . import atomic_output, flip, lod, render
 
-__all__ = ["EPS_W", "bench_quality", "default_guides", "format_tables", "plot_quality"]
+__all__ = ["EPS_W", "HAIR_ALPHA", "IMAGE_METHODS", "PANEL_PIXELS", "bench_quality", "default_guides", "format_tables",
+           "plot_quality", "write_view_images"]
 
 EPS_W = (0.5, 1.0, 2.0, 4.0, 8.0)
+# A pixel is the hair's (for the mean radiance) when the strands cover more than half of it.
+HAIR_ALPHA = 0.5
+# The methods write_view_images() shows beside the reference, and the least width of a panel.
+IMAGE_METHODS = ("ds", "lod", "lod-single")
+PANEL_PIXELS = 256
 _REFERENCE_SEED = 1_000_003
 
 
@@ -25,11 +45,23 @@ def default_guides(strand_count, guides=256):
     return int(max(1, min(guides, strand_count // 4)))
 
 
-def _errors(image, reference):
+def _finite(value):
+    """`value` as a float, or None where it is infinite or NaN (strict JSON has neither): an infinite
+    PSNR means identical 8-bit images."""
+    return float(value) if np.isfinite(value) else None
+
+
+def _errors(image, reference, hair):
     test_srgb, reference_srgb = render.to_srgb8(image) / 255.0, render.to_srgb8(reference) / 255.0
-    psnr = render.psnr(image, reference)  # identical 8-bit images: infinite, reported as null (strict JSON)
-    return {"psnr": psnr if np.isfinite(psnr) else None, "ssim": render.ssim(image, reference),
-            "flip": flip.flip(test_srgb, reference_srgb)}
+    return {"psnr": _finite(render.psnr(image, reference)),
+            "blurred_psnr": _finite(render.blurred_psnr(image, reference)),
+            "ssim": render.ssim(image, reference), "flip": flip.flip(test_srgb, reference_srgb),
+            "radiance_error": [_finite(v) for v in render.mean_radiance_error(image, reference, hair)]}
+
+
+def _coverage_errors(alpha, reference_alpha):
+    relative, mean_abs = render.coverage_error(alpha, reference_alpha)
+    return {"coverage_error": _finite(relative), "coverage_abs_error": mean_abs}
 
 
 def _row(result):
@@ -47,14 +79,19 @@ def _db(value):
     return "inf" if value is None else f"{value:.2f}"
 
 
-def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=16, width=160,
-                  reference_spp=128, eps_w=EPS_W, sweep_view="mid", width_px=2.0, guides=None, params=None, seed=0,
-                  progress=None):
+def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=256, width=128,
+                  reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=2.0, guides=None,
+                  params=None, seed=0, keep_images=False, progress=None):
     """Dict with settings, the LoD build (when `asset` is None it is built here), one entry per view
-    {camera, reference, rows: {method: row}} and the eps_w sweep rows. `progress(message)` is called
-    before each render when given."""
-    if int(spp) < 1 or int(width) < 1 or int(reference_spp) < 1:
-        raise ValueError(f"spp, width and reference spp must be >= 1, got {spp}, {width}, {reference_spp}")
+    {camera, reference, rows: {method: row}}, the equal-time rows per view and the eps_w sweep rows.
+    With `keep_images` it also holds "images": {view: {"reference": image, method: image}} (linear
+    [H, W, 3] arrays, not JSON: for write_view_images). `progress(message)` is called before each
+    render when given."""
+    if min(int(spp), int(reference_spp), int(equal_time_spp)) < 1:
+        raise ValueError(f"spp, reference spp and equal-time spp must be >= 1, got {spp}, {reference_spp}, "
+                         f"{equal_time_spp}")
+    if int(width) < render.BLUR_BOX:
+        raise ValueError(f"width must be >= {render.BLUR_BOX} (the blurred PSNR's box), got {width}")
     for view in list(views) + [sweep_view]:
         if view not in render.VIEWS:
             raise ValueError(f"view must be one of {', '.join(render.VIEWS)}, got {view!r}")
@@ -72,40 +109,146 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
         asset = lod.build_lod(strands, guides=guides)
         build = {"guides": asset.guide_count, "clusters": asset.cluster_count, "seconds": time.perf_counter() - start,
                  "levels": lod.level_report(asset)}
-    references, result_views = {}, {}
+
+    def render_method(method, view, samples, eps=width_px):
+        return render.render(strands, method, view, width, samples, asset=asset, params=params, seed=seed, width_px=eps)
+
+    references, hair_pixels, result_views, equal_time, images = {}, {}, {}, {}, {}
     for view in dict.fromkeys(list(views) + [sweep_view]):
-        say(f"{view}: pt reference at {reference_spp} spp")
+        say(f"{view}: pt reference at {reference_spp} spp, and the strands' coverage")
         reference = render.render(strands, "pt", view, width, reference_spp, params=params, seed=_REFERENCE_SEED)
-        references[view] = reference
+        reference_alpha = render.coverage(strands, "pt", view, width, spp, seed=seed)
+        references[view], hair = reference, reference_alpha > HAIR_ALPHA
+        hair_pixels[view] = hair
         if view not in views:
             continue
-        rows = {}
+        rows, equal_rows, view_images = {}, {}, {"reference": reference["image"]}
         for method in methods:
-            say(f"{view}: {method}")
-            out = render.render(strands, method, view, width, spp, asset=asset, params=params, seed=seed,
-                                width_px=width_px)
-            rows[method] = dict(_row(out), **_errors(out["image"], reference["image"]))
+            say(f"{view}: {method} at {spp} spp, its coverage, and at {equal_time_spp} spp")
+            out = render_method(method, view, spp)
+            alpha = render.coverage(strands, method, view, width, spp, asset=asset, width_px=width_px, seed=seed)
+            rows[method] = dict(_row(out), **_errors(out["image"], reference["image"], hair),
+                                **_coverage_errors(alpha, reference_alpha))
+            view_images[method] = out["image"]
+            quick = render_method(method, view, equal_time_spp)
+            equal_rows[method] = dict(_row(quick), **_errors(quick["image"], reference["image"], hair))
+        radiance = reference["image"][hair].mean(axis=0).tolist() if hair.any() else None
         result_views[view] = {"coverage": render.VIEWS[view], "camera": reference["camera"],
-                              "reference": _row(reference), "rows": rows}
+                              "reference": dict(_row(reference), alpha_mean=float(reference_alpha.mean()),
+                                                hair_pixels=int(hair.sum()), hair_radiance=radiance),
+                              "rows": rows}
+        equal_time[view] = {"rows": equal_rows}
+        images[view] = view_images
     sweep = []
     for eps in eps_w:
         say(f"{sweep_view}: lod at eps_w {eps:g} px")
-        out = render.render(strands, "lod", sweep_view, width, spp, asset=asset, params=params, seed=seed,
-                            width_px=float(eps))
-        sweep.append(dict(_row(out), eps_w=float(eps), **_errors(out["image"], references[sweep_view]["image"])))
-    full_sweep = render.render(strands, "ds", sweep_view, width, spp, params=params, seed=seed)
+        out = render_method("lod", sweep_view, spp, float(eps))
+        sweep.append(dict(_row(out), eps_w=float(eps),
+                          **_errors(out["image"], references[sweep_view]["image"], hair_pixels[sweep_view])))
     summary = {}
     for view, entry in result_views.items():
-        rows = entry["rows"]
-        if "lod" in rows and ("ds" in rows or "pt" in rows):
-            full = rows.get("ds", rows.get("pt"))["segments"]
-            summary[view] = {"segment_reduction": full / max(rows["lod"]["segments"], 1),
-                             "lod_minus_ds_psnr": _difference(rows["lod"]["psnr"], rows.get("ds", {}).get("psnr")),
-                             "lod_minus_ds_flip": rows["lod"]["flip"] - rows["ds"]["flip"] if "ds" in rows else None}
-    return {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
-            "reference_spp": int(reference_spp), "width_px": float(width_px), "lod_build": build,
-            "guides": asset.guide_count, "views": result_views, "summary": summary,
-            "sweep": {"view": sweep_view, "full_segments": int(full_sweep["segments"]), "rows": sweep}}
+        rows, facts = entry["rows"], {}
+        if "pt" in rows:
+            facts["noise_floor_blurred_psnr"] = rows["pt"]["blurred_psnr"]
+        if "lod" in rows:
+            facts["segment_reduction"] = entry["reference"]["segments"] / max(rows["lod"]["segments"], 1)
+            if "ds" in rows:
+                for metric in ("psnr", "blurred_psnr", "flip"):
+                    facts[f"lod_minus_ds_{metric}"] = _difference(rows["lod"][metric], rows["ds"][metric])
+        summary[view] = facts
+    result = {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
+              "reference_spp": int(reference_spp), "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
+              "width_px": float(width_px), "lod_build": build, "guides": asset.guide_count, "views": result_views,
+              "equal_time": {"spp": int(equal_time_spp), "views": equal_time}, "summary": summary,
+              "sweep": {"view": sweep_view, "spp": int(spp), "full_segments": int(references[sweep_view]["segments"]),
+                        "rows": sweep}}
+    if keep_images:
+        result["images"] = images
+    return result
+
+
+def _percent(value, signed=True):
+    return "n/a" if value is None else f"{100.0 * value:{'+' if signed else ''}.2f}"
+
+
+def _rgb(errors):
+    return " / ".join(_percent(v) for v in errors)
+
+
+def _luminance(image):
+    """Rec. 709 luminance of linear RGB."""
+    return np.asarray(image, np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def _hair_window(reference, others, least=8):
+    """(top, left, side) of the square of `reference` [H, W, 3] that holds every pixel where one of
+    `others` differs from it (the hair, drawn by any method: where no ray meets hair every render reads
+    the same environment), with a margin; the whole image when none differs."""
+    height, width = reference.shape[:2]
+    differs = np.zeros((height, width), bool)
+    for image in others:
+        differs |= np.any(image != reference, axis=-1)
+    if not differs.any():
+        return 0, 0, min(height, width)
+    rows, columns = np.flatnonzero(differs.any(axis=1)), np.flatnonzero(differs.any(axis=0))
+    extent = max(rows[-1] - rows[0], columns[-1] - columns[0]) + 1
+    side = int(min(max(least, int(np.ceil(1.2 * extent)) + 2), height, width))
+    top = int(np.clip((rows[0] + rows[-1] + 1 - side) // 2, 0, height - side))
+    left = int(np.clip((columns[0] + columns[-1] + 1 - side) // 2, 0, width - side))
+    return top, left, side
+
+
+def write_view_images(result, images, folder):
+    """Writes, per view of `images` (bench_quality(keep_images=True)["images"]), `folder`/<view>.png:
+    the reference | ds | lod | lod-single (those rendered) | lod - reference as linear luminance on a
+    diverging map (scale in its title: the 99th percentile of |difference| over the pixels where it is
+    not 0). Each panel shows the same square around the hair (_hair_window), upscaled by an integer
+    factor (nearest neighbour) to at least PANEL_PIXELS; titles give the window, the method, PSNR /
+    blurred PSNR and the mean radiance error (of the whole image). `folder` is made when missing; each
+    file replaces its target atomically (atomic_output.replacing_file) and nothing else in the folder
+    is touched. Returns the paths written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(folder, exist_ok=True)
+    margin, title_space, dpi = 8, 56, 100
+    paths = []
+    for view, view_images in images.items():
+        rows, reference = result["views"][view]["rows"], view_images["reference"]
+        shown = [m for m in IMAGE_METHODS if m in view_images]
+        top, left, side = _hair_window(reference, [view_images[m] for m in shown])
+        factor = -(-PANEL_PIXELS // side)
+        panels = [(f"{view}: pt reference, {result['reference_spp']} spp\nx {left}-{left + side - 1}, "
+                   f"y {top}-{top + side - 1} of {result['width']} px, shown x{factor}", render.to_srgb8(reference), {})]
+        for method in shown:
+            r = rows[method]
+            panels.append((f"{method}, {result['spp']} spp\nPSNR {_db(r['psnr'])}, blurred {_db(r['blurred_psnr'])} dB\n"
+                           f"radiance RGB {_rgb(r['radiance_error'])} %", render.to_srgb8(view_images[method]), {}))
+        if "lod" in view_images:
+            difference = _luminance(view_images["lod"]) - _luminance(reference)
+            changed = np.abs(difference[difference != 0.0])
+            scale = float(np.percentile(changed, 99)) if changed.size else 1e-6
+            panels.append((f"lod - reference, linear luminance\nscale +-{scale:.2g} (red: lod brighter)", difference,
+                           {"cmap": "RdBu_r", "vmin": -scale, "vmax": scale}))
+        panel = factor * side
+        width_px = len(panels) * (panel + margin) + margin
+        height_px = panel + title_space + margin
+        figure = plt.figure(figsize=(width_px / dpi, height_px / dpi), dpi=dpi)
+        for i, (title, pixels, style) in enumerate(panels):
+            ax = figure.add_axes(((margin + i * (panel + margin)) / width_px, margin / height_px, panel / width_px,
+                                  panel / height_px))
+            window = pixels[top:top + side, left:left + side]
+            ax.imshow(np.repeat(np.repeat(window, factor, axis=0), factor, axis=1), interpolation="nearest", **style)
+            ax.set_title(title, fontsize=7.5)
+            ax.set_axis_off()
+        path = os.path.join(folder, f"{view}.png")
+        with atomic_output.replacing_file(path) as staging:
+            figure.savefig(staging, dpi=dpi, format="png")
+        plt.close(figure)
+        paths.append(path)
+    return paths
 
 
 _COLOURS = {"pt": "black", "ds": "tab:blue", "lod": "tab:red", "lod-single": "tab:orange", "lod-no-s": "tab:green"}
@@ -156,20 +299,42 @@ def plot_quality(results, path, titles=None):
 
 
 def format_tables(result):
-    """The result as two Markdown tables (methods per view; the eps_w sweep), as a string."""
-    lines = ["| view | method | segments | seconds | M rays/s | PSNR dB | SSIM | FLIP |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    """The result as Markdown tables (converged methods per view; the equal-time methods; the eps_w
+    sweep), each after a line saying what it measures, as a string."""
+    spp, reference_spp, box = result["spp"], result["reference_spp"], result["blur_box"]
+    error_columns = "PSNR dB | blurred PSNR dB | FLIP | radiance R / G / B %"
+
+    def errors(r):
+        return f"{_db(r['psnr'])} | {_db(r['blurred_psnr'])} | {r['flip']:.4f} | {_rgb(r['radiance_error'])}"
+
+    def label(method, samples):
+        return f"pt (noise floor, {samples} spp)" if method == "pt" else method
+
+    lines = [f"Converged: pt reference at {reference_spp} spp, each method at {spp} spp, {result['width']} x "
+             f"{result['width']} px. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
+             f"the mean linear radiance over the hair's pixels (strands' alpha > {result['hair_alpha']:g}). Coverage: "
+             "the method's geometry against the strands (total alpha; mean |alpha difference| per pixel). The pt row, "
+             "an independent path-traced render, is the noise floor.", "",
+             f"| view | method | segments | seconds | {error_columns} | coverage % | mean abs alpha % |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for view, entry in result["views"].items():
         ref = entry["reference"]
-        lines.append(f"| {view} | pt reference ({result['reference_spp']} spp) | {ref['segments']} | "
-                     f"{ref['seconds']:.3f} | {ref['rays_per_second'] / 1e6:.2f} | | | |")
+        lines.append(f"| {view} | pt reference ({reference_spp} spp) | {ref['segments']} | {ref['seconds']:.3f} "
+                     "| | | | | | |")
         for method, r in entry["rows"].items():
-            lines.append(f"| {view} | {method} | {r['segments']} | {r['seconds']:.3f} | "
-                         f"{r['rays_per_second'] / 1e6:.2f} | {_db(r['psnr'])} | {r['ssim']:.4f} | {r['flip']:.4f} |")
+            lines.append(f"| {view} | {label(method, spp)} | {r['segments']} | {r['seconds']:.3f} | {errors(r)} | "
+                         f"{_percent(r['coverage_error'])} | {_percent(r['coverage_abs_error'], signed=False)} |")
+    equal_time = result["equal_time"]
+    lines += ["", f"Equal time: each method at {equal_time['spp']} spp against the same reference (noise included).",
+              "", f"| view | method | segments | seconds | {error_columns} |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for view, entry in equal_time["views"].items():
+        for method, r in entry["rows"].items():
+            lines.append(f"| {view} | {label(method, equal_time['spp'])} | {r['segments']} | {r['seconds']:.3f} | "
+                         f"{errors(r)} |")
     sweep = result["sweep"]
-    lines += ["", f"eps_w sweep ({sweep['view']} view, lod; full geometry {sweep['full_segments']} segments):", "",
-              "| eps_w px | segments | seconds | PSNR dB | SSIM | FLIP |", "| --- | --- | --- | --- | --- | --- |"]
+    lines += ["", f"eps_w sweep ({sweep['view']} view, lod at {sweep['spp']} spp; full geometry {sweep['full_segments']} "
+              "segments):", "", f"| eps_w px | segments | seconds | {error_columns} |",
+              "| --- | --- | --- | --- | --- | --- | --- |"]
     for r in sweep["rows"]:
-        lines.append(f"| {r['eps_w']:g} | {r['segments']} | {r['seconds']:.3f} | {_db(r['psnr'])} | {r['ssim']:.4f} | "
-                     f"{r['flip']:.4f} |")
+        lines.append(f"| {r['eps_w']:g} | {r['segments']} | {r['seconds']:.3f} | {errors(r)} |")
     return "\n".join(lines)

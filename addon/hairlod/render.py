@@ -14,13 +14,16 @@ from . import _core, atomic_output, memory_budget
 from .bcsdf import as_params
 from .camera import look_at, perspective
 
-__all__ = ["METHODS", "VIEWS", "default_lights", "frame_view", "lod_geometry", "psnr", "render", "ssim",
-           "to_srgb8", "write_image"]
+__all__ = ["BLUR_BOX", "METHODS", "VIEWS", "blurred_psnr", "box_average", "coverage", "coverage_error",
+           "default_lights", "frame_view", "lod_geometry", "mean_radiance_error", "psnr", "render", "ssim", "to_srgb8",
+           "write_image"]
 
 METHODS = ("pt", "ds", "lod", "lod-single", "lod-no-s")
 # Fraction of the image the hair covers: (bounding-sphere diameter on screen / image height)^2.
 VIEWS = {"near": 0.6, "mid": 0.2, "far": 0.02}
 FOV_Y = np.radians(30.0)
+# Pixels per side of the blocks blurred_psnr() averages: 4 x 4 averages 16 pixels' noise away (-12 dB).
+BLUR_BOX = 4
 
 
 def frame_view(points, view, width, height=None, fov_y=FOV_Y):
@@ -103,10 +106,12 @@ def lod_geometry(asset, camera, width_px=2.0):
 
 
 def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, params=None, seed=0,
-           max_bounces=70, width_px=2.0, lights=None, camera=None, progress=None):
+           max_bounces=70, width_px=2.0, lights=None, camera=None, progress=None, coverage_only=False):
     """Renders `strands` (full geometry; also frames the view) or, for the lod methods, the selection of
     `asset` for the framed camera. Returns a dict: image [H, W, 3] float32 linear, camera, seconds,
-    setup_seconds, rays, rays_per_second, segments (Embree curve segments in the scene)."""
+    setup_seconds, rays, rays_per_second, segments (Embree curve segments in the scene).
+    coverage_only: black hair under a white environment (it takes no `lights`), so every channel of
+    the image is 1 - alpha, the thick hairs' gaps included."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if int(spp) < 1 or int(width) < 1:
@@ -115,6 +120,10 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
     memory_budget.check(int(width) ** 2 * 3 * (4 + 8 + 8), f"a {width} x {width} image (width)")
     strands.require_float_range("render")  # before framing the view on it
     camera = camera or frame_view(strands.points, view, width)
+    if coverage_only:
+        if lights is not None:
+            raise ValueError("coverage_only renders under its own white environment: pass no lights")
+        lights = {"directional": [], "points": [], "environment": np.ones(3, np.float32)}
     lights = lights or default_lights(camera)
     params = as_params(params)
     if method.startswith("lod"):
@@ -123,11 +132,24 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
         scene_strands, thick = lod_geometry(asset, camera, width_px)
     else:
         scene_strands, thick = strands, None
-    result = _core.render(scene_strands, thick, camera, lights, params, method=method, spp=int(spp),
-                          max_bounces=int(max_bounces), seed=int(seed), progress=progress)
+    # Coverage is the geometry's alone; the core's dual-scattering integrator ('ds') ignores
+    # coverage_only, so coverage is traced by the path tracer, which stops at the camera ray's hit.
+    traced = "pt" if coverage_only else method
+    result = _core.render(scene_strands, thick, camera, lights, params, method=traced, spp=int(spp),
+                          max_bounces=int(max_bounces), seed=int(seed), coverage_only=bool(coverage_only),
+                          progress=progress)
     result["camera"] = camera
     result["segments"] = int(result["strand_segments"] + result["thick_segments"])
     return result
+
+
+def coverage(strands, method="pt", view="mid", width=256, spp=16, asset=None, camera=None, width_px=2.0, seed=0):
+    """Alpha [H, W] float32 in [0, 1] of the geometry `method` renders (the strands, or the selection of
+    `asset`), framed as render() frames it: the fraction of each pixel's camera rays that meet hair,
+    through the thick hairs' gaps included (1 - render(coverage_only=True)'s image)."""
+    result = render(strands, method, view, width, spp, asset=asset, seed=seed, width_px=width_px, camera=camera,
+                    coverage_only=True)
+    return 1.0 - result["image"][..., 0]
 
 
 def to_srgb8(image, exposure=1.0):
@@ -163,3 +185,45 @@ def ssim(image, reference):
     from skimage.metrics import structural_similarity
 
     return float(structural_similarity(to_srgb8(image), to_srgb8(reference), channel_axis=-1, data_range=255))
+
+
+def box_average(image, box=BLUR_BOX):
+    """Mean of `image` [H, W, ...] over box x box pixel blocks, [H // box, W // box, ...] float64 (the
+    rows and columns past the last whole block are dropped)."""
+    image, box = np.asarray(image, np.float64), int(box)
+    if box < 1 or image.shape[0] < box or image.shape[1] < box:
+        raise ValueError(f"a {image.shape[1]} x {image.shape[0]} image holds no {box} x {box} block")
+    rows, columns = image.shape[0] // box, image.shape[1] // box
+    blocks = image[:rows * box, :columns * box].reshape(rows, box, columns, box, *image.shape[2:])
+    return blocks.mean(axis=(1, 3))
+
+
+def blurred_psnr(image, reference, box=BLUR_BOX):
+    """psnr() of the images box-averaged over box x box pixels in linear radiance, before the sRGB tone
+    map: the image a box times coarser sensor would see. Pixel noise averages out (4 x 4: 16 pixels,
+    +12 dB against pure noise) while a bias over the block stays, so it reads bias where psnr() reads
+    noise. Infinite when the averaged 8-bit images are identical."""
+    return psnr(box_average(image, box), box_average(reference, box))
+
+
+def mean_radiance_error(image, reference, hair):
+    """Signed relative error per channel (R, G, B) of the mean linear radiance of `image` over the
+    pixels where `hair` [H, W] is true against that of `reference`: (mean(image) - mean(reference)) /
+    mean(reference). NaN in a channel where the reference's mean is 0 or no pixel is hair."""
+    hair = np.asarray(hair, bool)
+    if not hair.any():
+        return np.full(3, np.nan)
+    test = np.asarray(image, np.float64)[hair].mean(axis=0)
+    truth = np.asarray(reference, np.float64)[hair].mean(axis=0)
+    error = np.full(3, np.nan)
+    np.divide(test - truth, truth, out=error, where=truth > 0.0)
+    return error
+
+
+def coverage_error(alpha, reference_alpha):
+    """(signed relative error of the total alpha, NaN when the reference covers nothing; mean absolute
+    alpha difference over all pixels) of `alpha` against `reference_alpha` (both [H, W])."""
+    alpha, reference_alpha = np.asarray(alpha, np.float64), np.asarray(reference_alpha, np.float64)
+    total, reference_total = alpha.sum(), reference_alpha.sum()
+    relative = (total - reference_total) / reference_total if reference_total > 0.0 else float("nan")
+    return float(relative), float(np.mean(np.abs(alpha - reference_alpha)))

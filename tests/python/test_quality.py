@@ -1,4 +1,5 @@
-"""bench quality (hairlod.quality and the CLI) on a tiny input: JSON structure and invariants; never times."""
+"""bench quality (hairlod.quality, its metrics in hairlod.render, and the CLI) on a tiny input: JSON
+structure and invariants; never times."""
 
 import json
 import math
@@ -6,11 +7,12 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import REPO
 
-from hairlod import bench, io, quality, render
+from hairlod import _core, bench, io, lod, quality, render
 
 
 def run_cli(*args):
@@ -26,50 +28,195 @@ def tiny_hair(tmp_path_factory):
     return path
 
 
+@pytest.fixture(scope="module")
+def tiny_strands(tiny_hair):
+    return io.read(str(tiny_hair))
+
+
+def test_box_average_of_a_constant_is_the_constant():
+    image = np.full((18, 13, 3), 0.37)
+    averaged = render.box_average(image, 4)
+    # Rows and columns past the last whole block are dropped.
+    assert averaged.shape == (4, 3, 3) and np.allclose(averaged, 0.37, rtol=0, atol=1e-15)
+    ramp = np.arange(16.0).reshape(4, 4)
+    assert render.box_average(ramp, 2).tolist() == [[2.5, 4.5], [10.5, 12.5]]
+    with pytest.raises(ValueError, match="block"):
+        render.box_average(np.zeros((3, 8, 3)), 4)
+
+
+def test_blurred_psnr_reads_bias_not_noise():
+    clean = np.full((64, 64, 3), 0.3)
+    assert render.blurred_psnr(clean, clean) == math.inf
+    noisy = clean + np.random.default_rng(5).normal(0.0, 0.05, clean.shape)  # the same mean, pixel noise
+    # 4 x 4 averages cut the noise's standard deviation 4 times: about +12 dB.
+    assert render.blurred_psnr(noisy, clean) > render.psnr(noisy, clean) + 8.0
+    biased = clean * 1.1  # a bias: no averaging removes it
+    assert abs(render.blurred_psnr(biased, clean) - render.psnr(biased, clean)) < 0.5
+
+
+def test_mean_radiance_error():
+    rng = np.random.default_rng(2)
+    reference = rng.uniform(0.1, 1.0, (16, 16, 3))
+    hair = np.zeros((16, 16), bool)
+    hair[4:12, 2:9] = True
+    assert render.mean_radiance_error(reference, reference, hair).tolist() == [0.0, 0.0, 0.0]
+    scaled = reference * np.array([1.1, 1.0, 0.5])
+    assert np.allclose(render.mean_radiance_error(scaled, reference, hair), [0.1, 0.0, -0.5], rtol=0, atol=1e-12)
+    # Only the hair's pixels count.
+    scaled[~hair] = 7.0
+    assert np.allclose(render.mean_radiance_error(scaled, reference, hair), [0.1, 0.0, -0.5], rtol=0, atol=1e-12)
+    assert np.isnan(render.mean_radiance_error(scaled, reference, np.zeros_like(hair))).all()
+    black = reference.copy()
+    black[..., 2] = 0.0
+    assert np.isnan(render.mean_radiance_error(black, black, hair)).tolist() == [False, False, True]
+
+
+def test_coverage_error():
+    alpha = np.random.default_rng(3).uniform(0.0, 1.0, (8, 8))
+    assert render.coverage_error(alpha, alpha) == (0.0, 0.0)
+    relative, mean_abs = render.coverage_error(alpha / 2, alpha)
+    assert relative == pytest.approx(-0.5) and mean_abs == pytest.approx(np.mean(alpha) / 2)
+    relative, mean_abs = render.coverage_error(alpha, np.zeros_like(alpha))
+    assert math.isnan(relative) and mean_abs == pytest.approx(np.mean(alpha))
+
+
+def test_coverage_of_an_empty_scene_is_zero(tiny_strands):
+    camera = render.frame_view(tiny_strands.points, "near", 16)
+    empty = _core.Strands.from_counts(np.zeros((0, 3), np.float32), np.zeros(0, np.int64), np.zeros(0, np.float32))
+    alpha = render.coverage(empty, "pt", width=16, spp=2, camera=camera)
+    assert alpha.shape == (16, 16) and not alpha.any()
+
+
+def test_coverage_is_one_minus_the_coverage_only_image(tiny_strands):
+    image = render.render(tiny_strands, "pt", "near", 24, 4, seed=9, coverage_only=True)["image"]
+    # Black hair under a white environment: every channel is 1 - alpha, in [0, 1].
+    assert np.array_equal(image[..., 0], image[..., 1]) and np.array_equal(image[..., 0], image[..., 2])
+    alpha = render.coverage(tiny_strands, "pt", "near", 24, 4, seed=9)
+    assert np.array_equal(alpha, 1.0 - image[..., 0])
+    assert alpha.min() == 0.0 and 0.0 < alpha.max() <= 1.0
+    # Coverage is the geometry's: ds draws the strands as pt does, and the same seed reads exactly 0.
+    assert np.array_equal(render.coverage(tiny_strands, "ds", "near", 24, 4, seed=9), alpha)
+    assert render.coverage_error(render.coverage(tiny_strands, "pt", "near", 24, 4, seed=9), alpha) == (0.0, 0.0)
+    asset = lod.build_lod(tiny_strands, guides=20)
+    thick = render.coverage(tiny_strands, "lod", "far", 24, 4, asset=asset, seed=9)
+    assert 0.0 <= thick.min() and thick.max() <= 1.0 and thick.any()
+    assert np.array_equal(render.coverage(tiny_strands, "lod-no-s", "far", 24, 4, asset=asset, seed=9), thick)
+    with pytest.raises(ValueError, match="lights"):
+        render.render(tiny_strands, "pt", "near", 16, 1, coverage_only=True, lights=render.default_lights(
+            render.frame_view(tiny_strands.points, "near", 16)))
+
+
+def test_image_window_holds_the_hair():
+    reference = np.full((64, 48, 3), 0.15)
+    other = reference.copy()
+    other[40:45, 3:6] = 0.5  # the hair, near the left edge
+    top, left, side = quality._hair_window(reference, [other])
+    assert 8 <= side <= 48 and 0 <= top <= 40 and top + side >= 45 and left == 0 and left + side >= 6
+    assert quality._hair_window(reference, [reference.copy()]) == (0, 0, 48)
+
+
 def test_default_guides():
     assert quality.default_guides(100_000) == 256
     assert quality.default_guides(300) == 75
     assert quality.default_guides(2) == 1
 
 
-def test_bench_quality_cli_json_and_plot(tiny_hair, tmp_path):
-    plot = tmp_path / "q.png"
-    run = run_cli("bench", "quality", tiny_hair, "--json", "--width", 32, "--spp", 2, "--reference-spp", 4,
-                  "--eps-w", "1,4", "--plot", plot)
+def _finite_or_none(value, low=-math.inf):
+    return value is None or low < value < math.inf
+
+
+def test_bench_quality_cli_json_plot_and_images(tiny_hair, tmp_path):
+    plot, images = tmp_path / "q.png", tmp_path / "images"
+    images.mkdir()
+    (images / "notes.txt").write_text("the user's own file")
+    run = run_cli("bench", "quality", tiny_hair, "--json", "--width", 32, "--spp", 4, "--reference-spp", 8,
+                  "--equal-time-spp", 2, "--eps-w", "1,4", "--plot", plot, "--images", images)
     assert run.returncode == 0, run.stderr
     result = json.loads(run.stdout, parse_constant=lambda name: pytest.fail(f"{name} in the JSON"))
     assert result["component"] == "quality" and result["strands"] == 300
+    assert (result["width"], result["spp"], result["reference_spp"], result["equal_time"]["spp"]) == (32, 4, 8, 2)
+    assert result["blur_box"] == 4 and result["hair_alpha"] == 0.5 and result["bench_seconds"] > 0
     assert result["lod_build"]["guides"] == result["guides"] == 75
-    assert set(result["views"]) == set(render.VIEWS)
+    assert set(result["views"]) == set(render.VIEWS) == set(result["equal_time"]["views"])
     for view, entry in result["views"].items():
         # The reference is not compared with itself: it has no error fields, and no row repeats it.
-        assert "flip" not in entry["reference"]
-        assert set(entry["rows"]) == set(render.METHODS)
+        reference = entry["reference"]
+        assert "flip" not in reference and "blurred_psnr" not in reference
+        assert 0.0 < reference["alpha_mean"] < 1.0 and 0 <= reference["hair_pixels"] <= 32 * 32
+        assert (reference["hair_radiance"] is None) == (reference["hair_pixels"] == 0)
+        assert set(entry["rows"]) == set(render.METHODS) == set(result["equal_time"]["views"][view]["rows"])
         for method, row in entry["rows"].items():
             assert 0.0 <= row["flip"] <= 1.0, (view, method)
             # PSNR is null (not Infinity, which is not JSON) when the 8-bit images are identical.
-            assert -1.0 <= row["ssim"] <= 1.0 and (row["psnr"] is None or 0 < row["psnr"] < math.inf)
+            assert -1.0 <= row["ssim"] <= 1.0 and _finite_or_none(row["psnr"], 0) and _finite_or_none(row["blurred_psnr"], 0)
+            assert len(row["radiance_error"]) == 3 and all(_finite_or_none(v, -1.0) for v in row["radiance_error"])
+            assert all(v is None for v in row["radiance_error"]) == (reference["hair_pixels"] == 0)
+            assert _finite_or_none(row["coverage_error"], -1.0) and 0.0 <= row["coverage_abs_error"] <= 1.0
             assert row["segments"] == row["strand_segments"] + row["thick_segments"] > 0
             assert row["rays"] > 0 and row["rays_per_second"] > 0
+        for method, row in result["equal_time"]["views"][view]["rows"].items():
+            assert 0.0 <= row["flip"] <= 1.0 and len(row["radiance_error"]) == 3 and "coverage_error" not in row
+            assert row["segments"] == entry["rows"][method]["segments"]
+        # The strands' geometry, traced with the coverage renders' one seed: exactly the reference's coverage.
+        for method in ("pt", "ds"):
+            assert entry["rows"][method]["coverage_error"] == entry["rows"][method]["coverage_abs_error"] == 0.0
         full = entry["rows"]["pt"]["segments"]
         assert entry["rows"]["ds"]["segments"] == full == entry["reference"]["segments"]
         assert entry["rows"]["pt"]["thick_segments"] == 0
+        assert result["summary"][view]["noise_floor_blurred_psnr"] == entry["rows"]["pt"]["blurred_psnr"]
     far = result["views"]["far"]["rows"]
     assert far["lod"]["segments"] <= far["pt"]["segments"]
     assert far["lod"]["segments"] == far["lod-single"]["segments"] == far["lod-no-s"]["segments"]
+    assert far["lod"]["coverage_error"] == far["lod-single"]["coverage_error"] == far["lod-no-s"]["coverage_error"]
     assert result["summary"]["far"]["segment_reduction"] >= 1.0
     sweep = result["sweep"]
-    assert sweep["view"] == "mid" and [r["eps_w"] for r in sweep["rows"]] == [1.0, 4.0]
+    assert sweep["view"] == "mid" and sweep["spp"] == 4 and [r["eps_w"] for r in sweep["rows"]] == [1.0, 4.0]
     # A coarser threshold never draws more segments.
     assert sweep["rows"][1]["segments"] <= sweep["rows"][0]["segments"] <= sweep["full_segments"]
-    assert all(0.0 <= r["flip"] <= 1.0 for r in sweep["rows"])
+    assert all(0.0 <= r["flip"] <= 1.0 and _finite_or_none(r["blurred_psnr"], 0) for r in sweep["rows"])
     assert result["plot"] == str(plot) and plot.stat().st_size > 1000
-    assert sorted(os.listdir(tmp_path)) == ["q.png"]
+    assert sorted(os.listdir(tmp_path)) == ["images", "q.png"]
+    # One PNG per view, each panel at least 256 px (32 px renders upscaled 8 times), the user's file untouched.
+    assert result["images"] == [str(images / f"{view}.png") for view in render.VIEWS]
+    assert sorted(os.listdir(images)) == ["far.png", "mid.png", "near.png", "notes.txt"]
+    assert (images / "notes.txt").read_text() == "the user's own file"
+    import matplotlib.image
+
+    for view in render.VIEWS:
+        height, width = matplotlib.image.imread(str(images / f"{view}.png")).shape[:2]
+        panels = 1 + len(quality.IMAGE_METHODS) + 1  # the reference, the methods, the error map
+        assert height >= quality.PANEL_PIXELS and width >= panels * quality.PANEL_PIXELS
+
+
+def test_bench_quality_tables(tiny_strands):
+    result = quality.bench_quality(tiny_strands, views=("far",), methods=("pt", "lod"), spp=2, width=16,
+                                   reference_spp=4, equal_time_spp=1, eps_w=(2.0,), sweep_view="far", guides=20,
+                                   keep_images=True)
+    assert set(result["images"]["far"]) == {"reference", "pt", "lod"}
+    tables = quality.format_tables(result)
+    assert "| far | pt (noise floor, 2 spp) |" in tables and "| far | pt (noise floor, 1 spp) |" in tables
+    assert "blurred PSNR dB" in tables and "radiance R / G / B %" in tables and "coverage %" in tables
+    blocks = [block.splitlines() for block in tables.split("\n\n") if block.startswith("|")]
+    assert len(blocks) == 3  # converged, equal time, eps_w sweep
+    for block in blocks:
+        assert len({line.count("|") for line in block}) == 1, block  # every row has its header's columns
+
+
+def test_bench_quality_images_refuses_a_folder_in_the_way(tiny_hair, tmp_path):
+    (tmp_path / "mid.png").mkdir()
+    run = run_cli("bench", "quality", tiny_hair, "--width", 16, "--spp", 1, "--images", tmp_path)
+    assert run.returncode == 2 and f"{tmp_path / 'mid.png'} is a folder" in run.stderr and run.stdout == ""
+    assert len(run.stderr.strip().splitlines()) == 1 and os.listdir(tmp_path) == ["mid.png"]
 
 
 @pytest.mark.parametrize("args, needle", [
     ((), "input hair file"),
     (("{hair}", "--spp", "0"), "--spp"),
+    (("{hair}", "--reference-spp", "0"), "--reference-spp"),
+    (("{hair}", "--equal-time-spp", "0"), "--equal-time-spp"),
+    (("{hair}", "--width", "3"), "--width"),
+    (("{hair}", "--images", "{hair}"), "--images"),
+    (("{hair}", "--images", "{hair}/sub"), "--images"),
     (("{hair}", "--eps-w", "1,x"), "--eps-w"),
     (("{hair}", "--plot", "out.jpg"), "out.jpg"),
     (("missing.hair",), "missing.hair"),
