@@ -468,7 +468,7 @@ def _bench_quality(args):
     start = time.perf_counter()
     result = quality.bench_quality(strands, asset=asset, spp=args.spp, width=args.width,
                                    reference_spp=args.reference_spp, equal_time_spp=args.equal_time_spp, eps_w=eps_w,
-                                   width_px=args.width_px, guides=quality.default_guides(len(strands), args.guides),
+                                   width_px=args.width_px, guides=args.guides,
                                    params=_read_params(args.params), keep_images=bool(args.images), progress=say)
     result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds,
                   bench_seconds=time.perf_counter() - start)
@@ -585,14 +585,14 @@ def build_parser():
     bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, generate: strands (default 100000)")
     bench.add_argument("--vertices", type=_integer(2), default=33, help="generate: vertices per strand (default 33)")
     bench.add_argument("--points", type=_integer(2), default=32, help="lod: points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=_integer(1), default=256, help="lod, quality: guides (default 256)")
+    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, quality: guides (default: one per 128 "
+                       "strands, 16 to 256)")
     bench.add_argument("--levels", type=_integer(2), default=6, help="lod: levels including the strands (default 6)")
     bench.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="lod: control points (default 16)")
     bench.add_argument("--width-px", type=_number(above=0), default=2.0,
                        help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
     bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")
-    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides, at most "
-                       "a quarter of the strands)")
+    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides)")
     bench.add_argument("--spp", type=_integer(1), default=256, help="quality: samples per pixel of the methods (default 256)")
     bench.add_argument("--reference-spp", type=_integer(1), default=1024,
                        help="quality: spp of the pt reference (default 1024)")

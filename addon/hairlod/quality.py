@@ -28,7 +28,7 @@ import numpy as np
 
 from . import atomic_output, flip, lod, render
 
-__all__ = ["EPS_W", "HAIR_ALPHA", "IMAGE_METHODS", "PANEL_PIXELS", "bench_quality", "default_guides", "format_tables",
+__all__ = ["EPS_W", "HAIR_ALPHA", "IMAGE_METHODS", "PANEL_PIXELS", "bench_quality", "format_tables",
            "plot_quality", "write_view_images"]
 
 EPS_W = (0.5, 1.0, 2.0, 4.0, 8.0)
@@ -40,9 +40,6 @@ PANEL_PIXELS = 256
 _REFERENCE_SEED = 1_000_003
 
 
-def default_guides(strand_count, guides=256):
-    """256 guides, or a quarter of the strands (at least 1) for small inputs."""
-    return int(max(1, min(guides, strand_count // 4)))
 
 
 def _finite(value):
@@ -103,8 +100,7 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
     say = progress or (lambda message: None)
     build = None
     if asset is None:
-        guides = default_guides(len(strands)) if guides is None else int(guides)
-        say(f"building the LoD ({guides} guides)")
+        say("building the LoD" + (f" ({guides} guides)" if guides else ""))
         start = time.perf_counter()
         asset = lod.build_lod(strands, guides=guides)
         build = {"guides": asset.guide_count, "clusters": asset.cluster_count, "seconds": time.perf_counter() - start,

@@ -115,10 +115,6 @@ def test_image_window_holds_the_hair():
     assert quality._hair_window(reference, [reference.copy()]) == (0, 0, 48)
 
 
-def test_default_guides():
-    assert quality.default_guides(100_000) == 256
-    assert quality.default_guides(300) == 75
-    assert quality.default_guides(2) == 1
 
 
 def _finite_or_none(value, low=-math.inf):
@@ -136,7 +132,7 @@ def test_bench_quality_cli_json_plot_and_images(tiny_hair, tmp_path):
     assert result["component"] == "quality" and result["strands"] == 300
     assert (result["width"], result["spp"], result["reference_spp"], result["equal_time"]["spp"]) == (32, 4, 8, 2)
     assert result["blur_box"] == 4 and result["hair_alpha"] == 0.5 and result["bench_seconds"] > 0
-    assert result["lod_build"]["guides"] == result["guides"] == 75
+    assert result["lod_build"]["guides"] == result["guides"] == _core.auto_guide_count(300)
     assert set(result["views"]) == set(render.VIEWS) == set(result["equal_time"]["views"])
     for view, entry in result["views"].items():
         # The reference is not compared with itself: it has no error fields, and no row repeats it.
