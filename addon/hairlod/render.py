@@ -83,7 +83,8 @@ def lod_geometry(asset, camera, width_px=2.0):
             thick["centres"].append(geometry["centres"][hairs][:, k].reshape(-1, 3))
             thick["major_axis"].append((major / np.maximum(major_radius, 1e-30)[..., None]).reshape(-1, 3))
             thick["radii"].append(np.stack([major_radius, np.maximum(minor_radius, 1e-6 * major_radius)], -1).reshape(-1, 2))
-            thick["density"].append(np.clip(stored.density[hairs][:, k], 1e-3, 1.0).reshape(-1))
+            # rho in (0, 1]; the renderer floors it at bcsdf's kMinClusterDensity (real hair is sparse).
+            thick["density"].append(np.minimum(stored.density[hairs][:, k], 1.0).reshape(-1))
             thick["counts"].append(np.full(count, len(k)))
             thick["n_total"].append(stored.n_total[hairs].astype(np.float32))
         else:

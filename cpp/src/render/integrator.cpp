@@ -105,7 +105,7 @@ public:
         if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
             // Sec. 4: n from the chord through the ellipse, rho = n_total r^2 / (|r_A| |r_B|).
-            v.density = std::clamp(static_cast<double>(hit.density), 1e-3, 1.0);
+            v.density = std::clamp(static_cast<double>(hit.density), kMinClusterDensity, 1.0);
             v.hair_count = hairs_crossed(v.density, hit.chord, hit.n_total, hit.radii.x, hit.radii.y);
             // Without shadowing (the ablation) rho = 1 in Eq. 15, which makes S = 1 (open fraction 0).
             if (method_ == Method::LodNoShadowing) v.density = 1.0;

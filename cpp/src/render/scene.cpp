@@ -76,7 +76,10 @@ void append_curves(HairScene::Geometry& g, std::span<const glm::vec3> points, st
 }
 
 // The accepted part of a ray through a thick hair: the chord through the ellipse at the hit's
-// cross-section (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r).
+// cross-section (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r),
+// measured in the section's plane. The member strands run along the tangent, so a ray crosses as
+// many of them as its path's projection onto the section does (Sec. 4's n and the gaps): a ray
+// at angle theta to the fibres travels 1 / sin(theta) times farther in 3D past the same strands.
 // Returns the chord length (0 if the ray misses the ellipse or the ellipse lies behind t_min).
 float ellipse_chord(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& centre, const glm::vec3& a,
                     const glm::vec3& b, const glm::vec2& r) {
@@ -90,7 +93,8 @@ float ellipse_chord(const glm::vec3& origin, const glm::vec3& direction, const g
     const double s_far = (-qb + root) / (2.0 * qa);
     if (s_far <= 0.0) return 0.0f;
     const double s_near = std::max(0.0, (-qb - root) / (2.0 * qa));
-    return static_cast<float>((s_far - s_near) * glm::length(direction));
+    return static_cast<float>((s_far - s_near) * std::sqrt(glm::dot(direction, a) * glm::dot(direction, a) +
+                                                           glm::dot(direction, b) * glm::dot(direction, b)));
 }
 
 struct Section {
@@ -128,7 +132,7 @@ Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
 // of one hair that the ray crosses makes the same choice, and a render stays deterministic.
 bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve, float chord,
                   const Section& s, float n_total) {
-    const double p = bcsdf::hair_hit_probability(std::clamp(static_cast<double>(s.density), 1e-3, 1.0), chord, n_total,
+    const double p = bcsdf::hair_hit_probability(std::clamp(static_cast<double>(s.density), bcsdf::kMinClusterDensity, 1.0), chord, n_total,
                                                  s.radii.x, s.radii.y);
     uint64_t key = mix64((uint64_t(geometry) << 32) | curve);
     for (float c : {origin.x, origin.y, origin.z, direction.x, direction.y, direction.z})

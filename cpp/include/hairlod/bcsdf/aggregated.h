@@ -20,6 +20,11 @@ namespace hairlod::bcsdf {
 inline constexpr double kSideScatterWeight = 0.6;
 inline constexpr double kMultipleShadowing = 0.2;
 
+// The smallest rho the renderer passes on (rho must be positive). Real hair is sparse: 57 strands of
+// radius 1e-4 in a cluster a few centimetres across have rho ~ 1e-5, and any larger floor makes
+// such thick hairs block more rays than their strands (lambda grows with sqrt(rho)).
+inline constexpr double kMinClusterDensity = 1e-12;
+
 // Where the shading point is inside the thick hair (Sec. 4, "Estimation of hair number n").
 struct ClusterState {
     double hair_count = 1.0;  // n >= 1: hairs the incident ray crossed, the shaded one included
