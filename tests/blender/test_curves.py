@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from hairlod import Strands
-from hairlod.blender.curves import curves_to_strands, strands_to_curves
+from hairlod.blender.curves import curves_to_strands, new_geometry_node_tree, strands_to_curves
 
 
 def random_strands(curve_count=200, seed=7):
@@ -39,13 +39,7 @@ def datablock_counts():
 
 def add_nodes_modifier(obj, build):
     """A Geometry Nodes modifier whose tree is input -> build(tree, geometry socket) -> output."""
-    tree = bpy.data.node_groups.new("test_nodes", 'GeometryNodeTree')
-    if bpy.app.version >= (4, 0, 0):
-        tree.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
-        tree.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
-    else:
-        tree.inputs.new('NodeSocketGeometry', "Geometry")
-        tree.outputs.new('NodeSocketGeometry', "Geometry")
+    tree = new_geometry_node_tree("test_nodes")
     group_input = tree.nodes.new('NodeGroupInput')
     group_output = tree.nodes.new('NodeGroupOutput')
     tree.links.new(build(tree, group_input.outputs["Geometry"]), group_output.inputs["Geometry"])

@@ -148,6 +148,19 @@ def _write_attribute(curves, name, strands):
     curves.attributes.new(name, data_type, domain).data.foreach_set(prop, values)
 
 
+def new_geometry_node_tree(name):
+    """A new Geometry Nodes tree with one geometry input and one geometry output, both named
+    "Geometry" (Blender 4.0 moved them from ``inputs`` / ``outputs`` to ``interface``)."""
+    tree = bpy.data.node_groups.new(name, 'GeometryNodeTree')
+    if bpy.app.version >= (4, 0, 0):
+        tree.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
+        tree.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+    else:
+        tree.inputs.new('NodeSocketGeometry', "Geometry")
+        tree.outputs.new('NodeSocketGeometry', "Geometry")
+    return tree
+
+
 _COUNT_ATTRIBUTE = "hairlod_point_count"
 
 
