@@ -57,7 +57,12 @@ TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
     const std::vector<Ray> rays{{{0.1f, 0.0f, 10.0f}, {0, 0, -1}, 1.0f},
                                 {{0.1f, 1.9f, 10.0f}, {0, 0, -1}, 2.0f * 0.5f * std::sqrt(1.0f - 0.95f * 0.95f)},
                                 {{0.1f, 10.0f, 0.4f}, {0, -1, 0}, 2.0f * 2.0f * std::sqrt(1.0f - 0.8f * 0.8f)},
-                                {{0.1f, 10.0f, 0.6f}, {0, -1, 0}, 0.0f}};  // inside the round tube, outside the ellipse
+                                {{0.1f, 10.0f, 0.6f}, {0, -1, 0}, 0.0f},   // inside the round tube, outside the ellipse
+                                {{2.6f, 0.0f, 10.0f}, {0, 0, -1}, 0.0f},   // past the last point, in the tube's cap
+                                {{-2.4f, 0.3f, 10.0f}, {0, 0, -1}, 0.0f},  // before the first point, in the cap
+                                // Oblique from beyond the end into the hair: only the part inside x <= 2
+                                // counts (z from 0 down to -0.5), measured in the section's plane.
+                                {{2.3f, 0.0f, 0.3f}, glm::normalize(glm::vec3(-1, 0, -1)), 0.5f}};
     for (const Ray& r : rays) {
         SurfaceHit hit;
         const bool found = scene.intersect(r.origin, r.direction, kInf, {}, hit);

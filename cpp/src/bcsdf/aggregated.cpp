@@ -67,10 +67,14 @@ double hairs_crossed(double density, double ray_length, double hair_total, doubl
     return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
 }
 
-double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
+double expected_hairs_met(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
     validate_crossing(density, ray_length, hair_total, major_axis, minor_axis);
-    const double expected = 2.0 / kPi * ray_length * std::sqrt(density * hair_total / (major_axis * minor_axis));
-    return -std::expm1(-expected);
+    // r = sqrt(rho |r_A| |r_B| / n_total) from Sec. 4's rho, so 2 r n_total / (pi |r_A| |r_B|) is this.
+    return 2.0 / kPi * ray_length * std::sqrt(density * hair_total / (major_axis * minor_axis));
+}
+
+double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
+    return -std::expm1(-expected_hairs_met(density, ray_length, hair_total, major_axis, minor_axis));
 }
 
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count) {

@@ -75,33 +75,50 @@ void append_curves(HairScene::Geometry& g, std::span<const glm::vec3> points, st
     g.segment_first.insert(g.segment_first.end(), 3, 0u);
 }
 
+struct Section {
+    glm::vec3 centre, tangent, major, minor;
+    glm::vec2 radii;
+    float density;
+};
+
+// A plane bounding a thick hair at one end: points p with dot(p - point, normal) >= 0 are inside.
+struct EndPlane {
+    glm::vec3 point{0.0f}, normal{0.0f};
+};
+
 // The accepted part of a ray through a thick hair: the chord through the ellipse at the hit's
 // cross-section (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r),
-// measured in the section's plane. The member strands run along the tangent, so a ray crosses as
-// many of them as its path's projection onto the section does (Sec. 4's n and the gaps): a ray
-// at angle theta to the fibres travels 1 / sin(theta) times farther in 3D past the same strands.
+// clipped to the half-spaces of `ends`, measured in the section's plane. The member strands run
+// along the tangent, so a ray crosses as many of them as its path's projection onto the section
+// does (Sec. 4's n and the gaps): a ray at angle theta to the fibres travels 1 / sin(theta) times
+// farther in 3D past the same strands.
 // Returns the chord length (0 if the ray misses the ellipse or the ellipse lies behind t_min).
-float ellipse_chord(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& centre, const glm::vec3& a,
-                    const glm::vec3& b, const glm::vec2& r) {
-    const glm::vec3 o = origin - centre;
+float ellipse_chord(const glm::vec3& origin, const glm::vec3& direction, const Section& section,
+                    std::span<const EndPlane> ends) {
+    const glm::vec3 o = origin - section.centre, &a = section.major, &b = section.minor;
+    const glm::vec2& r = section.radii;
     const double x0 = glm::dot(o, a) / r.x, dx = glm::dot(direction, a) / r.x;
     const double y0 = glm::dot(o, b) / r.y, dy = glm::dot(direction, b) / r.y;
     const double qa = dx * dx + dy * dy, qb = 2.0 * (x0 * dx + y0 * dy), qc = x0 * x0 + y0 * y0 - 1.0;
     const double disc = qb * qb - 4.0 * qa * qc;
     if (qa <= 1e-20 || disc <= 0.0) return 0.0f;
     const double root = std::sqrt(disc);
-    const double s_far = (-qb + root) / (2.0 * qa);
-    if (s_far <= 0.0) return 0.0f;
-    const double s_near = std::max(0.0, (-qb - root) / (2.0 * qa));
+    double s_far = (-qb + root) / (2.0 * qa), s_near = std::max(0.0, (-qb - root) / (2.0 * qa));
+    for (const EndPlane& end : ends) {
+        // Keep dot(origin + s direction - point, normal) >= 0.
+        const double height = glm::dot(origin - end.point, end.normal), rate = glm::dot(direction, end.normal);
+        if (std::abs(rate) < 1e-30) {
+            if (height < 0.0) return 0.0f;
+        } else if (rate > 0.0) {
+            s_near = std::max(s_near, -height / rate);
+        } else {
+            s_far = std::min(s_far, -height / rate);
+        }
+    }
+    if (!(s_far > s_near)) return 0.0f;
     return static_cast<float>((s_far - s_near) * std::sqrt(glm::dot(direction, a) * glm::dot(direction, a) +
                                                            glm::dot(direction, b) * glm::dot(direction, b)));
 }
-
-struct Section {
-    glm::vec3 centre, tangent, major, minor;
-    glm::vec2 radii;
-    float density;
-};
 
 Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
     const glm::vec4* v = g.vertices.data() + g.segment_first[segment];
@@ -127,17 +144,44 @@ Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
     return s;
 }
 
-// Whether the ray meets one of the thick hair's strands along its chord (stochastic transparency with
-// bcsdf::hair_hit_probability). The uniform number hashes the ray and the hair, so that every segment
-// of one hair that the ray crosses makes the same choice, and a render stays deterministic.
-bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve, float chord,
-                  const Section& s, float n_total) {
-    const double p = bcsdf::hair_hit_probability(std::clamp(static_cast<double>(s.density), bcsdf::kMinClusterDensity, 1.0), chord, n_total,
-                                                 s.radii.x, s.radii.y);
+// A ray's way through one thick hair: the in-plane chord summed over the hair's segments and the
+// strands it meets there on average (Poisson mean, bcsdf::expected_hairs_met).
+struct HairCrossing {
+    float chord = 0.0f;
+    double expected = 0.0;
+};
+
+// Each segment contributes its chord through its own slab, between the planes normal to the curve
+// at its two ends, with its mid-segment ellipse. Embree's round tubes reach a radius past each
+// segment's ends (into the neighbours, and past the hair's ends, where there are no strands), and
+// for a wide hair Embree reports only the union's outer surface, on whichever segment it lies: so
+// the whole hair is crossed at once, from any of its hits, and decides once.
+HairCrossing cross_thick_hair(const HairScene::Geometry& g, uint32_t curve, const glm::vec3& origin, const glm::vec3& direction) {
+    HairCrossing crossing;
+    const auto first = static_cast<uint32_t>(g.offsets[curve] - static_cast<int64_t>(curve));
+    const auto count = static_cast<uint32_t>(g.offsets[curve + 1] - g.offsets[curve] - 1);
+    for (uint32_t segment = first; segment < first + count; ++segment) {
+        const Section start = thick_section(g, segment, 0.0f), end = thick_section(g, segment, 1.0f);
+        const std::array<EndPlane, 2> planes{EndPlane{start.centre, start.tangent}, EndPlane{end.centre, -end.tangent}};
+        const Section middle = thick_section(g, segment, 0.5f);
+        const float chord = ellipse_chord(origin, direction, middle, planes);
+        if (!(chord > 0.0f)) continue;
+        crossing.chord += chord;
+        crossing.expected += bcsdf::expected_hairs_met(std::clamp(static_cast<double>(middle.density), bcsdf::kMinClusterDensity, 1.0),
+                                                       chord, g.n_total[curve], middle.radii.x, middle.radii.y);
+    }
+    return crossing;
+}
+
+// Whether the ray meets one of the thick hair's strands on its way through (stochastic transparency:
+// with probability 1 - exp(-expected), bcsdf::hair_hit_probability's). The uniform number hashes the
+// ray and the hair, so that all of the hair's hits agree and a render stays deterministic.
+bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve,
+                  const HairCrossing& crossing) {
     uint64_t key = mix64((uint64_t(geometry) << 32) | curve);
     for (float c : {origin.x, origin.y, origin.z, direction.x, direction.y, direction.z})
         key = mix64(key ^ std::bit_cast<uint32_t>(c));
-    return static_cast<double>(key >> 11) * 0x1.0p-53 < p;
+    return static_cast<double>(key >> 11) * 0x1.0p-53 < -std::expm1(-crossing.expected);
 }
 
 // What the context filter needs: the ray's origin record, the geometries and the counting state.
@@ -169,9 +213,8 @@ void filter(const RTCFilterFunctionNArguments* args) {
                                    RTCRayN_org_z(args->ray, args->N, i));
             const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                                 RTCRayN_dir_z(args->ray, args->N, i));
-            const Section s = thick_section(g, prim, RTCHitN_u(args->hit, args->N, i));
-            const float chord = ellipse_chord(origin, dir, s.centre, s.major, s.minor, s.radii);
-            if (chord <= 0.0f || !meets_a_hair(origin, dir, geom_id, curve, chord, s, g.n_total[curve])) {
+            const HairCrossing crossing = cross_thick_hair(g, curve, origin, dir);
+            if (crossing.chord <= 0.0f || !meets_a_hair(origin, dir, geom_id, curve, crossing)) {
                 args->valid[i] = 0;
                 continue;
             }
@@ -346,7 +389,7 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
     hit.curve = g.segment_curve[prim];
     if (g.kind == CurveKind::Thick) {
         const Section s = thick_section(g, prim, u);
-        hit.chord = ellipse_chord(origin, direction, s.centre, s.major, s.minor, s.radii);
+        hit.chord = cross_thick_hair(g, hit.curve, origin, direction).chord;
         hit.n_total = g.n_total[hit.curve];
         hit.density = s.density;
         hit.radii = s.radii;

@@ -45,6 +45,11 @@ double hairs_crossed(double density, double ray_length, double hair_total, doubl
 // rho is small (the tips) its gaps let the background and the light through, as the strands do.
 double hair_hit_probability(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
 
+// The Poisson mean of hair_hit_probability: lambda = 2 r n_total l / (pi |r_A| |r_B|), the hairs a ray
+// of length l (in the cross-section's plane) meets on average. Means over disjoint pieces of one
+// path add up.
+double expected_hairs_met(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
+
 // Eq. 10: A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) in closed form (n need not be an integer).
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count);
 
