@@ -1,16 +1,19 @@
-"""The main job on the bundled inputs, end to end.
+"""The main job end to end, on real hair.
 
 1. Read the bundled hair file examples/data/bob.hair and summarise it.
 2. Generate strands inside the bundled hair mesh examples/data/wavy_cap.hairmesh.json.
-3. Build the LoD hierarchy of the generated hair (guides, clusters, elliptical thick hairs) and save
-   it (out/demo/lod: one .hair of thick hairs per level, manifest, arrays).
+3. Build the LoD hierarchy (guides, clusters, elliptical thick hairs) of a real hairstyle made outside
+   the project, ../shared/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX, MIT; the generated hair when
+   ../shared/data is absent, which is said), and save it (out/demo/lod: one .hair of thick hairs per
+   level, manifest, arrays).
 4. Select levels for a near, a mid and a far camera and report the segments drawn against drawing
    every strand.
 5. Bake the aggregated BCSDF's lookup tables for the asset's hair counts (out/demo/bcsdf, OpenEXR).
-6. Render preview images with the Embree renderer (out/demo/*.png) at the mid and far views: the
-   LoD with the aggregated BCSDF, and full geometry at the same samples per pixel, against a
-   full-geometry path-traced reference at more samples; print the speed-against-error summary
-   (segments, seconds, PSNR and FLIP).
+6. Judge the LoD's look on converged images (hairlod.quality, as `bench quality` does): at the mid and
+   far views, a path-traced full-geometry reference at 1024 spp against full geometry with dual
+   scattering and the LoD with the aggregated and with the single-fibre BCSDF, each at 256 spp; print
+   segments, seconds, blurred PSNR, the mean hair radiance error per channel and the coverage error,
+   and write side-by-side images with the error map (out/demo/images/<view>.png).
 
 `make demo` runs this. The viewport preview of the same asset needs a Blender window: see the
 README (LoD Preview) and scripts/bench_lod_preview.py.
@@ -26,17 +29,17 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
 
 import hairlod  # noqa: E402
-from hairlod import bcsdf, flip, hairmesh, io, lod, render  # noqa: E402
+from hairlod import bcsdf, hairmesh, io, lod, quality  # noqa: E402
 from hairlod.camera import look_at, perspective  # noqa: E402
 from hairlod.cli import strand_summary  # noqa: E402
 
 HAIR_FILE = REPO / "examples" / "data" / "bob.hair"
 HAIR_MESH = REPO / "examples" / "data" / "wavy_cap.hairmesh.json"
+REAL_HAIR = REPO.parent / "shared" / "data" / "tressfx" / "Ratboy_mohawk.tfx"
 VIEWPORT = (1280, 720)
 OUT = REPO / "out" / "demo"
-RENDER_WIDTH = 200
-RENDER_SPP = 16
-REFERENCE_SPP = 96
+VIEWS = ("mid", "far")
+METHODS = ("pt", "ds", "lod", "lod-single")
 
 
 def timed(function, *args, **kwargs):
@@ -61,13 +64,23 @@ def generate(path, count):
     return strands
 
 
+def real_hair(generated):
+    if not REAL_HAIR.is_file():
+        print(f"3. {REAL_HAIR} is absent (a fresh clone has no ../shared): the LoD below is of the generated hair")
+        return generated
+    strands = io.read(REAL_HAIR)
+    print(f"3. Real hair {REAL_HAIR.name}: {len(strands)} strands, {strands.point_count} points")
+    return strands
+
+
 def build(strands):
-    asset, seconds = timed(lod.build_lod, strands, guides=128, levels=6, control_points=16, seed=0)
+    asset, seconds = timed(lod.build_lod, strands)
     hairs = ", ".join(f"L{i}: {len(level.n_total)} ({level.coverage:.1%} covered)"
                       for i, level in enumerate(asset.levels))
     ratios = ", ".join(f"{ratio:.2f}" for ratio in asset.area_ratios)
-    print(f"3. LoD built in {seconds:.2f} s: {asset.cluster_count} clusters; thick hairs {hairs}; "
-          f"cross-section area ratio between levels {ratios or 'n/a'}")
+    print(f"   LoD built in {seconds:.2f} s: {asset.guide_count} guides, {asset.cluster_count} clusters; thick hairs "
+          f"{hairs}; cross-section area ratio between levels {ratios or 'n/a'}; "
+          f"{asset.memory_bytes / lod.strand_bytes(strands):.2f}x the strands' bytes")
     return asset
 
 
@@ -81,9 +94,9 @@ def select_views(asset, strands):
     lower, upper = strands.bounding_box()
     centre, size = (lower + upper) / 2, float(np.linalg.norm(upper - lower))
     projection = perspective(np.radians(40), VIEWPORT[0] / VIEWPORT[1], 0.01 * size, 100 * size)
-    full = len(strands) * (asset.control_points - 1)
+    full = int(strands.point_count - len(strands))
     print(f"4. Level selection at {VIEWPORT[0]}x{VIEWPORT[1]} px, width threshold 2 px "
-          f"(all strands: {full} segments):")
+          f"(every strand as given: {full} segments):")
     for name, distance in (("near", 1.2), ("mid", 4.0), ("far", 25.0)):
         view = look_at(centre + np.array([0.0, -distance * size, 0.2 * size]), centre)
         selection, seconds = timed(asset.select, view, projection, VIEWPORT, width_px=2.0)
@@ -102,30 +115,30 @@ def bake_tables(asset):
           f"{seconds:.2f} s: {len(manifest['tables'])} tables, {size / 1024:.0f} KB in {(OUT / 'bcsdf').relative_to(REPO)}")
 
 
-def render_views(asset, strands):
-    print(f"6. Embree renders, {RENDER_WIDTH} px wide, {RENDER_SPP} spp (reference: path-traced full geometry, "
-          f"{REFERENCE_SPP} spp):")
-    for view in ("mid", "far"):
-        reference = render.render(strands, "pt", view, width=RENDER_WIDTH, spp=REFERENCE_SPP, seed=7)
-        render.write_image(str(OUT / f"{view}_reference.png"), reference["image"])
-        for method, label in (("pt", "full geometry"), ("lod", "LoD, aggregated BCSDF")):
-            result = render.render(strands, method, view, width=RENDER_WIDTH, spp=RENDER_SPP, asset=asset, seed=1)
-            render.write_image(str(OUT / f"{view}_{method}.png"), result["image"])
-            error = flip.flip(render.to_srgb8(result["image"]) / 255.0, render.to_srgb8(reference["image"]) / 255.0)
-            print(f"   {view:4s} {label:22s}: {result['segments']:7d} segments, {result['seconds']:6.2f} s, "
-                  f"PSNR {render.psnr(result['image'], reference['image']):5.1f} dB, FLIP {error:.3f}")
-    print(f"   images in {OUT.relative_to(REPO)}")
+def judge_views(asset, strands):
+    print(f"6. Converged images, 128 px: pt reference at 1024 spp, each method at 256 spp "
+          f"(pt: an independent render, the noise floor)")
+    result, seconds = timed(quality.bench_quality, strands, asset=asset, views=VIEWS, methods=METHODS, eps_w=(),
+                            keep_images=True)
+    for view, entry in result["views"].items():
+        for method, row in entry["rows"].items():
+            radiance = " / ".join("n/a" if value is None else f"{100 * value:+.1f}" for value in row["radiance_error"])
+            coverage = "n/a" if row["coverage_error"] is None else f"{100 * row['coverage_error']:+.1f} %"
+            print(f"   {view:4s} {method:10s}: {row['segments']:7d} segments, {row['seconds']:5.2f} s, blurred PSNR "
+                  f"{row['blurred_psnr']:5.1f} dB, hair radiance {radiance} % (R / G / B), coverage {coverage}")
+    paths = quality.write_view_images(result, result["images"], OUT / "images")
+    print(f"   in {seconds:.0f} s; side-by-side images: {', '.join(str(Path(p).relative_to(REPO)) for p in paths)}")
 
 
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     summarise_file(HAIR_FILE)
-    strands = generate(HAIR_MESH, 20000)
+    strands = real_hair(generate(HAIR_MESH, 20000))
     asset = build(strands)
     lod.save(asset, OUT / "lod")
     select_views(asset, strands)
     bake_tables(asset)
-    render_views(asset, strands)
+    judge_views(asset, strands)
 
 
 if __name__ == "__main__":

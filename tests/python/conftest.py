@@ -24,6 +24,18 @@ def shared_data():
 
 
 @pytest.fixture(scope="session")
+def real_hair():
+    """A real hairstyle made outside the project: ../shared/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX,
+    2228 strands x 32 points), read once. Absent (a clone without ../shared): skipped with a message."""
+    path = SHARED_DATA / "tressfx" / "Ratboy_mohawk.tfx"
+    if not path.is_file():
+        pytest.skip(f"shared test data {path} is absent: clone the repository next to ../shared to run this test")
+    from hairlod import io
+
+    return io.read(str(path))
+
+
+@pytest.fixture(scope="session")
 def blender():
     """The Blender binary for tests that run it headless (HAIRLOD_BLENDER, else `blender` on PATH).
     `make test` installs it (scripts/bootstrap.sh); plain pytest on a machine without Blender skips
