@@ -15,6 +15,29 @@
 
 namespace hairlod::render {
 
+namespace {
+
+// A thick hair's cross-section at a point of its curve.
+struct Section {
+    glm::vec3 centre, tangent, major, minor;
+    glm::vec2 radii;
+    float density;
+};
+
+// A plane bounding a thick hair's segment at one end: points p with dot(p - point, normal) >= 0 are inside.
+struct EndPlane {
+    glm::vec3 point{0.0f}, normal{0.0f};
+};
+
+// What a ray's crossing of one thick-hair segment needs: the slab between the planes normal to
+// the curve at its ends, and its mid-segment cross-section.
+struct SegmentSlab {
+    std::array<EndPlane, 2> ends;
+    Section middle;
+};
+
+}  // namespace
+
 // Buffers of one curve geometry. Each curve of m points is stored as m + 2 vertices (its ends
 // repeated) so that the Catmull-Rom segments, which interpolate their two middle control points,
 // pass through every point; segment s of a curve starts at its padded vertex s.
@@ -30,6 +53,7 @@ struct HairScene::Geometry {
     std::vector<float> density;
     std::vector<float> n_total;
     std::vector<int64_t> offsets;
+    std::vector<SegmentSlab> slabs;  // per segment
     size_t segments() const { return segment_curve.size(); }
 };
 
@@ -74,17 +98,6 @@ void append_curves(HairScene::Geometry& g, std::span<const glm::vec3> points, st
     g.vertices.emplace_back(0.0f);
     g.segment_first.insert(g.segment_first.end(), 3, 0u);
 }
-
-struct Section {
-    glm::vec3 centre, tangent, major, minor;
-    glm::vec2 radii;
-    float density;
-};
-
-// A plane bounding a thick hair at one end: points p with dot(p - point, normal) >= 0 are inside.
-struct EndPlane {
-    glm::vec3 point{0.0f}, normal{0.0f};
-};
 
 // The accepted part of a ray through a thick hair: the chord through the ellipse at the hit's
 // cross-section (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r),
@@ -144,6 +157,15 @@ Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
     return s;
 }
 
+void precompute_slabs(HairScene::Geometry& g) {
+    g.slabs.resize(g.segments());
+    for (uint32_t segment = 0; segment < g.segments(); ++segment) {
+        const Section start = thick_section(g, segment, 0.0f), end = thick_section(g, segment, 1.0f);
+        g.slabs[segment] = {{EndPlane{start.centre, start.tangent}, EndPlane{end.centre, -end.tangent}},
+                            thick_section(g, segment, 0.5f)};
+    }
+}
+
 // A ray's way through one thick hair: the in-plane chord summed over the hair's segments and the
 // strands it meets there on average (Poisson mean, bcsdf::expected_hairs_met).
 struct HairCrossing {
@@ -161,10 +183,8 @@ HairCrossing cross_thick_hair(const HairScene::Geometry& g, uint32_t curve, cons
     const auto first = static_cast<uint32_t>(g.offsets[curve] - static_cast<int64_t>(curve));
     const auto count = static_cast<uint32_t>(g.offsets[curve + 1] - g.offsets[curve] - 1);
     for (uint32_t segment = first; segment < first + count; ++segment) {
-        const Section start = thick_section(g, segment, 0.0f), end = thick_section(g, segment, 1.0f);
-        const std::array<EndPlane, 2> planes{EndPlane{start.centre, start.tangent}, EndPlane{end.centre, -end.tangent}};
-        const Section middle = thick_section(g, segment, 0.5f);
-        const float chord = ellipse_chord(origin, direction, middle, planes);
+        const Section& middle = g.slabs[segment].middle;
+        const float chord = ellipse_chord(origin, direction, middle, g.slabs[segment].ends);
         if (!(chord > 0.0f)) continue;
         crossing.chord += chord;
         crossing.expected += bcsdf::expected_hairs_met(std::clamp(static_cast<double>(middle.density), bcsdf::kMinClusterDensity, 1.0),
@@ -193,6 +213,10 @@ struct RayContext {
     int limit = 0;
     int count = 0;
     std::array<std::pair<unsigned, uint32_t>, 64> seen{};
+    // The last thick hair crossed: a wide hair reports several hits (segments, entry and exit).
+    unsigned crossed_geometry = RTC_INVALID_GEOMETRY_ID;
+    uint32_t crossed_curve = 0;
+    HairCrossing crossing;
 };
 
 void filter(const RTCFilterFunctionNArguments* args) {
@@ -213,7 +237,13 @@ void filter(const RTCFilterFunctionNArguments* args) {
                                    RTCRayN_org_z(args->ray, args->N, i));
             const glm::vec3 dir(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                                 RTCRayN_dir_z(args->ray, args->N, i));
-            const HairCrossing crossing = cross_thick_hair(g, curve, origin, dir);
+            // The cache holds one ray's crossing: packets of several rays (not traced here) recompute.
+            if (args->N != 1 || ctx->crossed_geometry != geom_id || ctx->crossed_curve != curve) {
+                ctx->crossing = cross_thick_hair(g, curve, origin, dir);
+                ctx->crossed_geometry = geom_id;
+                ctx->crossed_curve = curve;
+            }
+            const HairCrossing& crossing = ctx->crossing;
             if (crossing.chord <= 0.0f || !meets_a_hair(origin, dir, geom_id, curve, crossing)) {
                 args->valid[i] = 0;
                 continue;
@@ -340,6 +370,7 @@ void HairScene::add_thick_hairs(const ThickHairs& hairs) {
     g->density = hairs.density;
     g->n_total = hairs.n_total;
     g->offsets = hairs.offsets;
+    precompute_slabs(*g);
     attach(std::move(g));
 }
 
