@@ -110,4 +110,23 @@ double chiang_pdf(const ChiangBcsdf& bcsdf, const glm::dvec3& wi, const glm::dve
     return pdf;
 }
 
+namespace {
+
+double far_field_offset(int k) { return -1.0 + (2.0 * k + 1.0) / kFarFieldOffsets; }
+
+}  // namespace
+
+BcsdfSample sample_chiang_far_field(const ChiangBcsdf& bcsdf, const glm::dvec3& wo, const std::array<double, 5>& u) {
+    const int k = std::min(kFarFieldOffsets - 1, static_cast<int>(u[4] * kFarFieldOffsets));
+    BcsdfSample sample = sample_chiang(bcsdf, wo, far_field_offset(k), {u[0], u[1], u[2], u[3]});
+    sample.pdf = chiang_far_field_pdf(bcsdf, sample.wi, wo);
+    return sample;
+}
+
+double chiang_far_field_pdf(const ChiangBcsdf& bcsdf, const glm::dvec3& wi, const glm::dvec3& wo) {
+    double pdf = 0.0;
+    for (int k = 0; k < kFarFieldOffsets; ++k) pdf += chiang_pdf(bcsdf, wi, wo, far_field_offset(k));
+    return pdf / kFarFieldOffsets;
+}
+
 }  // namespace hairlod::render

@@ -31,7 +31,7 @@ namespace {
 using namespace hairlod::bcsdf;
 constexpr double kPi = std::numbers::pi;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
-// Probability of the Chiang proposal when sampling the aggregated BCSDF; the rest is uniform over the
+// Probability of the far-field Chiang proposal when sampling the aggregated BCSDF; the rest is uniform over the
 // sphere, which keeps the mixture density positive wherever the aggregated lobes are.
 constexpr double kAggregatedChiangFraction = 0.7;
 constexpr double kUniformSpherePdf = 1.0 / (4.0 * kPi);
@@ -98,7 +98,7 @@ public:
         if (method_ == Method::DualScattering) fiber_ = std::make_unique<FiberRtdBcsdf>(params);
     }
 
-    Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world, Random& rng) const {
+    Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world) const {
         Vertex v;
         v.frame = fibre_frame(hit, wo_world, v.h);
         v.wo = v.frame.local(wo_world);
@@ -109,7 +109,6 @@ public:
             v.hair_count = hairs_crossed(v.density, hit.chord, hit.n_total, hit.radii.x, hit.radii.y);
             // Without shadowing (the ablation) rho = 1 in Eq. 15, which makes S = 1 (open fraction 0).
             if (method_ == Method::LodNoShadowing) v.density = 1.0;
-            v.h = 2.0 * rng.uniform() - 1.0;  // the Chiang proposal's offset (the aggregate has no h)
         }
         return v;
     }
@@ -123,16 +122,17 @@ public:
     }
 
     double pdf(const Vertex& v, const glm::dvec3& wi) const {
-        const double chiang = chiang_pdf(chiang_, wi, v.wo, v.h);
-        if (!v.aggregated) return chiang;
-        return kAggregatedChiangFraction * chiang + (1.0 - kAggregatedChiangFraction) * kUniformSpherePdf;
+        if (!v.aggregated) return chiang_pdf(chiang_, wi, v.wo, v.h);
+        return kAggregatedChiangFraction * chiang_far_field_pdf(chiang_, wi, v.wo) +
+               (1.0 - kAggregatedChiangFraction) * kUniformSpherePdf;
     }
 
     BcsdfSample sample(const Vertex& v, Random& rng) const {
         const std::array<double, 4> u{rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()};
         if (!v.aggregated) return sample_chiang(chiang_, v.wo, v.h, u);
         BcsdfSample s;
-        if (rng.uniform() < kAggregatedChiangFraction) s.wi = sample_chiang(chiang_, v.wo, v.h, u).wi;
+        if (rng.uniform() < kAggregatedChiangFraction)
+            s.wi = sample_chiang_far_field(chiang_, v.wo, {u[0], u[1], u[2], u[3], rng.uniform()}).wi;
         else s.wi = uniform_sphere(u[0], u[1]);
         s.pdf = pdf(v, s.wi);
         s.value = eval(v, s.wi);
@@ -239,7 +239,7 @@ struct Tracer {
             }
             if (options.coverage_only) break;
             const glm::dvec3 wo = -glm::dvec3(direction);
-            const Vertex v = shader.vertex(hit, wo, rng);
+            const Vertex v = shader.vertex(hit, wo);
             radiance += throughput * direct(v, hit, rng, rays);
             if (bounce >= options.max_bounces) break;
             const BcsdfSample s = shader.sample(v, rng);
@@ -265,7 +265,7 @@ struct Tracer {
         ++rays;
         if (!scene.intersect(origin, direction, kInfinity, {}, hit))
             return glm::dvec3(lights.environment.radiance(direction));
-        const Vertex v = shader.vertex(hit, -glm::dvec3(direction), rng);
+        const Vertex v = shader.vertex(hit, -glm::dvec3(direction));
         const glm::vec3 p = hit.position;
         glm::dvec3 sum(0.0);
         auto gather = [&](const glm::vec3& wi, float distance, const glm::dvec3& radiance) {

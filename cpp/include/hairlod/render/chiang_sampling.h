@@ -28,4 +28,14 @@ BcsdfSample sample_chiang(const bcsdf::ChiangBcsdf& bcsdf, const glm::dvec3& wo,
 // The solid-angle density with which sample_chiang returns wi.
 double chiang_pdf(const bcsdf::ChiangBcsdf& bcsdf, const glm::dvec3& wi, const glm::dvec3& wo, double h);
 
+// A far-field proposal: sample_chiang at one of kFarFieldOffsets offsets h_k = -1 + (2k + 1) / K,
+// chosen with u[4]. At one h a smooth fibre's azimuthal lobes are narrow; a far-field BCSDF (the
+// aggregated one, integrated over h) spreads over phi, and a one-h proposal misses most of it.
+inline constexpr int kFarFieldOffsets = 8;
+BcsdfSample sample_chiang_far_field(const bcsdf::ChiangBcsdf& bcsdf, const glm::dvec3& wo, const std::array<double, 5>& u);
+
+// Its density: the mean of chiang_pdf over the K offsets. The returned sample's value is the
+// near-field S at the chosen offset; callers of a far-field model evaluate their own.
+double chiang_far_field_pdf(const bcsdf::ChiangBcsdf& bcsdf, const glm::dvec3& wi, const glm::dvec3& wo);
+
 }  // namespace hairlod::render
