@@ -653,9 +653,12 @@ class _Interrupted(BaseException):
         self.signal_number = signal_number
 
 
-def _run_interruptibly(args):
+def _run_interruptibly(args, program):
     """Runs the command in a worker thread so that SIGINT and SIGTERM are handled at once, even during
-    a long C++ call: the process's temporaries are removed and it exits 128 + the signal number."""
+    a long C++ call: the process's temporaries are removed and it exits 128 + the signal number.
+    In-process callers get their handlers back; the program (`program`) instead ignores the two
+    signals once the command is done: with the default action back, a signal in the moment between
+    the finished command and the exit would kill it (-15) after its output was complete."""
     if threading.current_thread() is not threading.main_thread():
         return args.run(args)
     outcome = {}
@@ -681,13 +684,14 @@ def _run_interruptibly(args):
             raise _Interrupted(received[0])
     finally:
         for number, handler in previous.items():
-            signal.signal(number, handler)
+            signal.signal(number, signal.SIG_IGN if program and not received else handler)
     if "error" in outcome:
         raise outcome["error"]
     return outcome["code"]
 
 
-def main(argv=None):
+def main(argv=None, program=False):
+    """The command line; `program` when it is the process (python3 -m hairlod), see _run_interruptibly."""
     args = None
     with warnings.catch_warnings():
         # A numeric warning means a result is no longer finite: report it as the failure it is.
@@ -696,7 +700,7 @@ def main(argv=None):
         warnings.simplefilter("error", RuntimeWarning)
         try:
             args = build_parser().parse_args(argv)
-            return _run_interruptibly(args)
+            return _run_interruptibly(args, program)
         except _Interrupted as interrupted:
             written = atomic_output.stop_writing()
             name = signal.Signals(interrupted.signal_number).name
