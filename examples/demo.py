@@ -3,9 +3,8 @@
 1. Read the bundled hair file examples/data/bob.hair and summarise it.
 2. Generate strands inside the bundled hair mesh examples/data/wavy_cap.hairmesh.json.
 3. Build the LoD hierarchy (guides, clusters, elliptical thick hairs) of a real hairstyle made outside
-   the project, ../shared/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX, MIT; the generated hair when
-   ../shared/data is absent, which is said), and save it (out/demo/lod: one .hair of thick hairs per
-   level, manifest, arrays).
+   the project, the bundled examples/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX, MIT license next to
+   it), and save it (out/demo/lod: one .hair of thick hairs per level, manifest, arrays).
 4. Select levels for a near, a mid and a far camera and report the segments drawn against drawing
    every strand.
 5. Bake the aggregated BCSDF's lookup tables for the asset's hair counts (out/demo/bcsdf, OpenEXR).
@@ -35,7 +34,7 @@ from hairlod.cli import strand_summary  # noqa: E402
 
 HAIR_FILE = REPO / "examples" / "data" / "bob.hair"
 HAIR_MESH = REPO / "examples" / "data" / "wavy_cap.hairmesh.json"
-REAL_HAIR = REPO.parent / "shared" / "data" / "tressfx" / "Ratboy_mohawk.tfx"
+REAL_HAIR = REPO / "examples" / "data" / "tressfx" / "Ratboy_mohawk.tfx"
 VIEWPORT = (1280, 720)
 OUT = REPO / "out" / "demo"
 VIEWS = ("mid", "far")
@@ -64,10 +63,7 @@ def generate(path, count):
     return strands
 
 
-def real_hair(generated):
-    if not REAL_HAIR.is_file():
-        print(f"3. {REAL_HAIR} is absent (a fresh clone has no ../shared): the LoD below is of the generated hair")
-        return generated
+def real_hair():
     strands = io.read(REAL_HAIR)
     print(f"3. Real hair {REAL_HAIR.name}: {len(strands)} strands, {strands.point_count} points")
     return strands
@@ -133,7 +129,8 @@ def judge_views(asset, strands):
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     summarise_file(HAIR_FILE)
-    strands = real_hair(generate(HAIR_MESH, 20000))
+    generate(HAIR_MESH, 20000)
+    strands = real_hair()
     asset = build(strands)
     lod.save(asset, OUT / "lod")
     select_views(asset, strands)

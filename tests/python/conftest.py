@@ -11,6 +11,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "addon"))
 
 SHARED_DATA = REPO.parent / "shared" / "data"
+REAL_HAIR = REPO / "examples" / "data" / "tressfx" / "Ratboy_mohawk.tfx"
 
 
 @pytest.fixture(scope="session")
@@ -25,14 +26,11 @@ def shared_data():
 
 @pytest.fixture(scope="session")
 def real_hair():
-    """A real hairstyle made outside the project: ../shared/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX,
-    2228 strands x 32 points), read once. Absent (a clone without ../shared): skipped with a message."""
-    path = SHARED_DATA / "tressfx" / "Ratboy_mohawk.tfx"
-    if not path.is_file():
-        pytest.skip(f"shared test data {path} is absent: clone the repository next to ../shared to run this test")
+    """A real hairstyle made outside the project, bundled with its MIT license so that every clone
+    runs these tests: examples/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX, 2228 strands x 32 points)."""
     from hairlod import io
 
-    return io.read(str(path))
+    return io.read(str(REAL_HAIR))
 
 
 @pytest.fixture(scope="session")
