@@ -133,10 +133,7 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
         scene_strands, thick = lod_geometry(asset, camera, width_px)
     else:
         scene_strands, thick = strands, None
-    # Coverage is the geometry's alone; the core's dual-scattering integrator ('ds') ignores
-    # coverage_only, so coverage is traced by the path tracer, which stops at the camera ray's hit.
-    traced = "pt" if coverage_only else method
-    result = _core.render(scene_strands, thick, camera, lights, params, method=traced, spp=int(spp),
+    result = _core.render(scene_strands, thick, camera, lights, params, method=method, spp=int(spp),
                           max_bounces=int(max_bounces), seed=int(seed), coverage_only=bool(coverage_only),
                           progress=progress)
     result["camera"] = camera

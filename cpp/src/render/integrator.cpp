@@ -334,7 +334,8 @@ Image render(const HairScene& scene, const PinholeCamera& camera, const Lights& 
                     for (int s = 0; s < options.spp; ++s) {
                         Random rng(options.seed, pixel, static_cast<uint64_t>(s));
                         const CameraRay ray = camera.ray(x + rng.uniform(), y + rng.uniform());
-                        const glm::dvec3 value = options.method == Method::DualScattering
+                        // Coverage is the geometry's alone: the path tracer stops at the camera ray's hit.
+                        const glm::dvec3 value = options.method == Method::DualScattering && !options.coverage_only
                                                      ? tracer.dual(ray.origin, ray.direction, rng, tile_rays)
                                                      : tracer.path(ray.origin, ray.direction, rng, tile_rays);
                         // A NaN from any single path would poison the pixel: drop it (counted as black).

@@ -99,8 +99,8 @@ void append_curves(HairScene::Geometry& g, std::span<const glm::vec3> points, st
     g.segment_first.insert(g.segment_first.end(), 3, 0u);
 }
 
-// The accepted part of a ray through a thick hair: the chord through the ellipse at the hit's
-// cross-section (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r),
+// The accepted part of a ray through a thick hair: the chord through the ellipse of `section`
+// (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r),
 // clipped to the half-spaces of `ends`, measured in the section's plane. The member strands run
 // along the tangent, so a ray crosses as many of them as its path's projection onto the section
 // does (Sec. 4's n and the gaps): a ray at angle theta to the fibres travels 1 / sin(theta) times
@@ -420,7 +420,9 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
     hit.curve = g.segment_curve[prim];
     if (g.kind == CurveKind::Thick) {
         const Section s = thick_section(g, prim, u);
-        hit.chord = cross_thick_hair(g, hit.curve, origin, direction).chord;
+        // The filter crossed this hair for this ray already unless a later candidate replaced the cache.
+        const bool crossed = ctx.crossed_geometry == hit.geometry && ctx.crossed_curve == hit.curve;
+        hit.chord = crossed ? ctx.crossing.chord : cross_thick_hair(g, hit.curve, origin, direction).chord;
         hit.n_total = g.n_total[hit.curve];
         hit.density = s.density;
         hit.radii = s.radii;

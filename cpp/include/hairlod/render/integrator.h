@@ -36,8 +36,9 @@ struct RenderOptions {
     int tile_size = 16;
     double backscatter_density = 0.7;  // Zinke's d_b (dual scattering)
     double forward_density = 0.7;      // Zinke's d_f (dual scattering)
-    // Black hair: a camera ray that meets hair returns 0, one that misses (through the gaps of
-    // thick hairs included) the environment. Under a white environment the image is 1 - alpha.
+    // Black hair, for any method: a camera ray that meets hair returns 0, one that misses (through
+    // the gaps of thick hairs included) the environment. Under a white environment the image is
+    // 1 - alpha.
     bool coverage_only = false;
 };
 
