@@ -1,6 +1,6 @@
 """Converts every hair Curves object of a .blend into an LoD asset and exports it: a CI-style script.
 
-    blender -b scenes/hair.blend --python examples/convert_blend_to_lod.py -- --out build/lod [--guides 256
+    blender -b scenes/hair.blend --python examples/convert_blend_to_lod.py -- --out build/lod [--guides K
         --levels 6 --control-points 16 --seed 0 --no-bake --save]
 
 For each Curves object it builds the LoD (hairlod.blender.pipeline.build_lod: guides, clusters,
@@ -25,7 +25,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.p
 def parse_args():
     parser = argparse.ArgumentParser(prog="convert_blend_to_lod.py")
     parser.add_argument("--out", required=True, help="output folder (one sub-folder per Curves object)")
-    parser.add_argument("--guides", type=int, default=256)
+    parser.add_argument("--guides", type=int, default=0, help="guide hairs (default 0: one per 128 strands, 16 to 256)")
     parser.add_argument("--levels", type=int, default=6)
     parser.add_argument("--control-points", type=int, default=16)
     parser.add_argument("--seed", type=int, default=0)
