@@ -3,7 +3,9 @@ the hair, default lights, LoD geometry from a selection, images out (EXR, PNG) a
 
 Methods: 'pt' path-traced full geometry with the Chiang BCSDF (the reference), 'ds' full geometry with
 dual scattering, 'lod' LoD geometry with the aggregated BCSDF, 'lod-single' LoD geometry with the
-single-fibre BCSDF, 'lod-no-s' aggregated BCSDF without the shadowing-masking S (ablations).
+single-fibre BCSDF, 'lod-no-s' the aggregated BCSDF without the thick hairs shadowing themselves
+(ablations). A thick hair is shaded at the first of its strands the ray meets inside it, and shadowed
+through its other strands.
 """
 
 import os

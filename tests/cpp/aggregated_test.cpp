@@ -7,6 +7,8 @@
 #include <random>
 #include <string>
 
+#include <glm/exponential.hpp>
+
 #include "bcsdf_test_util.h"
 #include "hairlod/bcsdf/fiber_frame.h"
 #include "hairlod/bcsdf/furnace.h"
@@ -95,6 +97,65 @@ TEST(Aggregated, BackLobeFollowsEq10And11) {
     EXPECT_NEAR(lobes.value[3].x, (a_1_plus + hair.A_1.x + hair.A_3.x) * m / kPi, 1e-12);
     // No back lobe in front (|phi| > pi/2).
     EXPECT_EQ(aggregated.eval_lobes(wi, fiber_frame_direction(-0.1, 2.5)).value[3], glm::dvec3(0.0));
+}
+
+// Shaded inside by a path tracer (render/integrator.cpp): R^, TT^, D^ are the fibre's behind k = the
+// light's crossings (attenuation E[a_F^k] over a Poisson count, Eq. 9's spread with n - 1 = k), and B^
+// is A_1+ over hair_count alone (A_1 + A_3 are on the traced paths).
+TEST(Aggregated, ShadedInsideTakesTheLightsCrossingsAndKeepsOnlyA1Plus) {
+    const FiberRtdBcsdf fiber(brown());
+    const AggregatedBcsdf aggregated(brown(), {}, brown_table());
+    std::mt19937_64 rng(5);
+    int front = 0;
+    for (int k = 0; k < 3000 && front < 400; ++k) {
+        const glm::dvec3 wi = test::random_direction(rng), wo = test::random_direction(rng);
+        const HalfAngles angles = half_angles(fiber_direction(wi), fiber_direction(wo));
+        if (std::abs(angles.phi) <= 0.5 * kPi) continue;
+        ++front;
+        // No crossing: the fibre itself, whatever the strands behind.
+        const glm::dvec3 alone = aggregated.eval_lobes(wi, wo, {7.0, 1.0, true, 0.0}).sum(), fibre = fiber.eval(wi, wo);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(alone[c], fibre[c], 1e-12 * std::max(1.0, fibre[c]));
+        // k = 2.5 crossings.
+        const double crossings = 2.5;
+        const DualScatteringSample hair = brown_table()->sample(angles.theta_d);
+        const glm::dvec3 sigma_f2 = brown_table()->azimuthal_variance(angles.theta_d);
+        const double sigma_f2_mean = (sigma_f2.x + sigma_f2.y + sigma_f2.z) / 3.0;
+        RtdSpread spread;
+        spread.attenuation = glm::exp(-crossings * (1.0 - hair.a_f));
+        spread.longitudinal_variance = 4.0 * crossings * sigma_f2_mean;
+        spread.azimuthal_variance = crossings * sigma_f2_mean;
+        const glm::dvec3 behind = aggregated.eval_lobes(wi, wo, {1.0, 1.0, true, crossings}).sum();
+        const glm::dvec3 expected = fiber.eval_lobes(wi, wo, spread).sum();
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(behind[c], expected[c], 1e-12 * std::max(1.0, expected[c]));
+    }
+    EXPECT_EQ(front, 400);
+
+    const double n = 3.0;
+    const glm::dvec3 wi = fiber_frame_direction(0.1, 0.0), wo = fiber_frame_direction(-0.1, 0.2);
+    const DualScatteringSample hair = brown_table()->sample(-0.1);
+    const double a_f = hair.a_f.x;
+    const double a_1_plus = kSideScatterWeight * hair.a_b.x * (a_f + std::pow(a_f, 3) + std::pow(a_f, 5));
+    const double m = gaussian_longitudinal(0.1, -0.1, hair.delta_b.x, 4.0 * hair.sigma_b.x * hair.sigma_b.x);
+    EXPECT_NEAR(aggregated.eval_lobes(wi, wo, {n, 1.0, true, 0.0}).value[3].x, a_1_plus * m / kPi, 1e-12);
+    EXPECT_THROW(aggregated.eval_lobes(wi, wo, {n, 1.0, true, -1.0}), Error);
+    EXPECT_THROW(aggregated.eval_lobes(wi, wo, {n, 1.0, true, std::nan("")}), Error);
+}
+
+// The same energy bound shaded inside: lossless, any crossings and strands behind, grazing included.
+TEST(Aggregated, ShadedInsideLosslessEnergyNeverExceedsOne) {
+    HairParams lossless;
+    lossless.sigma_a = glm::dvec3(0.0);
+    const auto table = std::make_shared<const AggregatedTable>(aggregated_table(FiberRtdBcsdf(lossless)));
+    const AggregatedBcsdf aggregated(lossless, {}, table);
+    for (double n : {1.0, 3.0, 1e4})
+        for (double crossings : {0.0, 1.0, 50.0})
+            for (double theta_o : {-0.5 * kPi + 1e-4, 0.3, 1.4}) {
+                const ClusterState state{n, 1.0, true, crossings};
+                const AggregatedBcsdf built(lossless, state, table);
+                const double e = white_furnace(built, fiber_frame_direction(theta_o, 0.0), {3e-4, 3e-4, 16}).x;
+                EXPECT_LE(e, 1.0 + 1e-3) << n << " " << crossings << " " << theta_o;
+                EXPECT_TRUE(std::isfinite(e) && e >= 0.0);
+            }
 }
 
 TEST(Aggregated, MoreHairsDarkenAndEnergyIsBounded) {

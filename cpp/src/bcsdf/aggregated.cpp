@@ -40,6 +40,8 @@ void validate_cluster(const ClusterState& cluster) {
         throw Error("hair_count must be finite and >= 1, got " + std::to_string(cluster.hair_count));
     if (!(cluster.density > 0.0 && cluster.density <= 1.0))
         throw Error("density must be in (0, 1], got " + std::to_string(cluster.density));
+    if (!(std::isfinite(cluster.light_crossings) && cluster.light_crossings >= 0.0))
+        throw Error("light_crossings must be finite and >= 0, got " + std::to_string(cluster.light_crossings));
 }
 
 // The arguments of a ray crossing a thick hair (hairs_crossed, hair_hit_probability).
@@ -172,11 +174,12 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
     const FiberDirection dout = fiber_direction(wo);
     const HalfAngles angles = half_angles(di, dout);
     const DualScatteringSample hair = table_->sample(angles.theta_d);
-    const double crossed = cluster.hair_count - 1.0;
+    const double crossed = cluster.shaded_inside ? cluster.light_crossings : cluster.hair_count - 1.0;
 
     // Eq. 7 and 9: R^, TT^, D^ after n - 1 forward scatterings (variances in theta_h, x4 in theta_i).
     RtdSpread spread;
-    spread.attenuation = glm::pow(hair.a_f, glm::dvec3(crossed));
+    spread.attenuation = cluster.shaded_inside ? glm::exp(-crossed * (1.0 - glm::min(hair.a_f, glm::dvec3(1.0))))
+                                               : glm::pow(hair.a_f, glm::dvec3(crossed));
     const glm::dvec3 sigma_f2 = table_->azimuthal_variance(angles.theta_d);
     const double sigma_f2_mean = (sigma_f2.x + sigma_f2.y + sigma_f2.z) / 3.0;
     spread.longitudinal_variance = 4.0 * crossed * sigma_f2_mean;
@@ -193,8 +196,19 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
         // wo, 1 - a_F^(n-1) (a_f + a_b) at theta_o (a_f + a_b is the fibre's furnace there, and B^'s
         // lobe integrates to at most its attenuation). A lone lossless hair (n = 1) thus gets almost
         // no B^; without the cap the lossless aggregate reached 1.10 at n = 1, theta_o = 0.
-        const glm::dvec3 budget = back_lobe_budget(table_->sample(dout.theta), cluster.hair_count);
-        const glm::dvec3 a_b = glm::min(a_1_plus + hair.A_1 + hair.A_3, budget);
+        const DualScatteringSample seen = table_->sample(dout.theta);
+        // Shaded inside, the direct lobes are those behind the light's crossings (their attenuation there).
+        const glm::dvec3 budget =
+            cluster.shaded_inside
+                ? glm::max(glm::dvec3(0.0), 1.0 - glm::exp(-crossed * (1.0 - glm::min(seen.a_f, glm::dvec3(1.0)))) *
+                                                      (seen.a_f + seen.a_b))
+                : back_lobe_budget(seen, cluster.hair_count);
+        // Shaded inside by a path tracer, the light that the hairs around the thick hair scatter back
+        // (A_1 + A_3: dual scattering's backscatter of an unbounded hair volume, Zinke et al. 2008) is
+        // carried by the paths it traces between hairs; only A_1+, from the hair's own strands behind the
+        // shaded one (which those paths skip), stays in B^.
+        const glm::dvec3 surroundings = cluster.shaded_inside ? glm::dvec3(0.0) : hair.A_1 + hair.A_3;
+        const glm::dvec3 a_b = glm::min(a_1_plus + surroundings, budget);
         const glm::dvec3 sigma_b2 = hair.sigma_b * hair.sigma_b;
         for (int c = 0; c < 3; ++c) {
             const double m = gaussian_longitudinal(di.theta, dout.theta, hair.delta_b[c],

@@ -83,14 +83,17 @@ struct Vertex {
     glm::dvec3 wo{0.0};
     double h = 0.0;
     bool aggregated = false;
-    double hair_count = 1.0, density = 1.0;
+    double hair_count = 1.0;
+    // A thick hair that shadows its own hit (lod, lod-single; not lod-no-s): light reaches the hit
+    // through the hair's other strands (HairScene::own_hair_passage), which rays leaving the hit skip.
+    bool self_shadowed = false;
 };
 
 class Shader {
 public:
     Shader(const HairParams& params, const RenderOptions& options) : chiang_(params), method_(options.method) {
         const bool lod_aggregated = method_ == Method::LodAggregated || method_ == Method::LodNoShadowing;
-        if (lod_aggregated || method_ == Method::DualScattering) {
+        if (lod_aggregated || method_ == Method::DualScattering || method_ == Method::LodSingle) {
             const FiberRtdBcsdf fiber(params);
             table_ = std::make_shared<const AggregatedTable>(aggregated_table(fiber, 33, options.backscatter_density));
         }
@@ -102,23 +105,62 @@ public:
         Vertex v;
         v.frame = fibre_frame(hit, wo_world, v.h);
         v.wo = v.frame.local(wo_world);
+        v.self_shadowed = hit.kind == CurveKind::Thick && method_ != Method::LodNoShadowing;
         if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
-            // Sec. 4: n from the chord through the ellipse, rho = n_total r^2 / (|r_A| |r_B|).
-            v.density = std::clamp(static_cast<double>(hit.density), kMinClusterDensity, 1.0);
-            v.hair_count = hairs_crossed(v.density, hit.chord, hit.n_total, hit.radii.x, hit.radii.y);
-            // Without shadowing (the ablation) rho = 1 in Eq. 15, which makes S = 1 (open fraction 0).
-            if (method_ == Method::LodNoShadowing) v.density = 1.0;
+            // The first strand the ray met inside the hair, and the strands behind it (Eq. 10's A_1+).
+            v.hair_count = 1.0 + hit.strands_behind;
         }
         return v;
     }
 
-    // S(wi, wo) cos(theta_i), wi in the vertex frame.
-    glm::dvec3 eval(const Vertex& v, const glm::dvec3& wi) const {
+    // The strands of the hit's own thick hair that light arriving along wi_world crossed on its way to
+    // the hit (Poisson mean; 0 unless the hit shadows itself). Rays leaving the hit skip its own hair,
+    // so this is the hair shadowing itself. The strands are not independent of the view: the camera ray
+    // found no strand centre within a strand radius r of its path before the hit (hit.cleared_chord
+    // long, in the cross-section's plane), and the light's path shares that empty corridor near the
+    // hit. Two strips of width 2 r from one point at an in-plane angle phi overlap over an area of
+    // (2 r)^2 / (2 sin phi), so the light meets mu r / sin(phi) fewer strands (mu: strands met per
+    // unit in-plane length), at most the part of its path inside the corridor; none when it arrives
+    // from beyond the hit (cos phi <= 0). This is the shadowing that Eq. 12-15 of
+    // hair-lod-aggregated-bcsdf.txt estimate for a renderer shading the hair's surface (S grows with
+    // phi and falls with rho), so S is 1 here (rho = 1 in Eq. 15: open fraction 0).
+    double light_crossings(const Vertex& v, const HairScene& scene, const SurfaceHit& hit, const glm::dvec3& wi_world) const {
+        if (!v.self_shadowed) return 0.0;
+        const HairPassage passage = scene.own_hair_passage(hit, glm::vec3(wi_world));
+        double expected = passage.expected;
+        if (!(expected > 0.0)) return 0.0;
+        const glm::dvec3 wi = v.frame.local(wi_world);
+        const double in_plane_i = std::hypot(wi.y, wi.z), in_plane_o = std::hypot(v.wo.y, v.wo.z);
+        if (in_plane_i > 1e-9 && in_plane_o > 1e-9) {
+            const double cos_phi = (wi.y * v.wo.y + wi.z * v.wo.z) / (in_plane_i * in_plane_o);
+            if (cos_phi > 0.0) {
+                const double density = std::clamp(static_cast<double>(hit.density), kMinClusterDensity, 1.0);
+                const double per_length = expected_hairs_met(density, 1.0, hit.n_total, hit.radii.x, hit.radii.y);
+                const double strand_radius = std::sqrt(density * hit.radii.x * hit.radii.y / hit.n_total);
+                const double sin_phi = std::sqrt(std::max(0.0, 1.0 - cos_phi * cos_phi));
+                const double shared = std::min({strand_radius / std::max(sin_phi, 1e-9), double(passage.chord),
+                                                double(hit.cleared_chord)});
+                expected = std::max(0.0, expected - per_length * shared);
+            }
+        }
+        return expected;
+    }
+
+    // S(wi, wo) cos(theta_i), wi in the vertex frame; `crossings` from light_crossings.
+    glm::dvec3 eval(const Vertex& v, const glm::dvec3& wi, double crossings = 0.0) const {
         const double cos_i = std::sqrt(std::max(0.0, 1.0 - wi.x * wi.x));
         // The model at this hit's n and rho directly: one evaluation, no table of models to interpolate.
-        if (v.aggregated) return aggregated_->eval_lobes(wi, v.wo, {v.hair_count, v.density}).sum() * cos_i;
-        return chiang_.eval_lobes(wi, v.wo, v.h).sum() * std::max(cos_i, kMinCos);
+        if (v.aggregated)
+            return aggregated_->eval_lobes(wi, v.wo, {v.hair_count, 1.0, true, crossings}).sum() * cos_i;
+        glm::dvec3 value = chiang_.eval_lobes(wi, v.wo, v.h).sum() * std::max(cos_i, kMinCos);
+        if (crossings > 0.0) {
+            // The single fibre behind `crossings` strands that each pass on a_f forwards (dual scattering,
+            // Zinke et al. 2008): E[a_f^k] = exp(-k (1 - a_f)) for a Poisson count k.
+            const glm::dvec3 a_f = table_->sample(fiber_direction(wi).theta).a_f;
+            value *= glm::exp(-crossings * (1.0 - glm::min(a_f, glm::dvec3(1.0))));
+        }
+        return value;
     }
 
     double pdf(const Vertex& v, const glm::dvec3& wi) const {
@@ -127,15 +169,21 @@ public:
                (1.0 - kAggregatedChiangFraction) * kUniformSpherePdf;
     }
 
-    BcsdfSample sample(const Vertex& v, Random& rng) const {
+    // A direction wi (vertex frame) with its pdf; `crossings(wi)` gives light_crossings for the value.
+    template <typename Crossings>
+    BcsdfSample sample(const Vertex& v, Random& rng, const Crossings& crossings) const {
         const std::array<double, 4> u{rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()};
-        if (!v.aggregated) return sample_chiang(chiang_, v.wo, v.h, u);
+        if (!v.aggregated) {
+            BcsdfSample s = sample_chiang(chiang_, v.wo, v.h, u);
+            if (v.self_shadowed && s.pdf > 0.0) s.value = eval(v, s.wi, crossings(s.wi));
+            return s;
+        }
         BcsdfSample s;
         if (rng.uniform() < kAggregatedChiangFraction)
             s.wi = sample_chiang_far_field(chiang_, v.wo, {u[0], u[1], u[2], u[3], rng.uniform()}).wi;
         else s.wi = uniform_sphere(u[0], u[1]);
         s.pdf = pdf(v, s.wi);
-        s.value = eval(v, s.wi);
+        s.value = eval(v, s.wi, crossings(s.wi));
         return s;
     }
 
@@ -192,7 +240,7 @@ struct Tracer {
         const glm::vec3 p = hit.position;
         for (const DirectionalLight& light : lights.directional) {
             const glm::vec3 wi = -glm::normalize(light.direction);
-            const glm::dvec3 f = shader.eval(v, v.frame.local(glm::dvec3(wi)));
+            const glm::dvec3 f = shader.eval(v, v.frame.local(glm::dvec3(wi)), shader.light_crossings(v, scene, hit, wi));
             if (channel_max(f) <= 0.0) continue;
             ++rays;
             if (!scene.occluded(p, wi, kInfinity, scene.leaving(hit, wi))) sum += f * glm::dvec3(light.irradiance);
@@ -202,7 +250,7 @@ struct Tracer {
             const float distance = glm::length(to_light);
             if (!(distance > 0.0f)) continue;
             const glm::vec3 wi = to_light / distance;
-            const glm::dvec3 f = shader.eval(v, v.frame.local(glm::dvec3(wi)));
+            const glm::dvec3 f = shader.eval(v, v.frame.local(glm::dvec3(wi)), shader.light_crossings(v, scene, hit, wi));
             if (channel_max(f) <= 0.0) continue;
             ++rays;
             if (!scene.occluded(p, wi, distance * (1.0f - 1e-5f), scene.leaving(hit, wi)))
@@ -211,7 +259,7 @@ struct Tracer {
         if (environment_lit) {
             const glm::dvec3 wi_world = uniform_sphere(rng.uniform(), rng.uniform());
             const glm::dvec3 wi = v.frame.local(wi_world);
-            const glm::dvec3 f = shader.eval(v, wi);
+            const glm::dvec3 f = shader.eval(v, wi, shader.light_crossings(v, scene, hit, wi_world));
             if (channel_max(f) > 0.0) {
                 const glm::vec3 w(wi_world);
                 ++rays;
@@ -242,7 +290,9 @@ struct Tracer {
             const Vertex v = shader.vertex(hit, wo);
             radiance += throughput * direct(v, hit, rng, rays);
             if (bounce >= options.max_bounces) break;
-            const BcsdfSample s = shader.sample(v, rng);
+            const BcsdfSample s = shader.sample(v, rng, [&](const glm::dvec3& wi) {
+                return shader.light_crossings(v, scene, hit, v.frame.world(wi));
+            });
             if (!(s.pdf > 0.0) || channel_max(s.value) <= 0.0) break;
             throughput *= s.value / s.pdf;
             previous_pdf = s.pdf;

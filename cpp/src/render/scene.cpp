@@ -99,38 +99,43 @@ void append_curves(HairScene::Geometry& g, std::span<const glm::vec3> points, st
     g.segment_first.insert(g.segment_first.end(), 3, 0u);
 }
 
-// The accepted part of a ray through a thick hair: the chord through the ellipse of `section`
-// (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r),
-// clipped to the half-spaces of `ends`, measured in the section's plane. The member strands run
-// along the tangent, so a ray crosses as many of them as its path's projection onto the section
-// does (Sec. 4's n and the gaps): a ray at angle theta to the fibres travels 1 / sin(theta) times
-// farther in 3D past the same strands.
-// Returns the chord length (0 if the ray misses the ellipse or the ellipse lies behind t_min).
-float ellipse_chord(const glm::vec3& origin, const glm::vec3& direction, const Section& section,
-                    std::span<const EndPlane> ends) {
+// The accepted part of a ray through a thick hair: the interval of the ray inside the ellipse of
+// `section` (centre c, unit axes a (major) and b (minor) normal to the tangent, radii r), clipped to
+// the half-spaces of `ends` and to t >= 0, and its length measured in the section's plane. The
+// member strands run along the tangent, so a ray crosses as many of them as its path's projection
+// onto the section does (Sec. 4's n and the gaps): a ray at angle theta to the fibres travels
+// 1 / sin(theta) times farther in 3D past the same strands.
+struct ChordInterval {
+    double t_near = 0.0, t_far = 0.0;  // along the ray, t_far > t_near when it crosses
+    float chord = 0.0f;                // in-plane length, 0 if the ray misses
+};
+
+ChordInterval ellipse_interval(const glm::vec3& origin, const glm::vec3& direction, const Section& section,
+                               std::span<const EndPlane> ends) {
     const glm::vec3 o = origin - section.centre, &a = section.major, &b = section.minor;
     const glm::vec2& r = section.radii;
     const double x0 = glm::dot(o, a) / r.x, dx = glm::dot(direction, a) / r.x;
     const double y0 = glm::dot(o, b) / r.y, dy = glm::dot(direction, b) / r.y;
     const double qa = dx * dx + dy * dy, qb = 2.0 * (x0 * dx + y0 * dy), qc = x0 * x0 + y0 * y0 - 1.0;
     const double disc = qb * qb - 4.0 * qa * qc;
-    if (qa <= 1e-20 || disc <= 0.0) return 0.0f;
+    if (qa <= 1e-20 || disc <= 0.0) return {};
     const double root = std::sqrt(disc);
     double s_far = (-qb + root) / (2.0 * qa), s_near = std::max(0.0, (-qb - root) / (2.0 * qa));
     for (const EndPlane& end : ends) {
         // Keep dot(origin + s direction - point, normal) >= 0.
         const double height = glm::dot(origin - end.point, end.normal), rate = glm::dot(direction, end.normal);
         if (std::abs(rate) < 1e-30) {
-            if (height < 0.0) return 0.0f;
+            if (height < 0.0) return {};
         } else if (rate > 0.0) {
             s_near = std::max(s_near, -height / rate);
         } else {
             s_far = std::min(s_far, -height / rate);
         }
     }
-    if (!(s_far > s_near)) return 0.0f;
-    return static_cast<float>((s_far - s_near) * std::sqrt(glm::dot(direction, a) * glm::dot(direction, a) +
-                                                           glm::dot(direction, b) * glm::dot(direction, b)));
+    if (!(s_far > s_near)) return {};
+    const double in_plane = std::sqrt(glm::dot(direction, a) * glm::dot(direction, a) +
+                                      glm::dot(direction, b) * glm::dot(direction, b));
+    return {s_near, s_far, static_cast<float>((s_far - s_near) * in_plane)};
 }
 
 Section thick_section(const HairScene::Geometry& g, uint32_t segment, float u) {
@@ -173,35 +178,94 @@ struct HairCrossing {
     double expected = 0.0;
 };
 
+double expected_in_slab(const HairScene::Geometry& g, uint32_t curve, const Section& middle, float chord) {
+    return bcsdf::expected_hairs_met(std::clamp(static_cast<double>(middle.density), bcsdf::kMinClusterDensity, 1.0),
+                                     chord, g.n_total[curve], middle.radii.x, middle.radii.y);
+}
+
+// The segments of a thick hair (first segment, count).
+std::pair<uint32_t, uint32_t> hair_segments(const HairScene::Geometry& g, uint32_t curve) {
+    return {static_cast<uint32_t>(g.offsets[curve] - static_cast<int64_t>(curve)),
+            static_cast<uint32_t>(g.offsets[curve + 1] - g.offsets[curve] - 1)};
+}
+
 // Each segment contributes its chord through its own slab, between the planes normal to the curve
 // at its two ends, with its mid-segment ellipse. Embree's round tubes reach a radius past each
 // segment's ends (into the neighbours, and past the hair's ends, where there are no strands), and
 // for a wide hair Embree reports only the union's outer surface, on whichever segment it lies: so
-// the whole hair is crossed at once, from any of its hits, and decides once.
+// the whole hair is crossed at once, from any of its hits, and decides once. A ray that starts
+// inside the hair is crossed from its origin on.
 HairCrossing cross_thick_hair(const HairScene::Geometry& g, uint32_t curve, const glm::vec3& origin, const glm::vec3& direction) {
     HairCrossing crossing;
-    const auto first = static_cast<uint32_t>(g.offsets[curve] - static_cast<int64_t>(curve));
-    const auto count = static_cast<uint32_t>(g.offsets[curve + 1] - g.offsets[curve] - 1);
+    const auto [first, count] = hair_segments(g, curve);
     for (uint32_t segment = first; segment < first + count; ++segment) {
         const Section& middle = g.slabs[segment].middle;
-        const float chord = ellipse_chord(origin, direction, middle, g.slabs[segment].ends);
+        const float chord = ellipse_interval(origin, direction, middle, g.slabs[segment].ends).chord;
         if (!(chord > 0.0f)) continue;
         crossing.chord += chord;
-        crossing.expected += bcsdf::expected_hairs_met(std::clamp(static_cast<double>(middle.density), bcsdf::kMinClusterDensity, 1.0),
-                                                       chord, g.n_total[curve], middle.radii.x, middle.radii.y);
+        crossing.expected += expected_in_slab(g, curve, middle, chord);
     }
     return crossing;
 }
 
-// Whether the ray meets one of the thick hair's strands on its way through (stochastic transparency:
-// with probability 1 - exp(-expected), bcsdf::hair_hit_probability's). The uniform number hashes the
-// ray and the hair, so that all of the hair's hits agree and a render stays deterministic.
-bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve,
-                  const HairCrossing& crossing) {
+// Where along the ray the first member strand lies: the Poisson process of the strands a ray meets
+// (expected_hairs_met per unit of in-plane length, constant within each slab) reaches its first
+// arrival where the expected count passed equals `arrival`. The slabs partition the hair, so their
+// intervals along the ray are disjoint: they are walked in order of t. Returns the ray's t there
+// (the end of the last interval when `arrival` exceeds the hair's total).
+double first_strand_distance(const HairScene::Geometry& g, uint32_t curve, const glm::vec3& origin,
+                             const glm::vec3& direction, double arrival) {
+    struct Piece {
+        double t_near, t_far, expected;
+    };
+    std::array<Piece, 64> pieces;
+    size_t used = 0;
+    double t_last = 0.0;
+    const auto [first, count] = hair_segments(g, curve);
+    for (uint32_t segment = first; segment < first + count; ++segment) {
+        const Section& middle = g.slabs[segment].middle;
+        const ChordInterval interval = ellipse_interval(origin, direction, middle, g.slabs[segment].ends);
+        if (!(interval.chord > 0.0f)) continue;
+        t_last = std::max(t_last, interval.t_far);
+        const Piece piece{interval.t_near, interval.t_far, expected_in_slab(g, curve, middle, interval.chord)};
+        if (used < pieces.size()) {
+            pieces[used++] = piece;
+        } else {  // a ray through more than 64 slabs of one hair: keep the nearest 64
+            auto farthest = std::max_element(pieces.begin(), pieces.end(),
+                                             [](const Piece& x, const Piece& y) { return x.t_near < y.t_near; });
+            if (piece.t_near < farthest->t_near) *farthest = piece;
+        }
+    }
+    std::sort(pieces.begin(), pieces.begin() + used, [](const Piece& x, const Piece& y) { return x.t_near < y.t_near; });
+    for (size_t k = 0; k < used; ++k) {
+        const Piece& p = pieces[k];
+        if (arrival <= p.expected) return p.t_near + (p.t_far - p.t_near) * (p.expected > 0.0 ? arrival / p.expected : 0.0);
+        arrival -= p.expected;
+    }
+    return t_last;
+}
+
+// The uniform number that decides a ray's crossing of a thick hair: a hash of the ray and the hair,
+// so that all of the hair's hits agree and a render stays deterministic. Another `salt` gives an
+// independent number for the same crossing.
+double crossing_uniform(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve,
+                        uint64_t salt = 0) {
     uint64_t key = mix64((uint64_t(geometry) << 32) | curve);
+    if (salt != 0) key = mix64(key ^ salt);
     for (float c : {origin.x, origin.y, origin.z, direction.x, direction.y, direction.z})
         key = mix64(key ^ std::bit_cast<uint32_t>(c));
-    return static_cast<double>(key >> 11) * 0x1.0p-53 < -std::expm1(-crossing.expected);
+    return static_cast<double>(key >> 11) * 0x1.0p-53;
+}
+
+// Salt of the uniform that places the strand met across the ray (its offset h).
+constexpr uint64_t kOffsetSalt = 0x6f66667365742068ull;
+
+// Whether the ray meets one of the thick hair's strands on its way through (stochastic transparency:
+// with probability 1 - exp(-expected), bcsdf::hair_hit_probability's). The same uniform u gives the
+// first strand's place: given u < 1 - exp(-expected), -log(1 - u) is the first Poisson arrival.
+bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned geometry, uint32_t curve,
+                  const HairCrossing& crossing) {
+    return crossing_uniform(origin, direction, geometry, curve) < -std::expm1(-crossing.expected);
 }
 
 // What the context filter needs: the ray's origin record, the geometries and the counting state.
@@ -217,6 +281,9 @@ struct RayContext {
     unsigned crossed_geometry = RTC_INVALID_GEOMETRY_ID;
     uint32_t crossed_curve = 0;
     HairCrossing crossing;
+    // Thick hairs already found along this ray whose first strand lies farther than the query's end.
+    std::array<std::pair<unsigned, uint32_t>, 8> excluded{};
+    int excluded_count = 0;
 };
 
 void filter(const RTCFilterFunctionNArguments* args) {
@@ -229,6 +296,12 @@ void filter(const RTCFilterFunctionNArguments* args) {
         const HairScene::Geometry& g = *(*ctx->geometries)[geom_id];
         const uint32_t curve = g.segment_curve[prim];
         if (geom_id == ctx->from.geometry && curve == ctx->from.curve && t < ctx->from.skip_distance) {
+            args->valid[i] = 0;
+            continue;
+        }
+        const std::pair<unsigned, uint32_t> hair{geom_id, curve};
+        if (std::find(ctx->excluded.begin(), ctx->excluded.begin() + ctx->excluded_count, hair) !=
+            ctx->excluded.begin() + ctx->excluded_count) {
             args->valid[i] = 0;
             continue;
         }
@@ -395,18 +468,44 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
                           SurfaceHit& hit) const {
     RayContext ctx;
     init_context(ctx, geometries_, from);
-    RTCRayHit rh{};
-    rh.ray = make_ray(origin, direction, t_max);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &ctx.context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    // Embree reports a thick hair where the ray enters its tube; the strand the ray meets lies deeper
+    // (its first Poisson arrival), and other hairs may lie in between. So after a thick hit the ray is
+    // queried again up to that strand, without that hair, until the closest is known.
+    bool found = false;
+    float limit = t_max;
+    for (int query = 0; query <= static_cast<int>(ctx.excluded.size()); ++query) {
+        RTCRayHit rh{};
+        rh.ray = make_ray(origin, direction, limit);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        ctx.crossed_geometry = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene_, &ctx.context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const Geometry& g = *geometries_[rh.hit.geomID];
+        const uint32_t curve = g.segment_curve[rh.hit.primID];
+        float t = rh.ray.tfar;
+        if (g.kind == CurveKind::Thick) {
+            const double u = crossing_uniform(origin, direction, rh.hit.geomID, curve);
+            t = std::max(t, static_cast<float>(first_strand_distance(g, curve, origin, direction, -std::log1p(-u))));
+        }
+        if (t < limit) {
+            found = true;
+            limit = t;
+            fill_hit(g, rh, origin, direction, t, &ctx, hit);
+        }
+        if (g.kind != CurveKind::Thick || ctx.excluded_count == static_cast<int>(ctx.excluded.size())) break;
+        ctx.excluded[ctx.excluded_count++] = {rh.hit.geomID, curve};
+    }
+    return found;
+}
 
-    const Geometry& g = *geometries_[rh.hit.geomID];
+void HairScene::fill_hit(const Geometry& g, const RTCRayHit& rh, const glm::vec3& origin, const glm::vec3& direction,
+                         float t, const void* context, SurfaceHit& hit) const {
+    const auto& ctx = *static_cast<const RayContext*>(context);
     const uint32_t prim = rh.hit.primID;
     const float u = rh.hit.u;
     const glm::vec4* v = g.vertices.data() + g.segment_first[prim];
-    hit.t = rh.ray.tfar;
+    hit.t = t;
     hit.position = origin + hit.t * direction;
     const glm::vec3 tangent = catmull_rom_derivative(glm::vec3(v[0]), glm::vec3(v[1]), glm::vec3(v[2]), glm::vec3(v[3]), u);
     const float tangent_length = glm::length(tangent);
@@ -426,8 +525,27 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
         hit.n_total = g.n_total[hit.curve];
         hit.density = s.density;
         hit.radii = s.radii;
+        const HairCrossing behind = cross_thick_hair(g, hit.curve, hit.position, direction);
+        hit.strands_behind = static_cast<float>(behind.expected);
+        hit.cleared_chord = std::max(0.0f, hit.chord - behind.chord);
+        // The strand met lies at an offset h across it that is uniform in [-1, 1] (strands sit anywhere
+        // across the ray), not where the ray enters the wide tube: the normal that gives the fibre frame
+        // (x the tangent, z towards the viewer) that h.
+        const glm::vec3 towards_viewer = -direction - glm::dot(-direction, hit.tangent) * hit.tangent;
+        const float across = glm::length(towards_viewer);
+        if (across > 1e-6f) {
+            const glm::vec3 z = towards_viewer / across, y = glm::cross(z, hit.tangent);
+            const float h = static_cast<float>(2.0 * crossing_uniform(origin, direction, hit.geometry, hit.curve,
+                                                                      kOffsetSalt) - 1.0);
+            hit.normal = h * y + std::sqrt(std::max(0.0f, 1.0f - h * h)) * z;
+        }
     }
-    return true;
+}
+
+HairPassage HairScene::own_hair_passage(const SurfaceHit& hit, const glm::vec3& direction) const {
+    if (hit.kind != CurveKind::Thick) return {};
+    const HairCrossing crossing = cross_thick_hair(*geometries_[hit.geometry], hit.curve, hit.position, direction);
+    return {crossing.chord, crossing.expected};
 }
 
 bool HairScene::occluded(const glm::vec3& origin, const glm::vec3& direction, float t_max, const RayOrigin& from) const {

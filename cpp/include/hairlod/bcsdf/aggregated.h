@@ -29,6 +29,16 @@ inline constexpr double kMinClusterDensity = 1e-12;
 struct ClusterState {
     double hair_count = 1.0;  // n >= 1: hairs the incident ray crossed, the shaded one included
     double density = 1.0;     // rho in (0, 1]: area fraction of the cross-section covered by hairs
+    // A path tracer that shades the first strand its ray meets inside the thick hair and traces light
+    // between hairs (render/integrator.cpp) knows how many of the hair's strands the light crossed to
+    // reach it: `light_crossings`, a Poisson mean k. Sec. 4 takes n from the ray that carries the
+    // incident radiance; with k known, R^, TT^ and D^ have the attenuation of Eq. 7 averaged over the
+    // Poisson count, E[a_F^k] = exp(-k (1 - a_F)), and the spread of Eq. 9 with n - 1 = k; hair_count
+    // then counts the shaded strand and the strands behind it, the ones Eq. 10's A_1+ series returns
+    // light from, and B^ keeps only A_1+ (the backscatter of the hairs around, A_1 + A_3, is on the
+    // traced paths).
+    bool shaded_inside = false;
+    double light_crossings = 0.0;
 };
 
 // Sec. 4: rho = n_total r^2 / (|r_A| |r_B|) for n_total hairs of radius r in an ellipse of semi-axes

@@ -4,10 +4,13 @@
 //                  with MIS, up to max_bounces with Russian roulette (the reference);
 //   DualScattering full geometry, single scattering with Zinke et al. 2008's dual scattering: the
 //                  forward transmittance from shadow rays that count every hair they cross;
-//   LodAggregated  LoD geometry path traced with the aggregated BCSDF of Sec. 4 (n from the chord
-//                  through the thick hair's ellipse), strands of the selection with Chiang;
-//   LodSingle      LoD geometry with the single-fibre Chiang BCSDF (the over-bright baseline);
-//   LodNoShadowing the aggregated BCSDF without the shadowing-masking S of Eq. 12-15 (ablation).
+//   LodAggregated  LoD geometry path traced with the aggregated BCSDF of Sec. 4, strands of the
+//                  selection with Chiang. A thick hair is shaded at the first member strand its ray
+//                  meets inside (HairScene::intersect), with n from the strands the light crossed in
+//                  the hair to reach it (its self-shadowing, in place of Eq. 12-15's S) and B^ from
+//                  the strands behind it (bcsdf::ClusterState::shaded_inside);
+//   LodSingle      the same geometry and self-shadowing with the single-fibre Chiang BCSDF;
+//   LodNoShadowing LodAggregated without the thick hair shadowing itself (ablation).
 #include <cstdint>
 #include <functional>
 #include <string_view>

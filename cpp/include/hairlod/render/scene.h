@@ -65,6 +65,17 @@ struct SurfaceHit {
     float n_total = 1.0f;
     float density = 1.0f;
     glm::vec2 radii{0.0f};
+    // Thick hairs: the strands the ray would meet on average past the hit, to the hair's far side, and
+    // the in-plane length of the ray inside the hair before the hit (a corridor the ray found empty).
+    float strands_behind = 0.0f;
+    float cleared_chord = 0.0f;
+};
+
+// A ray's way out of a thick hair from a point inside it: its in-plane length and the strands it meets
+// there on average.
+struct HairPassage {
+    float chord = 0.0f;
+    double expected = 0.0;
 };
 
 // What a ray leaving a surface must ignore: hits on its own curve closer than `skip_distance`
@@ -90,7 +101,9 @@ public:
     size_t segment_count() const;
     size_t segment_count(CurveKind kind) const;
 
-    // Closest accepted hit along origin + t direction, t in (0, t_max); false if none.
+    // Closest accepted hit along origin + t direction, t in (0, t_max); false if none. A thick hair
+    // is hit where the ray meets its first member strand (a Poisson arrival inside the hair, Sec. 4's
+    // density), not where it enters the tube.
     bool intersect(const glm::vec3& origin, const glm::vec3& direction, float t_max, const RayOrigin& from,
                    SurfaceHit& hit) const;
     // Whether anything is hit in (0, t_max).
@@ -100,6 +113,10 @@ public:
     int count_crossings(const glm::vec3& origin, const glm::vec3& direction, float t_max, const RayOrigin& from,
                         int limit = 64) const;
 
+    // The strands of the hit's own thick hair that a ray from the hit in `direction` meets on average on
+    // its way out (0 for strands): the hair shadowing itself, which rays leaving the hit skip.
+    HairPassage own_hair_passage(const SurfaceHit& hit, const glm::vec3& direction) const;
+
     // The origin record of a ray leaving `hit` in `direction`.
     RayOrigin leaving(const SurfaceHit& hit, const glm::vec3& direction) const;
 
@@ -107,6 +124,9 @@ public:
 
 private:
     void attach(std::unique_ptr<Geometry> geometry);
+    // `context` is the query's RayContext (scene.cpp).
+    void fill_hit(const Geometry& g, const RTCRayHit& rh, const glm::vec3& origin, const glm::vec3& direction, float t,
+                  const void* context, SurfaceHit& hit) const;
 
     std::shared_ptr<Device> device_;
     RTCScene scene_ = nullptr;
