@@ -23,6 +23,7 @@ from mathutils import Vector
 
 from ... import lod, preview_buffers, self_shadow
 from .shaders import glsl_source
+from . import view_transform
 from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -32,6 +33,7 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
 _shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
+_view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
 
 # Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
 # segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
@@ -106,13 +108,15 @@ def _create_shader(kind):
     info.push_constant('INT', "draw_level")
     info.sampler(SELECTION_SLOT, 'FLOAT_2D', "selection_levels")
     bcsdf_textures.declare(info)
+    view_transform.declare(info)
     for slot, (name, length) in enumerate(_attributes(kind)):
         info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
-    info.fragment_source(glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
-                                     "hair.frag.glsl"))
+    info.fragment_source(view_transform.GLSL_CONSTANTS + glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl",
+                                                                     "self_shadow.glsl", "view_transform.glsl",
+                                                                     "hair.frag.glsl"))
     return gpu.shader.create_from_info(info)
 
 
@@ -309,6 +313,7 @@ class LodPreview:
         selected = time.perf_counter()
 
         textures = self.bcsdf_textures(obj, settings)
+        view_lut, self.view_transform_exact = _view_transforms.texture(bpy.context.scene, on_baked=_tag_viewports)
         world_block, world_texture = self.world_lighting(obj, settings)
         view_to_world = region_3d.view_matrix.inverted_safe()
         if region_3d.is_perspective:
@@ -338,6 +343,7 @@ class LodPreview:
                 textures.bind(program)
                 program.uniform_block("hair_world", world_block)
                 program.uniform_sampler("srbf_lut", world_texture)
+                program.uniform_sampler("view_lut", view_lut)
             self._draw_level(state, level, program)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')

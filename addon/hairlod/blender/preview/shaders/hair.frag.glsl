@@ -8,12 +8,7 @@
  * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
  * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
  * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Eq. 7). shading_mode 1: the level's colour, darkened towards the silhouette.
- * Radiance is tone-mapped (x / (1 + x)) and encoded to sRGB for the viewport. */
-
-float srgb_encode(float linear)
-{
-  return linear <= 0.0031308 ? 12.92 * linear : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
-}
+ * The scene-linear radiance goes through the scene's view transform (view_transform.glsl). */
 
 void main()
 {
@@ -63,6 +58,5 @@ void main()
                   lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
     radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n);
   }
-  vec3 mapped = radiance / (1.0 + radiance);
-  fragColor = vec4(srgb_encode(mapped.r), srgb_encode(mapped.g), srgb_encode(mapped.b), 1.0);
+  fragColor = vec4(view_transform(radiance), 1.0);
 }
