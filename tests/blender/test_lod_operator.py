@@ -36,12 +36,23 @@ def hair_object():
     bpy.data.objects.remove(obj)
 
 
-def test_build_lod_creates_one_curves_object_per_level(hair_object):
+def test_build_lod_packs_the_asset_and_makes_no_objects_by_default(hair_object):
+    objects, curves = len(bpy.data.objects), len(bpy.data.hair_curves)
     assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
+    assert packed_asset(hair_object).strand_count == 600
+    assert (len(bpy.data.objects), len(bpy.data.hair_curves)) == (objects, curves)
+    assert COLLECTION_NAME not in bpy.data.collections
+
+
+def test_build_lod_creates_one_hidden_curves_object_per_level_on_request(hair_object):
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1, level_objects=True) == {'FINISHED'}
     collection = bpy.data.collections[COLLECTION_NAME]
     objects = sorted(collection.objects, key=lambda o: o.name)
     assert [o.name for o in objects] == [f"Hair LoD L{level}" for level in range(len(objects))]
     assert 1 <= len(objects) <= 3
+    # Data for engines and scripts: neither drawn over the hair nor rendered.
+    assert all(obj.hide_get() and obj.hide_render for obj in objects)
+    assert not hair_object.hide_get() and not hair_object.hide_render
     for level, obj in enumerate(objects):
         strands = curves_to_strands(obj)
         attributes = set(strands.attribute_names())
@@ -115,7 +126,7 @@ def test_cancel_before_the_build_ends_leaves_nothing(hair_object):
 
 def test_cancel_after_some_levels_removes_them(hair_object):
     objects, curves = len(bpy.data.objects), len(bpy.data.hair_curves)
-    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6)
+    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6, level_objects=True)
     fractions = []
     while len(job.created) < 2:
         assert not job.step()
@@ -128,7 +139,7 @@ def test_cancel_after_some_levels_removes_them(hair_object):
 
 
 def test_stepped_job_matches_the_operator(hair_object):
-    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6, seed=1)
+    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6, seed=1, level_objects=True)
     while not job.step():
         pass
     assert job.fraction == 1.0 and len(_lod_objects()) == len(job.asset.levels)
@@ -138,7 +149,7 @@ def test_stepped_job_matches_the_operator(hair_object):
 def test_packed_asset_survives_save_and_reopen(addon, tmp_path):
     obj = strands_to_curves(hanging_hair(), "Packed Hair")
     bpy.context.view_layer.objects.active = obj
-    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=2) == {'FINISHED'}
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=2, level_objects=True) == {'FINISHED'}
     before = packed_asset(obj)
     path = str(tmp_path / "packed.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
@@ -194,7 +205,7 @@ def test_scene_cameras_option_drops_levels_no_camera_needs(addon, empty_scene):
     scene.render.resolution_x, scene.render.resolution_y = 640, 480
     source = strands_to_curves(hanging_hair(curves=2000, points=8), "Hair")
     bpy.context.view_layer.objects.active = source
-    options = {"guides": 12, "levels": 5, "control_points": 6, "seed": 1}
+    options = {"guides": 12, "levels": 5, "control_points": 6, "seed": 1, "level_objects": True}
     assert bpy.ops.hairlod.build_lod(**options) == {'FINISHED'}
     every_level = packed_asset(source).level_ids
     assert len(every_level) == 4

@@ -64,7 +64,7 @@ def steps():
     HAIRLOD_OT_build_lod.modal = recording_modal
     before = counts()
     with bpy.context.temp_override(window=window, area=area):
-        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8)
+        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8, level_objects=True)
     check(started == {'RUNNING_MODAL'}, f"the operator runs modal ({started})")
     deadline = time.monotonic() + TIMEOUT
     while PACKED_PROPERTY not in source and time.monotonic() < deadline:
@@ -74,12 +74,20 @@ def steps():
     levels, thick_levels = len(bpy.data.collections[COLLECTION_NAME].objects), len(packed_asset(source).levels)
     # levels=5 is the most; the hierarchy stops where the area no longer shrinks about 4x.
     check(levels == thick_levels and 2 <= levels <= 4, f"one Curves object per thick level ({levels}, {thick_levels})")
+    made = list(bpy.data.collections[COLLECTION_NAME].objects)
+    check(all(obj.hide_get() and obj.hide_render for obj in made), "the level objects are hidden and not rendered")
+    check(source.display_type == 'BOUNDS' and source.hairlod_lod_preview.enabled,
+          "the preview replaces the source's drawing (it draws as its bounds)")
+    source.hairlod_lod_preview.enabled = False
+    check(source.display_type == 'TEXTURED', f"the preview toggle restores the source's display ({source.display_type})")
+    source.hairlod_lod_preview.enabled = True
     after = counts()
 
     del source[PACKED_PROPERTY]
     progress.clear()
     with bpy.context.temp_override(window=window, area=area):
-        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8)
+        # Level objects: one more timer step per level, so that Esc comes while the build still runs.
+        started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8, level_objects=True)
     check(started == {'RUNNING_MODAL'}, "invoked again")
     yield POLL_DELAY
     window.event_simulate('ESC', 'PRESS')

@@ -94,11 +94,16 @@ def build_from_the_panel(window, area):
     check(last.bl_idname == "HAIRLOD_OT_build_lod" and
           all(getattr(last.properties, name) == getattr(settings, name) for name in BUILD_PROPERTIES),
           "the redo panel holds the parameters the build used")
+    # The preview replaces the hair's own drawing; the sidebar shows its settings (looked at: nothing cut
+    # at the default sidebar width).
+    check(obj.display_type == 'BOUNDS', f"the built hair draws as its bounds under the preview ({obj.display_type})")
+    screenshot(window, area, "sidebar_after_build.png")
     name = obj.name
     with bpy.context.temp_override(window=window, area=area):
         bpy.ops.ed.undo()
     yield REDRAW_DELAY
     check(PACKED_PROPERTY not in bpy.data.objects[name], "undo removes the build")
+    check(bpy.data.objects[name].display_type == 'TEXTURED', "and gives the hair its own drawing back")
 
 
 def steps():

@@ -1,4 +1,5 @@
-"""Build Hair LoD: the active hair Curves object -> one Curves object per thick level.
+"""Build Hair LoD: the active hair Curves object -> its LoD asset, packed into the object (and, on
+request, one hidden, non-rendering Curves object per thick level).
 
 Its parameters live on the object (HAIRLOD_PG_lod_build, drawn in the sidebar) and are the
 operator's defaults: a parameter the caller does not pass comes from the active object's settings.
@@ -80,17 +81,17 @@ class LodBuildJob:
     True when all is done; cancel() stops the build and removes everything the job made."""
 
     def __init__(self, context, source, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
-                 frame_step=1, width_px=2.0):
+                 frame_step=1, width_px=2.0, level_objects=False):
         from .. import lod
         from .curves import curves_to_strands
 
-        self.source, self.scene, self.width_px = source, context.scene, width_px
+        self.source, self.scene, self.width_px, self.level_objects = source, context.scene, width_px, level_objects
         strands = curves_to_strands(source, depsgraph=context.evaluated_depsgraph_get())
         self.cameras = None
         if scene_cameras_only:
             self.cameras = scene_cameras(context, source, frame_step)
             if not self.cameras:
-                raise ValueError("'Only levels the scene's cameras need' is on but the scene has no camera")
+                raise ValueError("'Cameras Only' is on but the scene has no camera")
         self.progress = lod.BuildProgress()
         self.asset, self.error, self.selected_levels = None, None, None
         self.collection, self.created_collection, self.created = None, False, []
@@ -111,6 +112,8 @@ class LodBuildJob:
     def fraction(self):
         """Progress in [0, 1]."""
         built = self.progress.done / max(1, self.progress.total)
+        if not self.level_objects:
+            return built if self.asset is None else 1.0
         if self.asset is None:
             return BUILD_SHARE * built
         return BUILD_SHARE + (1 - BUILD_SHARE) * self._levels_made / max(1, len(self.asset.levels))
@@ -123,9 +126,12 @@ class LodBuildJob:
             return False
         if self.error is not None:
             raise self.error
+        if self.cameras is not None and self.selected_levels is None:
+            self.asset, self.selected_levels = lod.keep_scene_levels(self.asset, self.cameras, self.width_px)
+        if not self.level_objects:
+            self.source[PACKED_PROPERTY] = lod.pack(self.asset)
+            return True
         if self.collection is None:
-            if self.cameras is not None:
-                self.asset, self.selected_levels = lod.keep_scene_levels(self.asset, self.cameras, self.width_px)
             self.collection = bpy.data.collections.get(COLLECTION_NAME)
             if self.collection is None:
                 self.created_collection = True
@@ -137,6 +143,10 @@ class LodBuildJob:
             obj = strands_to_curves(_level_strands(self.asset.levels[self._levels_made], level_id),
                                     f"{self.source.name} LoD L{level_id}", self.collection)
             obj.matrix_world = self.source.matrix_world
+            # Data for engines and scripts, not a second drawing of the hair: the preview shows the LoD, the
+            # source renders.
+            obj.hide_render = True
+            obj.hide_set(True)
             self.created.append(obj)
             self._levels_made += 1
             return False
@@ -175,18 +185,22 @@ def _build_properties(options):
                               options=options),
         "levels": IntProperty(name="Levels", description="LoD levels including the strands themselves",
                               default=6, min=2, max=16, options=options),
-        "control_points": IntProperty(name="Control Points", description="Control points per hair", default=16,
+        "control_points": IntProperty(name="Points", description="Control points per hair", default=16,
                                       min=2, max=64, options=options),
         "seed": IntProperty(name="Seed", description="Random seed of the k-means seeding", default=0, min=0,
                             options=options),
         "scene_cameras": BoolProperty(
-            name="Only levels the scene's cameras need",
+            name="Cameras Only",
             description="Keep only the levels that some camera of the scene selects over the frame range "
-                        "(at the render resolution)", default=False, options=options),
+                        "(at the render resolution, every Frame Step frames)", default=False, options=options),
         "frame_step": IntProperty(name="Frame Step", description="Frames between camera samples", default=1, min=1,
                                   options=options),
         "width_px": FloatProperty(name="Width (px)", description="Screen width threshold of the level selection",
                                   default=2.0, min=0.01, options=options),
+        "level_objects": BoolProperty(
+            name="Level Objects", description="Also add one Curves object per thick level to the \"Hair LoD\" "
+            "collection, hidden and not rendered (the preview draws the LoD; Export Hair LoD writes the levels "
+            "either way)", default=False, options=options),
     }
 
 
@@ -200,8 +214,8 @@ class HAIRLOD_PG_lod_build(bpy.types.PropertyGroup):
 
 
 class HAIRLOD_OT_build_lod(bpy.types.Operator):
-    """Build guide hairs, clusters and elliptical thick hairs from the active hair Curves object,
-    adding one Curves object per level to the "Hair LoD" collection (Esc cancels)"""
+    """Build guide hairs, clusters and elliptical thick hairs from the active hair Curves object and
+    preview them in the viewport (Esc cancels)"""
 
     bl_idname = "hairlod.build_lod"
     bl_label = "Build Hair LoD"
@@ -224,7 +238,7 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
                 setattr(self, name, getattr(settings, name))
         try:
             return LodBuildJob(context, source, self.guides, self.levels, self.control_points, self.seed,
-                               self.scene_cameras, self.frame_step, self.width_px)
+                               self.scene_cameras, self.frame_step, self.width_px, self.level_objects)
         except Exception as error:
             self.report({'ERROR'}, f"Cannot build the hair LoD of {source.name}: {error}")
             return None
@@ -235,8 +249,9 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
 
             lod_preview.attach(job.source, job.asset, packed=True)
         coverage = ", ".join(f"{c:.3f}" for c in job.asset.coverage)
-        self.report({'INFO'}, f"Built {len(job.created)} thick levels from {job.asset.strand_count:,} strands "
-                              f"({job.asset.cluster_count} clusters; coverage {coverage})")
+        objects = f", {len(job.created)} level objects" if job.created else ""
+        self.report({'INFO'}, f"Built {len(job.asset.levels)} thick levels from {job.asset.strand_count:,} strands "
+                              f"({job.asset.cluster_count} clusters{objects}; coverage {coverage})")
         return {'FINISHED'}
 
     def execute(self, context):

@@ -1,5 +1,7 @@
 """Settings, operators and panel of the viewport LoD preview (preview/lod_preview.py)."""
 
+import textwrap
+
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 
@@ -10,18 +12,28 @@ def _redraw(self, context):
     lod_preview._tag_viewports()
 
 
+def _enabled_changed(self, context):
+    from .preview import lod_preview
+
+    obj = self.id_data
+    lod_preview.replace_source_display(obj, self.enabled and lod_preview.preview_of(obj) is not None)
+    lod_preview._tag_viewports()
+
+
 class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
-    enabled: BoolProperty(name="LoD Preview", description="Draw the object's hair LoD in the viewport",
-                          default=True, update=_redraw)
-    width_px: FloatProperty(name="Width Threshold", description="Largest on-screen width of a thick hair, in "
+    enabled: BoolProperty(name="LoD Preview", description="Draw the object's hair LoD in the viewport in place of "
+                          "the object's own drawing (it draws as its bounds meanwhile; renders are unchanged)",
+                          default=True, update=_enabled_changed)
+    width_px: FloatProperty(name="Width (px)", description="Largest on-screen width of a thick hair, in "
                             "pixels (eps_w): smaller values draw finer levels", default=2.0, min=0.05,
                             soft_max=32.0, update=_redraw)
     overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
                           items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),
                                  ('LEVELS', "Levels", "Each LoD level in its own colour")),
                           default='SHADED', update=_redraw)
-    use_material: BoolProperty(name="Use Material", description="Shade with the Principled Hair BSDF of the "
-                               "object's material when it has one", default=True, update=_redraw)
+    use_material: BoolProperty(name="Material", description="Shade with the Principled Hair BSDF of the "
+                               "object's material when it has one (else with the hair parameters below)",
+                               default=True, update=_redraw)
     melanin: FloatProperty(name="Melanin", description="Melanin concentration (Principled Hair BSDF)",
                            default=0.5, min=0.0, max=1.0, subtype='FACTOR', update=_redraw)
     melanin_redness: FloatProperty(name="Melanin Redness", description="Pheomelanin share of the melanin",
@@ -30,10 +42,10 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                              max=1.0, subtype='FACTOR', update=_redraw)
     radial_roughness: FloatProperty(name="Radial Roughness", description="Azimuthal roughness", default=0.3,
                                     min=0.01, max=1.0, subtype='FACTOR', update=_redraw)
-    self_shadowing: FloatProperty(name="Self-Shadowing", description="Light lost through the hair volume, as a "
+    self_shadowing: FloatProperty(name="Shadowing", description="Self-shadowing: light lost through the hair volume, as a "
                                   "share of the strands' geometric extinction (exponential falloff; 0 disables)",
                                   default=0.2, min=0.0, soft_max=1.0, update=_redraw)
-    world_lighting: EnumProperty(name="World Lighting", description="How the scene's world lights the shaded preview",
+    world_lighting: EnumProperty(name="World", description="How the scene's world lights the shaded preview",
                                  items=(('SRBF', "SRBF", "The world fitted by SRBF lights (Xu et al. 2011) where "
                                          "it can be read (a colour or an equirectangular Environment Texture), "
                                          "else ambient"),
@@ -91,28 +103,34 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
         layout = self.layout
         obj = context.active_object
         row = layout.row(align=True)
-        row.operator(HAIRLOD_OT_load_lod_preview.bl_idname, icon='FILEBROWSER')
-        row.operator("hairlod.export_lod", icon='EXPORT')
+        row.operator(HAIRLOD_OT_load_lod_preview.bl_idname, text="Load", icon='FILEBROWSER')
+        row.operator("hairlod.export_lod", text="Export", icon='EXPORT')
         preview = lod_preview.preview_of(obj) if obj is not None else None
         if preview is None:
-            layout.label(text="No LoD asset on the active object", icon='INFO')
+            layout.label(text="Build or load an LoD", icon='INFO')
             return
         settings = obj.hairlod_lod_preview
+        # One toggle: on, the LoD replaces the object's drawing; off, the object's own display returns.
+        layout.prop(settings, "enabled", toggle=True, icon='HIDE_OFF' if settings.enabled else 'HIDE_ON')
         column = layout.column()
+        column.active = settings.enabled
         column.use_property_split = True
         column.use_property_decorate = False
-        column.prop(settings, "enabled")
         column.prop(settings, "width_px")
         column.prop(settings, "overlay")
         if settings.overlay == 'SHADED':
             column.prop(settings, "self_shadowing")
             column.prop(settings, "world_lighting")
             if preview.world_status:
-                column.label(text=preview.world_status)
+                for line in _wrapped(preview.world_status, context):
+                    column.label(text=line)
             column.prop(settings, "use_material")
+            # Sliders with their names inside (the full width): greyed out while a material shades the hair.
             material = column.column(align=True)
+            material.use_property_split = False
+            material.active = settings.enabled and not lod_preview.uses_material(obj, settings)
             for key in ("melanin", "melanin_redness", "roughness", "radial_roughness"):
-                material.prop(settings, key)
+                material.prop(settings, key, slider=True)
         column.prop(settings, "show_statistics")
         if settings.show_statistics and preview.stats:
             stats = preview.stats
@@ -121,7 +139,14 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
             for level, count in enumerate(stats["segments_per_level"]):
                 name = "strands" if level == preview.level_count - 1 else f"L{preview.asset.level_ids[level]}"
                 box.label(text=f"  {name}: {count:,}")
-            box.label(text=f"Selection {stats['select_ms']:.2f} ms, draw {stats['draw_ms']:.2f} ms")
+            box.label(text=f"Selection {stats['select_ms']:.2f} ms")
+            box.label(text=f"Draw {stats['draw_ms']:.2f} ms")
+
+
+def _wrapped(text, context):
+    """`text` in lines that fit the sidebar (labels do not wrap; about 6.5 pixels a character)."""
+    scale = context.preferences.system.ui_scale
+    return textwrap.wrap(text, max(16, int(context.region.width / (6.5 * scale)) - 2))
 
 
 def register_properties():

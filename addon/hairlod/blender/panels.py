@@ -42,10 +42,13 @@ def draw_build_settings(layout, settings):
     for key in ("guides", "levels", "control_points", "seed"):
         block.prop(settings, key)
     column.prop(settings, "width_px")
-    column.prop(settings, "scene_cameras")
-    row = column.row()
-    row.active = settings.scene_cameras
-    row.prop(settings, "frame_step")
+    # Check boxes with their names across the full width.
+    options = layout.column(align=True)
+    options.prop(settings, "scene_cameras")
+    step = options.row(align=True)
+    step.active = settings.scene_cameras
+    step.prop(settings, "frame_step")
+    options.prop(settings, "level_objects")
 
 
 class VIEW3D_PT_hairlod_hair_mesh(bpy.types.Panel):

@@ -24,16 +24,17 @@ def material_params(obj):
 
 
 def build_lod(obj, context=None, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
-              frame_step=1, width_px=2.0):
-    """Builds the LoD of the hair Curves object `obj` as the Build Hair LoD operator does (one Curves
-    object per level in the "Hair LoD" collection, the asset packed into `obj`) and returns the
-    LodAsset. Raises ValueError on bad input; leaves nothing half-made."""
+              frame_step=1, width_px=2.0, level_objects=False):
+    """Builds the LoD of the hair Curves object `obj` as the Build Hair LoD operator does (the asset
+    packed into `obj`; with `level_objects`, one hidden, non-rendering Curves object per level in the
+    "Hair LoD" collection) and returns the LodAsset. Raises ValueError on bad input; leaves nothing
+    half-made."""
     from .lod_operator import LodBuildJob
 
     if obj is None or obj.type != 'CURVES':
         raise ValueError(f"'{getattr(obj, 'name', obj)}' is not a hair Curves object")
     job = LodBuildJob(context or bpy.context, obj, guides, levels, control_points, seed, scene_cameras_only,
-                      frame_step, width_px)
+                      frame_step, width_px, level_objects)
     job.run()
     return job.asset
 

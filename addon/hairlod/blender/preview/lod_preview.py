@@ -34,6 +34,8 @@ _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
 _shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
 _view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
+# Custom property of an object whose drawing the preview replaces: its own display type, to restore.
+SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
 
 # Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
 # segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
@@ -280,7 +282,7 @@ class LodPreview:
         params = hair_params(obj, settings)
         key = (settings.world_lighting, world_srbf.world_key(world), repr(bcsdf.params_to_dict(params)))
         if self.world is None or self.world[0] != key:
-            lights, reason = (None, "World Lighting is Ambient") if settings.world_lighting == 'AMBIENT' else \
+            lights, reason = (None, "World is Ambient") if settings.world_lighting == 'AMBIENT' else \
                 world_srbf.world_lights(world)
             if lights is None:
                 texture = world_srbf.empty_texture()
@@ -297,7 +299,7 @@ class LodPreview:
         lights, reason = self.world[1], self.world[2]
         if lights is None:
             return f"World: ambient ({reason})"
-        return f"World: {len(lights.directions)} SRBF lights, fit error {100.0 * lights.relative_error:.1f}%"
+        return f"World: {len(lights.directions)} SRBF lights, {100.0 * lights.relative_error:.1f}% error"
 
     def draw(self, obj, region, region_3d, settings):
         start = time.perf_counter()
@@ -355,9 +357,17 @@ class LodPreview:
         return changed
 
 
+def uses_material(obj, settings):
+    """Whether the preview shades with the object's Principled Hair BSDF (Material is on and the
+    object has one), so that the panel's hair parameters have no effect."""
+    from ..pipeline import material_params
+
+    return settings.use_material and material_params(obj) is not None
+
+
 def hair_params(obj, settings):
     """HairParams of the preview: the Principled Hair BSDF of the object's first material that has
-    one when "Use Material" is on, else the panel's melanin and roughness."""
+    one when "Material" is on, else the panel's melanin and roughness."""
     from ... import bcsdf
 
     if settings.use_material:
@@ -401,15 +411,29 @@ def scene_lights(scene, camera):
     return count, vectors, colours
 
 
+def replace_source_display(obj, preview_on):
+    """While its preview is on, the LoD replaces the object's own drawing in the viewport: the object
+    draws as its bounds (its render is unchanged, and hiding it hides the preview too). Off, or without
+    a preview, the object's own display type comes back. Not while Blender draws (it changes data)."""
+    if preview_on:
+        if SOURCE_DISPLAY_PROPERTY not in obj:
+            obj[SOURCE_DISPLAY_PROPERTY] = obj.display_type
+        obj.display_type = 'BOUNDS'
+    elif SOURCE_DISPLAY_PROPERTY in obj:
+        obj.display_type = obj[SOURCE_DISPLAY_PROPERTY]
+        del obj[SOURCE_DISPLAY_PROPERTY]
+
+
 def attach(obj, asset, packed=False):
-    """Shows `asset` (an hairlod.lod.LodAsset in `obj`'s local space) in the viewport for `obj`.
-    `packed`: the asset is the one packed into `obj` (Build Hair LoD), and goes when that does
-    (undo, or the property removed)."""
+    """Shows `asset` (an hairlod.lod.LodAsset in `obj`'s local space) in the viewport for `obj`, in
+    place of the object's own drawing while the preview is on. `packed`: the asset is the one packed
+    into `obj` (Build Hair LoD), and goes when that does (undo, or the property removed)."""
     if not isinstance(asset, lod.LodAsset):
         raise TypeError(f"asset must be an hairlod.lod.LodAsset, got {type(asset).__name__}")
     preview = LodPreview(asset)
     preview.packed = packed
     _previews[obj.name] = preview
+    replace_source_display(obj, obj.hairlod_lod_preview.enabled)
     _tag_viewports()
 
 
@@ -429,6 +453,9 @@ def attach_packed_assets():
 
 def detach(obj_name):
     _previews.pop(obj_name, None)
+    obj = bpy.data.objects.get(obj_name)
+    if obj is not None:
+        replace_source_display(obj, False)
     _tag_viewports()
 
 
