@@ -101,7 +101,7 @@ TEST(Aggregated, BackLobeFollowsEq10And11) {
 
 // Shaded inside by a path tracer (render/integrator.cpp): R^, TT^, D^ are the fibre's behind k = the
 // light's crossings (attenuation E[a_F^k] over a Poisson count, Eq. 9's spread with n - 1 = k), and B^
-// is A_1+ over hair_count alone (A_1 + A_3 are on the traced paths).
+// is A_1+ over the hair_count - 1 strands behind alone (A_1 + A_3 are on the traced paths).
 TEST(Aggregated, ShadedInsideTakesTheLightsCrossingsAndKeepsOnlyA1Plus) {
     const FiberRtdBcsdf fiber(brown());
     const AggregatedBcsdf aggregated(brown(), {}, brown_table());
@@ -130,13 +130,15 @@ TEST(Aggregated, ShadedInsideTakesTheLightsCrossingsAndKeepsOnlyA1Plus) {
     }
     EXPECT_EQ(front, 400);
 
+    // hair_count 3: the shaded strand and 2 behind it, so the series has 2 terms; none behind, no B^.
     const double n = 3.0;
     const glm::dvec3 wi = fiber_frame_direction(0.1, 0.0), wo = fiber_frame_direction(-0.1, 0.2);
     const DualScatteringSample hair = brown_table()->sample(-0.1);
     const double a_f = hair.a_f.x;
-    const double a_1_plus = kSideScatterWeight * hair.a_b.x * (a_f + std::pow(a_f, 3) + std::pow(a_f, 5));
+    const double a_1_plus = kSideScatterWeight * hair.a_b.x * (a_f + std::pow(a_f, 3));
     const double m = gaussian_longitudinal(0.1, -0.1, hair.delta_b.x, 4.0 * hair.sigma_b.x * hair.sigma_b.x);
     EXPECT_NEAR(aggregated.eval_lobes(wi, wo, {n, 1.0, true, 0.0}).value[3].x, a_1_plus * m / kPi, 1e-12);
+    EXPECT_EQ(aggregated.eval_lobes(wi, wo, {1.0, 1.0, true, 0.0}).value[3], glm::dvec3(0.0));
     EXPECT_THROW(aggregated.eval_lobes(wi, wo, {n, 1.0, true, -1.0}), Error);
     EXPECT_THROW(aggregated.eval_lobes(wi, wo, {n, 1.0, true, std::nan("")}), Error);
 }

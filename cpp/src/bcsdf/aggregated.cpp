@@ -190,7 +190,10 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
     // Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with
     // A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) = d_1+ a_B a_F (1 - a_F^(2n)) / (1 - a_F^2).
     if (std::abs(angles.phi) < 0.5 * kPi) {
-        const glm::dvec3 a_1_plus = side_scatter_series(hair.a_f, hair.a_b, cluster.hair_count);
+        // Shaded inside, the series runs over the strands behind the shaded one (hair_count - 1 of them,
+        // a Poisson mean: the closed form takes a fractional count, and none gives no A_1+).
+        const glm::dvec3 a_1_plus =
+            side_scatter_series(hair.a_f, hair.a_b, cluster.shaded_inside ? cluster.hair_count - 1.0 : cluster.hair_count);
         // Energy bound (decision; Sec. 4 leaves it open): B^ returns light that the cluster's hairs
         // scattered, so it carries at most what the direct lobes leave of the unit budget seen from
         // wo, 1 - a_F^(n-1) (a_f + a_b) at theta_o (a_f + a_b is the fibre's furnace there, and B^'s

@@ -34,9 +34,9 @@ struct ClusterState {
     // reach it: `light_crossings`, a Poisson mean k. Sec. 4 takes n from the ray that carries the
     // incident radiance; with k known, R^, TT^ and D^ have the attenuation of Eq. 7 averaged over the
     // Poisson count, E[a_F^k] = exp(-k (1 - a_F)), and the spread of Eq. 9 with n - 1 = k; hair_count
-    // then counts the shaded strand and the strands behind it, the ones Eq. 10's A_1+ series returns
-    // light from, and B^ keeps only A_1+ (the backscatter of the hairs around, A_1 + A_3, is on the
-    // traced paths).
+    // then counts the shaded strand and the strands behind it, and Eq. 10's A_1+ series runs over the
+    // hair_count - 1 strands behind (none behind, no A_1+); B^ keeps only A_1+ (the backscatter of the
+    // hairs around, A_1 + A_3, is on the traced paths).
     bool shaded_inside = false;
     double light_crossings = 0.0;
 };
