@@ -1,5 +1,5 @@
 """File > Import > Hair Strands options: Forward / Up / Scale, the Source presets, remembered values,
-the side panel (hairlod.blender.operators)."""
+the side panel and the menu name (hairlod.blender.operators)."""
 
 import math
 import os
@@ -182,7 +182,7 @@ def test_check_keeps_axes_apart_and_source_up_to_date(empty_scene, addon):
 
 
 class RecordingLayout:
-    """Stands in for a UILayout: records the properties drawn through it."""
+    """Stands in for a UILayout: records the properties and operator texts drawn through it."""
 
     def __init__(self):
         self.props, self.operators = [], []
@@ -213,3 +213,23 @@ def test_side_panel_draws_every_option_with_a_tooltip(addon):
     assert shown == {'BLENDER', 'Y_UP', 'Y_UP_CM', 'CUSTOM'}
     assert all(item.description for item in operator_property("source").enum_items)
 
+
+def test_menus_and_readme_use_one_name(addon):
+    import hairlod.io
+    from types import SimpleNamespace
+
+    from hairlod.blender.operators import menu_func_export, menu_func_import
+
+    with open(os.path.join(REPO_ROOT, "README.md"), encoding="utf-8") as readme:
+        text = readme.read()
+    for menu_func, menu, formats in ((menu_func_import, "Import", hairlod.io.READ_FORMATS),
+                                     (menu_func_export, "Export", hairlod.io.WRITE_FORMATS)):
+        layout = RecordingLayout()
+        menu_func(SimpleNamespace(layout=layout), bpy.context)
+        [(_, menu_text)] = layout.operators
+        assert menu_text == f"Hair Strands ({', '.join(formats)})"
+        assert re.findall(rf"\*\*File > {menu} > ([^*]+)\*\*", text) == ["Hair Strands"], menu
+    layout = RecordingLayout()
+    menu_func_import(SimpleNamespace(layout=layout), bpy.context)
+    assert layout.operators == [("hairlod.import_hair", "Hair Strands (.hair, .data, .bin, .ply, .tfx)")]
+    assert bpy.types.HAIRLOD_OT_import_hair.bl_label == "Import Hair Strands"

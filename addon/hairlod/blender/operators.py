@@ -82,7 +82,7 @@ class HAIRLOD_OT_import_hair(bpy.types.Operator, ImportHelper):
     """Import a hair file as a hair Curves object"""
 
     bl_idname = "hairlod.import_hair"
-    bl_label = "Import Hair File"
+    bl_label = "Import Hair Strands"
     bl_options = {'REGISTER', 'UNDO'}
 
     filter_glob: StringProperty(default=_file_filter(io.READ_FORMATS), options={'HIDDEN'})
@@ -184,7 +184,7 @@ class HAIRLOD_OT_export_hair(bpy.types.Operator, ExportHelper):
     """Export the active hair Curves object (with its modifiers) to a hair file"""
 
     bl_idname = "hairlod.export_hair"
-    bl_label = "Export Hair File"
+    bl_label = "Export Hair Strands"
 
     filename_ext = ".hair"
     filter_glob: StringProperty(default=_file_filter(io.WRITE_FORMATS), options={'HIDDEN'})
