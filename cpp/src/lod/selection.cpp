@@ -156,7 +156,7 @@ Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, con
 }
 
 void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
-                     Selection& selection) {
+                              Selection& selection, DeferredSteps steps) {
     const Context context = make_context(asset, geometry, camera, width_px);
     const auto segments = static_cast<size_t>(context.segments);
     if (selection.segments != context.segments || selection.level.size() != asset.cluster_count() * segments ||
@@ -167,14 +167,18 @@ void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry
         if (!selection.visible[c]) continue;
         uint8_t* levels = selection.level.data() + c * segments;
         for (size_t s = 0; s < segments; ++s) {
-            const int current = std::min<int>(levels[s], context.finest);
-            // Eq. 16: w_cur > eps -> finer; w_cur- (one level coarser) <= eps -> coarser.
-            int next = current;
-            if (context.segment_width(c, current, s) > width_px)
-                next = current + 1;
-            else if (current > 0 && context.segment_width(c, current - 1, s) <= width_px)
-                next = current - 1;
-            levels[s] = static_cast<uint8_t>(next);
+            int level = std::min<int>(levels[s], context.finest);
+            // Eq. 16: w_cur > eps -> finer; w_cur- (one level coarser) <= eps -> coarser. Widths grow
+            // with coarseness, so the steps go one way and stop at the coarsest level that fits.
+            int direction = 0;
+            if (level < context.finest && context.segment_width(c, level, s) > width_px) direction = 1;
+            else if (level > 0 && context.segment_width(c, level - 1, s) <= width_px) direction = -1;
+            level += direction;
+            if (steps == DeferredSteps::until_stable && direction > 0)
+                while (level < context.finest && context.segment_width(c, level, s) > width_px) ++level;
+            else if (steps == DeferredSteps::until_stable && direction < 0)
+                while (level > 0 && context.segment_width(c, level - 1, s) <= width_px) --level;
+            levels[s] = static_cast<uint8_t>(level);
         }
     }
     collect_draws(context, selection);

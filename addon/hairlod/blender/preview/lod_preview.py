@@ -1,16 +1,15 @@
 """Real-time LoD preview of hair in the 3D viewport (hair-lod-aggregated-bcsdf.txt Sec. 5.2).
 
 For every object with an LoD asset attached (``attach``), a POST_VIEW draw handler selects levels for
-each viewport's camera with the C++ selection (the initial selection, then one step of Eq. 16 per
-redraw, kept per view) and draws camera-facing strips for the selected thick hairs and lines for the
+each viewport's camera with the C++ selection (the initial selection, then Eq. 16 from the previous
+levels run until stable, kept per view: a smooth camera move changes a level by one between frames, a
+jump gets its levels on its first frame) and draws camera-facing strips for the selected thick hairs and lines for the
 selected strands. Vertex and index buffers are built once per asset: each level is cut into blocks
 of whole L0 clusters whose index buffers hold all their segments (preview_buffers). A redraw uploads
 the selection (level per L0 cluster and segment) as a small texture; the fragment shader drops
 segments selected at another level, and a block is drawn only when one of its clusters has a segment
 at that level. A level with few selected segments (EXACT_SEGMENTS) is drawn from an exact index list
-instead, small enough to rebuild within the frame budget when its ranges change. While the selection is
-still converging after a camera move the handler asks for another redraw, so Eq. 16 reaches its
-fixed point without popping.
+instead, small enough to rebuild within the frame budget when its ranges change.
 """
 
 import time
@@ -353,7 +352,7 @@ class LodPreview:
         segments = state.selection.segments_per_level()
         self.stats = {"segments": int(segments.sum()), "segments_per_level": segments.tolist(),
                       "select_ms": 1e3 * (selected - start), "draw_ms": 1e3 * (time.perf_counter() - start),
-                      "converging": bool(changed)}
+                      "changed": bool(changed)}
         return changed
 
 
@@ -478,7 +477,6 @@ def _draw():
     region, region_3d = context.region, context.region_data
     if region is None or region_3d is None:
         return
-    converging = False
     for name, preview in list(_previews.items()):
         obj = bpy.data.objects.get(name)
         if obj is None:
@@ -490,15 +488,7 @@ def _draw():
         settings = obj.hairlod_lod_preview
         if not settings.enabled or not obj.visible_get():
             continue
-        converging |= preview.draw(obj, region, region_3d, settings)
-    if converging:
-        # Eq. 16 moves one level per frame: redraw until the selection settles.
-        bpy.app.timers.register(_tag_viewports_once, first_interval=0.0)
-
-
-def _tag_viewports_once():
-    _tag_viewports()
-    return None
+        preview.draw(obj, region, region_3d, settings)
 
 
 @persistent

@@ -69,11 +69,15 @@ private:
 // ThickHairGeometry::widest, a segment's width the larger of its two control points'.
 Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px);
 
-// Eq. 16: one step per cluster and segment from the current levels in `selection`, updated in
-// place (no allocation once its draw list has grown to size): finer when the current level is too
-// wide, coarser when one coarser level fits, else unchanged. Culled clusters keep their level.
+// How far select_deferred_in_place moves a segment: one Eq. 16 step (one level), or steps until
+// Eq. 16 changes nothing (the level a view that jumped needs, on its first frame).
+enum class DeferredSteps { one, until_stable };
+
+// Eq. 16 per cluster and segment from the current levels in `selection`, updated in place (no
+// allocation once its draw list has grown to size): finer when the current level is too wide,
+// coarser when one coarser level fits, else unchanged. Culled clusters keep their level.
 void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
-                     Selection& selection);
+                              Selection& selection, DeferredSteps steps = DeferredSteps::one);
 
 // Eq. 16 from `previous`, returning the next selection.
 Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
