@@ -4,7 +4,7 @@ Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python s
      [-- --count 100000 --frames 24 --guides 256 --out FILE.json]
 Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their LoD (--guides guides, 6
 levels) and previews it on an empty, lit by a sun. A camera dolly from 0.7x to 30x the hair's size
-over --frames frames (one redraw, so one Eq. 16 step, per frame) is captured twice: with the LoD at
+over --frames frames (one redraw per frame) is captured twice: with the LoD at
 eps_w = 2 px and with every strand. Prints one JSON object: per frame the segments drawn, the
 selection + selection-texture upload time, the PSNR of the LoD frame against the all-strand frame, and the
 adjacent-frame PSNR of both (over the hair's bounding box) (the paper's Fig. 9 measure of popping); and the draw time of a frame at

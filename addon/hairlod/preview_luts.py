@@ -97,12 +97,14 @@ def theta_nodes(samples):
     return 0.5 * np.pi * np.sin(0.5 * np.pi * np.linspace(-1.0, 1.0, samples))
 
 
-def srbf_tables(params, lam, samples=20):
+def srbf_tables(params, lam, samples=20, lobes=True):
     """Tabulates hairlod.bcsdf.srbf_single_scattering (the Marschner fibre of `params` under one unit
     SRBF light of bandwidth `lam`) over the light's and the view's angles in the fibre frame: the
     response depends only on theta_o, theta_j and |phi_o - phi_j| (the fibre is symmetric about its
     normal plane's azimuth), so any lobe direction is a lookup. About 1 s at 20 samples, where trilinear
-    interpolation stays within about 3% of the peak response (tests/ui/test_bcsdf_shader.py)."""
+    interpolation stays within about 3% of the peak response (tests/ui/test_bcsdf_shader.py).
+    Without `lobes` (a world of its uniform term alone) only the last row is computed, in about 0.05 s,
+    and the lobes' rows hold zeros, which a world with no lobes never reads."""
     from .bcsdf import srbf_single_scattering
     from .world_lighting import UNIFORM_BANDWIDTH
 
@@ -119,7 +121,9 @@ def srbf_tables(params, lam, samples=20):
     wo = np.stack([np.sin(theta_o), np.cos(theta_o) * np.cos(delta_phi), np.cos(theta_o) * np.sin(delta_phi)],
                   axis=-1).reshape(-1, 3)
     response = np.ones((samples * samples + 1, samples, 4), np.float32)
-    for j, theta_j in enumerate(theta):
+    if not lobes:
+        response[:-1, :, :3] = 0.0
+    for j, theta_j in enumerate(theta if lobes else ()):
         light = {"directions": [[np.sin(theta_j), np.cos(theta_j), 0.0]], "lambdas": [lam],
                  "coefficients": [[1.0, 1.0, 1.0]]}
         values = srbf_single_scattering(params, light, wo)

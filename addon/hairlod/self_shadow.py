@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HairVolume", "hair_volume", "transmittance"]
+__all__ = ["HairVolume", "hair_volume", "strands_volume", "transmittance"]
 
 # Semi-axes are at least this share of the largest one, so flat hair (all in a plane) keeps a
 # finite volume and the ellipsoid test stays well conditioned.
@@ -51,20 +51,32 @@ def hair_volume(points, offsets, radius):
         raise ValueError(f"hair volume: offsets must run from 0 to {len(points)}")
     if not (np.isfinite(points).all() and np.isfinite(radius).all()):
         raise ValueError("hair volume: points and radius must be finite")
-    lower, upper = points.min(axis=0), points.max(axis=0)
+    # Segments within a strand only: drop the step from one strand's tip to the next one's root.
+    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    within = np.ones(len(steps), bool)
+    within[offsets[1:-1] - 1] = False
+    return _volume(points.min(axis=0), points.max(axis=0), float(steps[within].sum()), float(radius.mean()))
+
+
+def strands_volume(strands):
+    """The HairVolume of a hairlod.Strands (validated, finite), from the core's bounding box and curve
+    lengths: the same as hair_volume of its arrays, without numpy passes over every point (0.4 s on
+    100k strands of 17 points, where the preview's first frame waits for it)."""
+    lower, upper = strands.bounding_box()
+    return _volume(np.asarray(lower, np.float64), np.asarray(upper, np.float64), float(np.sum(strands.curve_lengths())),
+                   float(np.mean(strands.radius, dtype=np.float64)))
+
+
+def _volume(lower, upper, length, mean_radius):
+    """The ellipsoid of the box [lower, upper] and the extinction 2 r L / V of strands of total length
+    L and mean radius r in it."""
     half_extent = 0.5 * (upper - lower)
     largest = float(half_extent.max())
     if largest <= 0.0:
         return HairVolume(centre=0.5 * (lower + upper), semi_axes=np.ones(3), extinction=0.0)
     semi_axes = np.maximum(half_extent, MIN_AXIS_SHARE * largest)
-    # Segments within a strand only: drop the step from one strand's tip to the next one's root.
-    steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
-    within = np.ones(len(steps), bool)
-    within[offsets[1:-1] - 1] = False
-    length = float(steps[within].sum())
     volume = 4.0 / 3.0 * np.pi * float(np.prod(semi_axes))
-    return HairVolume(centre=0.5 * (lower + upper), semi_axes=semi_axes,
-                      extinction=2.0 * float(radius.mean()) * length / volume)
+    return HairVolume(centre=0.5 * (lower + upper), semi_axes=semi_axes, extinction=2.0 * mean_radius * length / volume)
 
 
 def transmittance(points, light_vectors, volume, strength):

@@ -107,3 +107,19 @@ def test_bad_strength_raises():
     volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.ones(3), extinction=1.0)
     with pytest.raises(ValueError, match="strength"):
         self_shadow.transmittance([[0, 0, 0]], SUN_FROM_X, volume, -1.0)
+
+
+def test_strands_volume_equals_the_volume_of_the_arrays():
+    # The preview's fast path (the core's bounding box and curve lengths) against the numpy reference.
+    import hairlod
+
+    rng = np.random.default_rng(4)
+    counts = rng.integers(2, 9, 50)
+    points = rng.normal(size=(int(counts.sum()), 3)).astype(np.float32) * [1.0, 2.0, 0.5]
+    radius = rng.uniform(0.001, 0.01, len(points)).astype(np.float32)
+    strands = hairlod.Strands.from_counts(points, counts, radius)
+    fast, reference = self_shadow.strands_volume(strands), self_shadow.hair_volume(points, strands.offsets, radius)
+    np.testing.assert_allclose(fast.centre, reference.centre, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(fast.semi_axes, reference.semi_axes, rtol=1e-6)
+    assert fast.extinction == pytest.approx(reference.extinction, rel=1e-5)
+

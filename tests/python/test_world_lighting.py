@@ -117,3 +117,13 @@ def test_srbf_table_holds_the_cpp_srbf_response_at_its_nodes():
                                   tolerance=1e-4)
     np.testing.assert_allclose(tables.response[-1, middle, :3], furnace, rtol=0.03)
     assert np.all(np.isfinite(tables.response)) and np.all(tables.response >= 0.0)
+
+
+def test_srbf_table_of_a_world_without_lobes_holds_its_uniform_row_alone():
+    # A uniform world (the default) reads only the last row: computed alone, it equals the full table's.
+    params = {"sigma_a": (0.3, 0.6, 1.2), "beta_m": 0.3, "beta_n": 0.3}
+    lam = world_lighting.lobe_bandwidth(16)
+    full = preview_luts.srbf_tables(params, lam, samples=6)
+    uniform = preview_luts.srbf_tables(params, lam, samples=6, lobes=False)
+    np.testing.assert_array_equal(uniform.response[-1], full.response[-1])
+    assert np.all(uniform.response[:-1, :, :3] == 0.0) and uniform.response.shape == full.response.shape

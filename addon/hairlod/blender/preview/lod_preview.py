@@ -127,6 +127,12 @@ def shader(kind):
     return _shaders[kind]
 
 
+def compile_shaders():
+    """Builds the preview's shaders now (once a session), so that a first frame does not wait for them."""
+    for kind in ("thick", "strand"):
+        shader(kind)
+
+
 def _attributes(kind):
     """(name, components) of the vertex attributes of a level's buffers, in shader input order."""
     common = (("position", 3), ("tangent", 3))
@@ -211,7 +217,7 @@ class LodPreview:
         buffers.append(_vertex_buffers("strand", arrays))
         self.blocks.append(LevelBlocks("strand", buffers[-1], item_first, control_points))
         self.vertex_buffers = buffers
-        self.hair_volume = self_shadow.hair_volume(strands.points, strands.offsets, strands.radius)
+        self.hair_volume = self_shadow.strands_volume(strands)
 
     def view_state(self, key):
         if key not in self.views:
@@ -286,7 +292,9 @@ class LodPreview:
             if lights is None:
                 texture = world_srbf.empty_texture()
             else:
-                texture = world_srbf.response_texture(preview_luts.srbf_tables(params, lights.lam))
+                # A uniform world (the default one, any world colour) has no lobes: its row alone.
+                lobes = bool(np.any(lights.coefficients > 0.0))
+                texture = world_srbf.response_texture(preview_luts.srbf_tables(params, lights.lam, lobes=lobes))
             self.world = (key, lights, reason, world_srbf.world_block(lights), texture)
         return self.world[3], self.world[4]
 
@@ -301,6 +309,11 @@ class LodPreview:
         return f"World: {len(lights.directions)} SRBF lights, {100.0 * lights.relative_error:.1f}% error"
 
     def draw(self, obj, region, region_3d, settings):
+        # With Statistics on, the GPU's queue is drained before and after the preview's commands, so the
+        # draw time holds the GPU's work (a little slower; Python has no GPU timer queries).
+        finish = _gpu_finish() if settings.show_statistics else None
+        if finish is not None:
+            finish()
         start = time.perf_counter()
         if self.vertex_buffers is None:
             self._build_vertex_buffers()
@@ -348,12 +361,23 @@ class LodPreview:
             self._draw_level(state, level, program)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')
+        if finish is not None:
+            finish()
 
         segments = state.selection.segments_per_level()
         self.stats = {"segments": int(segments.sum()), "segments_per_level": segments.tolist(),
                       "select_ms": 1e3 * (selected - start), "draw_ms": 1e3 * (time.perf_counter() - start),
-                      "changed": bool(changed)}
+                      "changed": bool(changed), "gpu_timed": finish is not None}
         return changed
+
+
+def _gpu_finish():
+    """glFinish where this Blender still has the bgl module (deprecated in 4.x, gone in 5.x), else None."""
+    try:
+        import bgl
+    except ImportError:
+        return None
+    return getattr(bgl, "glFinish", None)
 
 
 def uses_material(obj, settings):

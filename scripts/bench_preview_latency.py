@@ -1,0 +1,120 @@
+"""Benchmarks what an artist waits for around Build Hair LoD, in a real Blender window (run under Xvfb).
+
+Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_preview_latency.py
+     [-- --count 100000 --runs 3 --out FILE.json]
+Generates --count strands of 17 points in examples/data/wavy_cap.hairmesh.json as a hair Curves object in
+the default scene (its grey world, one light) and measures, per run: the LoD build run directly
+(hairlod.blender.pipeline.build_lod: read the curves, build, pack into the object, in this process), the
+same build from the button (the modal operator, from invoke until the asset is packed), and the first frame of the preview after it (from the
+asset being packed to the first draw of the preview ending, and that draw's own time). Prints one JSON
+object with every run and the medians; the ratio of button to direct build in the same run.
+"""
+
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+import traceback
+
+import bpy
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
+POLL = 0.02
+
+
+def parse_args():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--count", type=int, default=100000)
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--out")
+    return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+
+
+def steps(args):
+    import addon_utils
+
+    addon_utils.enable("hairlod", default_set=True)
+    import hairlod
+    from hairlod import hairmesh
+    from hairlod.blender.curves import strands_to_curves
+    from hairlod.blender import pipeline
+    from hairlod.blender.lod_operator import PACKED_PROPERTY
+    from hairlod.blender.preview import lod_preview
+
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=args.count, vertices=17, seed=1)
+    source = strands_to_curves(strands, "Hair")
+    bpy.context.view_layer.objects.active = source
+    draws = []
+    original_draw = lod_preview.LodPreview.draw
+
+    def timed_draw(preview, *draw_args):
+        start = time.perf_counter()
+        result = original_draw(preview, *draw_args)
+        draws.append((start, time.perf_counter()))
+        return result
+
+    lod_preview.LodPreview.draw = timed_draw
+    viewport_draws = []
+    counter = bpy.types.SpaceView3D.draw_handler_add(lambda: viewport_draws.append(time.perf_counter()), (), 'WINDOW',
+                                                     'POST_PIXEL')
+    runs = []
+    for _ in range(args.runs):
+        start = time.perf_counter()
+        pipeline.build_lod(source)
+        direct = time.perf_counter() - start
+        if PACKED_PROPERTY in source:
+            del source[PACKED_PROPERTY]
+        lod_preview.detach(source.name)
+        yield 0.5
+        draws.clear()
+        viewport_draws.clear()
+        start = time.perf_counter()
+        with bpy.context.temp_override(window=window, area=area):
+            bpy.ops.hairlod.build_lod('INVOKE_DEFAULT')
+        while PACKED_PROPERTY not in source:
+            yield POLL
+        packed = time.perf_counter()
+        redraws_during_build = len(viewport_draws)
+        area.tag_redraw()
+        while not draws:
+            yield POLL
+        first_start, first_end = draws[0]
+        runs.append({"direct_build_s": direct, "button_build_s": packed - start,
+                     "button_over_direct": (packed - start) / direct, "first_frame_s": first_end - packed,
+                     "first_draw_s": first_end - first_start, "viewport_redraws_during_build": redraws_during_build})
+        print(json.dumps(runs[-1]), flush=True)
+    lod_preview.LodPreview.draw = original_draw
+    bpy.types.SpaceView3D.draw_handler_remove(counter, 'WINDOW')
+    result = {"strands": args.count, "runs": runs,
+              "median": {key: statistics.median(run[key] for run in runs) for key in runs[0]}}
+    text = json.dumps(result, indent=1)
+    print(text)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write(text)
+
+
+def main():
+    args = parse_args()
+    generator = steps(args)
+
+    def tick():
+        try:
+            return next(generator)
+        except StopIteration:
+            os._exit(0)
+        except Exception:
+            traceback.print_exc()
+            os._exit(1)
+
+    bpy.app.timers.register(tick, first_interval=0.5)
+
+
+bpy.context.preferences.view.show_splash = False
+main()
