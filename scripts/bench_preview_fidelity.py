@@ -1,0 +1,219 @@
+"""Measures how close the viewport LoD preview looks to a converged path-traced image of the same view, in
+a real Blender window (run under Xvfb).
+
+Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_preview_fidelity.py
+     [-- --spp 256 --scale 0.25 --out FILE.json]
+For the bundled real hair (examples/data/tressfx/Ratboy_mohawk.tfx, stood upright from Y up) and 20,000
+strands generated in examples/data/wavy_cap.hairmesh.json: builds the LoD, previews it lit by one sun
+(irradiance 3) and a uniform grey world (0.15) under the Standard view transform, at a mid and a near
+view (the viewport's camera set to hairlod.render.frame_view's), and path-traces the full strands
+(hairlod.render, `pt`, --spp samples per pixel at --scale of the viewport's size) with the same camera,
+sun, world and hair (the preview's, from the panel's defaults). The preview's screenshot is turned back into scene-linear radiance through
+the screen's measured response (a ramp of written values drawn by a POST_VIEW handler, as in
+tests/ui/test_view_transform.py) and the sRGB decoding of Standard. Reported per hair and view: the mean
+linear radiance per channel over the hair's pixels of each image and their ratio, and the luminance
+spread (5th-95th percentile) of each, with one JSON object printed at the end.
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+import traceback
+
+import bpy
+import gpu
+import numpy as np
+from gpu_extras.batch import batch_for_shader
+
+REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
+sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
+SUN_IRRADIANCE, WORLD = 3.0, 0.15
+RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
+DELAY = 1.0
+
+
+def parse_args():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--spp", type=int, default=256)
+    parser.add_argument("--scale", type=float, default=0.25)
+    parser.add_argument("--out")
+    return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+
+
+def ramp_shader():
+    interface = gpu.types.GPUStageInterfaceInfo("hairlod_fidelity_ramp")
+    interface.smooth('VEC2', "v_uv")
+    info = gpu.types.GPUShaderCreateInfo()
+    info.vertex_in(0, 'VEC2', "position")
+    info.vertex_out(interface)
+    info.fragment_out(0, 'VEC4', "fragColor")
+    info.vertex_source("void main() { v_uv = position * 0.5 + 0.5; gl_Position = vec4(position, 0.0, 1.0); }")
+    values = ", ".join(f"{v:.8f}" for v in RAMP)
+    info.fragment_source(f"const float ramp[{len(RAMP)}] = float[]({values});\n"
+                         f"void main() {{ float v = ramp[min(int(v_uv.x * {len(RAMP)}.0), {len(RAMP) - 1})];"
+                         " fragColor = vec4(v, v, v, 1.0); }")
+    return gpu.shader.create_from_info(info)
+
+
+def luminance(rgb):
+    return rgb @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def summary(linear, mask):
+    hair = linear[mask]
+    lum = luminance(hair)
+    return {"mean": hair.mean(axis=0).tolist(), "pixels": int(mask.sum()),
+            "spread": [float(np.percentile(lum, 5)), float(np.percentile(lum, 95))]}
+
+
+def steps(args):
+    import addon_utils
+
+    from harness import screenshot
+
+    addon_utils.enable("hairlod", default_set=True)
+    import hairlod
+    from hairlod import hairmesh, io, lod, render
+    from hairlod.blender.preview import lod_preview
+
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    space, region_3d = area.spaces.active, area.spaces.active.region_3d
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    space.show_region_toolbar = False
+    space.show_region_header = False
+    scene = bpy.context.scene
+    scene.view_settings.view_transform = 'Standard'
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    scene.world.color = (WORLD, WORLD, WORLD)
+    if scene.world.use_nodes:
+        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (WORLD, WORLD, WORLD, 1.0)
+        scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+
+    # The screen's response to written values (the framebuffer's encoding, as measured).
+    program = ramp_shader()
+    quad = batch_for_shader(program, 'TRI_STRIP', {"position": [(-1, -1), (1, -1), (-1, 1), (1, 1)]})
+
+    def draw_ramp():
+        program.bind()
+        quad.draw(program)
+
+    handle = bpy.types.SpaceView3D.draw_handler_add(draw_ramp, (), 'WINDOW', 'POST_VIEW')
+    area.tag_redraw()
+    yield DELAY
+    shot = screenshot(window, area, "fidelity_response.png")
+    bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    y = int(region.y - area.y + 0.5 * region.height)
+    xs = (region.x - area.x + (np.arange(len(RAMP)) + 0.5) / len(RAMP) * region.width).astype(int)
+    response = shot[y, xs, 0]
+
+    def to_linear(display):
+        written = np.interp(display, response, RAMP)  # monotonic response: its inverse
+        return written  # Standard: the preview writes srgb_decode(srgb_encode(x)) = x
+
+    tfx = io.read(os.path.join(REPO_ROOT, "examples", "data", "tressfx", "Ratboy_mohawk.tfx"))
+    upright = tfx.points @ np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float32).T  # Y up -> Z up
+    hairs = {"Ratboy_mohawk": hairlod.Strands.from_counts(np.ascontiguousarray(upright), np.diff(tfx.offsets),
+                                                          tfx.radius),
+             "generated wavy 20k": hairlod.generate_strands(
+                 hairmesh.read(os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")),
+                 count=20000, vertices=17, seed=1)}
+    results = {}
+    for name, strands in hairs.items():
+        asset = lod.build_lod(strands)
+        holder = bpy.data.objects.new(name, None)
+        scene.collection.objects.link(holder)
+        lod_preview.attach(holder, asset)
+        settings = holder.hairlod_lod_preview
+        settings.use_material = False  # the panel's default hair: melanin 0.5, as the renderer's default
+        for view in ("mid", "near"):
+            camera = render.frame_view(strands.points, view, region.width, region.height)
+            eye, target = np.array(camera["eye"]), np.array(camera["target"])
+            region_3d.view_perspective = 'PERSP'
+            region_3d.view_location = target
+            region_3d.view_distance = float(np.linalg.norm(eye - target))
+            forward = (target - eye) / np.linalg.norm(target - eye)
+            from mathutils import Vector
+            region_3d.view_rotation = Vector(-forward).to_track_quat('Z', 'Y')
+            sun_direction = render.default_lights(camera)["directional"][0][0]
+            sun = bpy.data.objects.get("Sun") or bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
+            if sun.name not in scene.collection.objects:
+                scene.collection.objects.link(sun)
+            sun.data.energy = SUN_IRRADIANCE
+            sun.rotation_euler = Vector(-np.asarray(sun_direction)).to_track_quat('Z', 'Y').to_euler()
+            settings.enabled = True
+            area.tag_redraw()
+            yield DELAY
+            area.tag_redraw()
+            yield DELAY
+            with_hair = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_preview.png")
+            settings.enabled = False
+            area.tag_redraw()
+            yield DELAY
+            without = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_off.png")
+            mask = np.abs(with_hair - without).max(axis=2) > 2.0 / 255.0
+            box = (slice(region.y - area.y, region.y - area.y + region.height),
+                   slice(region.x - area.x, region.x - area.x + region.width))
+            preview_linear, mask = to_linear(with_hair[box]), mask[box]
+            # The viewport's projection, so that the path-traced camera sees what the viewport shows.
+            projection = np.array(region_3d.window_matrix)
+            fov_y = 2.0 * np.arctan(1.0 / projection[1, 1])
+            up = np.array(region_3d.view_rotation @ Vector((0.0, 1.0, 0.0)))
+            width, height = max(8, round(region.width * args.scale)), max(8, round(region.height * args.scale))
+            traced_camera = {"eye": list(np.array(region_3d.view_matrix.inverted().translation)),
+                             "target": list(target), "up": list(up), "fov_y": float(fov_y), "width": width,
+                             "height": height}
+            lights = {"directional": [(tuple(sun_direction), (SUN_IRRADIANCE,) * 3)], "points": [],
+                      "environment": np.full(3, WORLD, np.float32)}
+            start = time.perf_counter()
+            params = lod_preview.hair_params(holder, settings)  # the hair the preview shades
+            traced = render.render(strands, "pt", spp=args.spp, camera=traced_camera, lights=lights, params=params,
+                                   seed=5)["image"]
+            alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
+            traced_mask = alpha > 0.5
+            # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
+            traced = traced[::-1]
+            traced_mask = traced_mask[::-1]
+            entry = {"preview": summary(preview_linear, mask), "path_traced": summary(traced, traced_mask),
+                     "render_seconds": time.perf_counter() - start, "spp": args.spp,
+                     "segments": lod_preview.preview_of(holder).stats.get("segments")}
+            entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
+            results[f"{name} {view}"] = entry
+            print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio",)}), "preview", entry["preview"],
+                  "traced", entry["path_traced"], flush=True)
+            render.write_image(os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"),
+                                            f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
+        lod_preview.detach(holder.name)
+        bpy.data.objects.remove(holder)
+    text = json.dumps(results, indent=1)
+    print(text)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write(text)
+
+
+def main():
+    args = parse_args()
+    generator = steps(args)
+
+    def tick():
+        try:
+            return next(generator)
+        except StopIteration:
+            os._exit(0)
+        except Exception:
+            traceback.print_exc()
+            os._exit(1)
+
+    bpy.app.timers.register(tick, first_interval=1.0)
+
+
+bpy.context.preferences.view.show_splash = False
+os.makedirs(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), exist_ok=True)
+main()
