@@ -20,7 +20,6 @@ import json
 import os
 import sys
 import time
-import traceback
 
 import bpy
 import gpu
@@ -29,6 +28,8 @@ from gpu_extras.batch import batch_for_shader
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import window_steps  # noqa: E402  (scripts/window_steps.py)
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
 SUN_IRRADIANCE, WORLD = 3.0, 0.15
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
@@ -74,10 +75,12 @@ def steps(args):
 
     from harness import screenshot
 
+    os.makedirs(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), exist_ok=True)
     addon_utils.enable("hairlod", default_set=True)
     import hairlod
     from hairlod import hairmesh, io, lod, render
     from hairlod.blender.preview import lod_preview
+    from hairlod.blender.principled_hair import object_hair_params
 
     window = bpy.context.window_manager.windows[0]
     area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
@@ -172,7 +175,7 @@ def steps(args):
             lights = {"directional": [(tuple(sun_direction), (SUN_IRRADIANCE,) * 3)], "points": [],
                       "environment": np.full(3, WORLD, np.float32)}
             start = time.perf_counter()
-            params = lod_preview.hair_params(holder, settings)  # the hair the preview shades
+            params = object_hair_params(holder)  # the hair the preview shades
             traced = render.render(strands, "pt", spp=args.spp, camera=traced_camera, lights=lights, params=params,
                                    seed=5)["image"]
             alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
@@ -198,22 +201,4 @@ def steps(args):
             f.write(text)
 
 
-def main():
-    args = parse_args()
-    generator = steps(args)
-
-    def tick():
-        try:
-            return next(generator)
-        except StopIteration:
-            os._exit(0)
-        except Exception:
-            traceback.print_exc()
-            os._exit(1)
-
-    bpy.app.timers.register(tick, first_interval=1.0)
-
-
-bpy.context.preferences.view.show_splash = False
-os.makedirs(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), exist_ok=True)
-main()
+window_steps.run(steps(parse_args()))

@@ -16,12 +16,13 @@ import os
 import statistics
 import sys
 import time
-import traceback
 
 import bpy
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import window_steps  # noqa: E402  (scripts/window_steps.py)
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 POLL = 0.02
 
@@ -100,21 +101,4 @@ def steps(args):
             f.write(text)
 
 
-def main():
-    args = parse_args()
-    generator = steps(args)
-
-    def tick():
-        try:
-            return next(generator)
-        except StopIteration:
-            os._exit(0)
-        except Exception:
-            traceback.print_exc()
-            os._exit(1)
-
-    bpy.app.timers.register(tick, first_interval=0.5)
-
-
-bpy.context.preferences.view.show_splash = False
-main()
+window_steps.run(steps(parse_args()))

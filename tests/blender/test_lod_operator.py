@@ -253,6 +253,39 @@ def test_export_writes_lod_and_tables_beside_the_users_files(hair_object, tmp_pa
     assert (tmp_path / "notes.txt").read_text() == "mine"
 
 
+def test_preview_bake_and_export_use_one_hair(hair_object, tmp_path):
+    # No material: the export bakes the hair the preview shades (the panel's), not another default;
+    # the panel's hair changes both; with a Principled Hair material, both use the material.
+    import json
+
+    from hairlod import bcsdf
+    from hairlod.blender.preview.lod_preview import uses_material
+    from hairlod.blender.principled_hair import object_hair_params
+
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
+    settings = hair_object.hairlod_lod_preview
+
+    def baked():
+        assert _export(tmp_path) == {'FINISHED'}
+        return json.loads((tmp_path / "bcsdf" / "manifest.json").read_text())["params"]
+
+    assert baked() == bcsdf.params_to_dict(object_hair_params(hair_object))
+    settings.melanin = 0.9
+    darker = baked()
+    assert darker == bcsdf.params_to_dict(object_hair_params(hair_object)) and darker["sigma_a"][0] > 0.5
+    material = bpy.data.materials.new("Blond")
+    material.use_nodes = True
+    nodes = material.node_tree.nodes
+    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
+    hair.parametrization = 'MELANIN'
+    hair.inputs["Melanin"].default_value = 0.1
+    material.node_tree.links.new(hair.outputs[0], nodes["Material Output"].inputs["Surface"])
+    hair_object.data.materials.append(material)
+    assert uses_material(hair_object, settings)
+    blond = baked()
+    assert blond == bcsdf.params_to_dict(object_hair_params(hair_object)) and blond["sigma_a"][0] < darker["sigma_a"][0]
+
+
 @pytest.mark.parametrize("foreign", ["lod", "bcsdf"])
 def test_export_refuses_folders_it_did_not_write_and_changes_nothing(hair_object, tmp_path, foreign):
     assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}

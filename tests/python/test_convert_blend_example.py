@@ -61,7 +61,7 @@ def test_every_curves_object_is_converted_and_exported(tmp_path, blender):
     assert result["failed"] == []
     by_name = {entry["object"]: entry for entry in result["objects"]}
     assert set(by_name) == {"Bob", "Fringe"}
-    assert by_name["Bob"]["material"] == "Principled Hair BSDF" and by_name["Fringe"]["material"] == "defaults"
+    assert by_name["Bob"]["material"] == "Principled Hair BSDF" and by_name["Fringe"]["material"] == "LoD preview panel"
     for name in ("Bob", "Fringe"):
         asset = lod.load(out / name / "lod")
         assert asset.strand_count == 1500

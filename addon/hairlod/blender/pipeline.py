@@ -8,21 +8,6 @@ import os
 import bpy
 
 
-def material_params(obj):
-    """HairParams of the Principled Hair BSDF of the first material of `obj` that has one, or None."""
-    from .principled_hair import params_from_material, principled_hair_node
-
-    for slot in getattr(obj, "material_slots", ()):
-        if slot.material is None:
-            continue
-        try:
-            principled_hair_node(slot.material)
-        except ValueError:
-            continue
-        return params_from_material(slot.material)
-    return None
-
-
 def build_lod(obj, context=None, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
               frame_step=1, width_px=2.0, level_objects=False):
     """Builds the LoD of the hair Curves object `obj` as the Build Hair LoD operator does (the asset
@@ -42,7 +27,8 @@ def build_lod(obj, context=None, guides=0, levels=6, control_points=16, seed=0, 
 def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=64):
     """Writes the LoD asset packed into `obj` to `directory`: <directory>/lod (lod.save: manifest,
     arrays, one .hair of thick hairs per level) and, with `bake`, <directory>/bcsdf (bcsdf.bake:
-    OpenEXR tables + manifest) for the object's Principled Hair BSDF (the defaults without one), with
+    OpenEXR tables + manifest) for the hair the LoD preview shows (principled_hair.object_hair_params:
+    the object's Principled Hair BSDF, else the preview panel's hair), with
     hair counts up to the asset's largest crossing count. Each folder appears complete or not at all.
     Returns a summary dict (paths, counts, the material used)."""
     from .. import atomic_output, bcsdf, lod
@@ -61,10 +47,13 @@ def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=6
     summary = {"object": obj.name, "strands": asset.strand_count, "levels": [len(l.n_total) for l in asset.levels],
                "lod": lod_dir}
     if bake:
-        params = material_params(obj)
+        from .principled_hair import material_params, object_hair_params
+
+        # The hair the preview shows: the material's when the preview uses it, else the panel's.
+        from_material = obj.hairlod_lod_preview.use_material and material_params(obj) is not None
         crossed, _ = bcsdf.lod_hair_count_range(asset)
-        bcsdf.bake(params if params is not None else bcsdf.as_params(None), bake_dir, theta_samples=theta_samples,
+        bcsdf.bake(object_hair_params(obj), bake_dir, theta_samples=theta_samples,
                    hair_count_samples=hair_count_samples, max_hair_count=max(crossed, 1.0 + 1e-6))
-        summary.update(bcsdf=bake_dir, material="Principled Hair BSDF" if params is not None else "defaults",
+        summary.update(bcsdf=bake_dir, material="Principled Hair BSDF" if from_material else "LoD preview panel",
                        max_hair_count=crossed)
     return summary

@@ -52,6 +52,35 @@ def params_from_material(material):
     return from_principled_hair(**principled_hair_inputs(material))
 
 
+def material_params(obj):
+    """HairParams of the Principled Hair BSDF of the first material of `obj` that has one, or None."""
+    for slot in getattr(obj, "material_slots", ()):
+        if slot.material is None:
+            continue
+        try:
+            principled_hair_node(slot.material)
+        except ValueError:
+            continue
+        return params_from_material(slot.material)
+    return None
+
+
+def object_hair_params(obj):
+    """The hair `obj`'s LoD is previewed, baked and exported with, one for all three: the Principled Hair
+    BSDF of its material when the LoD preview's Material is on and it has one, else the preview panel's
+    melanin, redness and roughness (their defaults when the object was never shown in the panel)."""
+    from ..bcsdf import from_principled_hair
+
+    settings = obj.hairlod_lod_preview
+    if settings.use_material:
+        params = material_params(obj)
+        if params is not None:
+            return params
+    return from_principled_hair(parametrization='MELANIN', melanin=settings.melanin,
+                                melanin_redness=settings.melanin_redness, roughness=settings.roughness,
+                                radial_roughness=settings.radial_roughness)
+
+
 def main(argv):
     args = argv[argv.index("--") + 1:] if "--" in argv else []
     if len(args) != 2 or args[0] != "--material":

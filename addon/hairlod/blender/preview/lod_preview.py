@@ -22,6 +22,7 @@ from mathutils import Vector
 
 from ... import lod, preview_buffers, self_shadow
 from .shaders import glsl_source
+from ..principled_hair import material_params, object_hair_params
 from . import view_transform
 from .strand_batch import attribute_buffer
 
@@ -265,7 +266,7 @@ class LodPreview:
         from ... import bcsdf, preview_luts
         from . import bcsdf_textures
 
-        params = hair_params(obj, settings)
+        params = object_hair_params(obj)
         if self.max_hair_count is None:
             self.max_hair_count = max(2.0, bcsdf.lod_hair_count_range(self.asset)[0])
         key = (repr(bcsdf.params_to_dict(params)), self.max_hair_count)
@@ -284,7 +285,7 @@ class LodPreview:
         from . import world_srbf
 
         world = bpy.context.scene.world
-        params = hair_params(obj, settings)
+        params = object_hair_params(obj)
         key = (settings.world_lighting, world_srbf.world_key(world), repr(bcsdf.params_to_dict(params)))
         if self.world is None or self.world[0] != key:
             lights, reason = (None, "World is Ambient") if settings.world_lighting == 'AMBIENT' else \
@@ -383,25 +384,7 @@ def _gpu_finish():
 def uses_material(obj, settings):
     """Whether the preview shades with the object's Principled Hair BSDF (Material is on and the
     object has one), so that the panel's hair parameters have no effect."""
-    from ..pipeline import material_params
-
     return settings.use_material and material_params(obj) is not None
-
-
-def hair_params(obj, settings):
-    """HairParams of the preview: the Principled Hair BSDF of the object's first material that has
-    one when "Material" is on, else the panel's melanin and roughness."""
-    from ... import bcsdf
-
-    if settings.use_material:
-        from ..pipeline import material_params
-
-        params = material_params(obj)
-        if params is not None:
-            return params
-    return bcsdf.from_principled_hair(parametrization='MELANIN', melanin=settings.melanin,
-                                      melanin_redness=settings.melanin_redness, roughness=settings.roughness,
-                                      radial_roughness=settings.radial_roughness)
 
 
 def scene_lights(scene, camera):

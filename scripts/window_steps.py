@@ -1,0 +1,25 @@
+"""Drives a benchmark's steps in a real Blender window: a generator whose yields are the seconds to wait
+before its next step runs from a timer, so that the window redraws between steps. Blender exits 0 when
+the steps end and 1, with the traceback, when one raises."""
+
+import os
+import traceback
+
+import bpy
+
+
+def run(steps, first_delay=1.0):
+    """Starts the generator `steps` (already created) on a timer."""
+    bpy.context.preferences.view.show_splash = False
+
+    def tick():
+        try:
+            return next(steps)
+        except StopIteration:
+            os._exit(0)
+        except Exception:
+            traceback.print_exc()
+            os._exit(1)
+        return None
+
+    bpy.app.timers.register(tick, first_interval=first_delay)
