@@ -10,9 +10,11 @@ view (the viewport's camera set to hairlod.render.frame_view's), and path-traces
 (hairlod.render, `pt`, --spp samples per pixel at --scale of the viewport's size) with the same camera,
 sun, world and hair (the preview's, from the panel's defaults). The preview's screenshot is turned back into scene-linear radiance through
 the screen's measured response (a ramp of written values drawn by a POST_VIEW handler, as in
-tests/ui/test_view_transform.py) and the sRGB decoding of Standard. Reported per hair and view: the mean
-linear radiance per channel over the hair's pixels of each image and their ratio, and the luminance
-spread (5th-95th percentile) of each, with one JSON object printed at the end.
+tests/ui/test_view_transform.py) and the sRGB decoding of Standard; the path-traced hair's own radiance
+is unmixed from the sky in the pixels it covers partly (alpha from a coverage render). Reported per hair
+and view: the mean linear radiance per channel over the hair's pixels of each image (the path-traced
+one weighted by coverage) and their ratio, and the luminance spread (5th-95th percentile) of each, with
+one JSON object printed at the end.
 """
 
 import argparse
@@ -40,6 +42,8 @@ def parse_args():
     parser = argparse.ArgumentParser()
     parser.add_argument("--spp", type=int, default=256)
     parser.add_argument("--scale", type=float, default=0.25)
+    parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
+    parser.add_argument("--views", default="mid,near")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -63,11 +67,18 @@ def luminance(rgb):
     return rgb @ np.array([0.2126, 0.7152, 0.0722])
 
 
-def summary(linear, mask):
+def summary(linear, mask, weights=None):
+    """Mean (weighted by `weights` when given) and 5th-95th percentile luminance of the hair's pixels."""
     hair = linear[mask]
     lum = luminance(hair)
-    return {"mean": hair.mean(axis=0).tolist(), "pixels": int(mask.sum()),
+    mean = np.average(hair, axis=0, weights=None if weights is None else weights[mask])
+    return {"mean": mean.tolist(), "pixels": int(mask.sum()),
             "spread": [float(np.percentile(lum, 5)), float(np.percentile(lum, 95))]}
+
+
+def unmixed(image, alpha, background):
+    """The hair's own radiance in pixels it covers partly: image = alpha hair + (1 - alpha) background."""
+    return (image - (1.0 - alpha[..., None]) * background) / np.maximum(alpha[..., None], 1e-6)
 
 
 def steps(args):
@@ -135,7 +146,9 @@ def steps(args):
         lod_preview.attach(holder, asset)
         settings = holder.hairlod_lod_preview
         settings.use_material = False  # the panel's default hair: melanin 0.5, as the renderer's default
-        for view in ("mid", "near"):
+        if args.shadowing is not None:
+            settings.self_shadowing = args.shadowing
+        for view in args.views.split(","):
             camera = render.frame_view(strands.points, view, region.width, region.height)
             eye, target = np.array(camera["eye"]), np.array(camera["target"])
             region_3d.view_perspective = 'PERSP'
@@ -179,11 +192,15 @@ def steps(args):
             traced = render.render(strands, "pt", spp=args.spp, camera=traced_camera, lights=lights, params=params,
                                    seed=5)["image"]
             alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
-            traced_mask = alpha > 0.5
             # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
-            traced = traced[::-1]
-            traced_mask = traced_mask[::-1]
-            entry = {"preview": summary(preview_linear, mask), "path_traced": summary(traced, traced_mask),
+            traced, alpha = traced[::-1], alpha[::-1]
+            # Thin strands cover pixels partly (Ratboy's at a quarter size: a few pixels over 0.5): the
+            # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage. The
+            # preview draws its strands at least a pixel wide, so its hair pixels are the hair's alone.
+            covered = alpha > 0.05
+            hair_radiance = unmixed(traced, alpha, WORLD)
+            entry = {"preview": summary(preview_linear, mask),
+                     "path_traced": summary(hair_radiance, covered, weights=alpha),
                      "render_seconds": time.perf_counter() - start, "spp": args.spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HairVolume", "hair_volume", "strands_volume", "transmittance"]
+__all__ = ["HairVolume", "WORLD_DIRECTIONS", "hair_volume", "strands_volume", "transmittance", "world_transmittance"]
 
 # Semi-axes are at least this share of the largest one, so flat hair (all in a plane) keeps a
 # finite volume and the ellipsoid test stays well conditioned.
@@ -77,6 +77,22 @@ def _volume(lower, upper, length, mean_radius):
     semi_axes = np.maximum(half_extent, MIN_AXIS_SHARE * largest)
     volume = 4.0 / 3.0 * np.pi * float(np.prod(semi_axes))
     return HairVolume(centre=0.5 * (lower + upper), semi_axes=semi_axes, extinction=2.0 * mean_radius * length / volume)
+
+
+# Directions the world's light is averaged over (the 6 axes and the 8 cube diagonals, unit length):
+# self_shadow.glsl's hair_world_transmittance uses the same.
+WORLD_DIRECTIONS = np.concatenate([np.vstack([np.eye(3), -np.eye(3)]),
+                                   np.array([(x, y, z) for x in (1, -1) for y in (1, -1) for z in (1, -1)]) / np.sqrt(3.0)])
+
+
+def world_transmittance(points, volume, strength):
+    """The share of a uniform world's light that reaches points [N, 3] through the hair volume:
+    transmittance() averaged over WORLD_DIRECTIONS taken as suns. The world lights the hair's inside
+    through the hair as the suns do; without it the preview's interior was lit by the whole sky (2.2x the
+    path-traced hair radiance on generated hair)."""
+    points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    return np.mean([transmittance(points, np.append(direction, 0.0), volume, strength) for direction in WORLD_DIRECTIONS],
+                   axis=0)
 
 
 def transmittance(points, light_vectors, volume, strength):

@@ -123,3 +123,15 @@ def test_strands_volume_equals_the_volume_of_the_arrays():
     np.testing.assert_allclose(fast.semi_axes, reference.semi_axes, rtol=1e-6)
     assert fast.extinction == pytest.approx(reference.extinction, rel=1e-5)
 
+
+def test_world_transmittance_averages_the_suns_of_its_directions():
+    # Outside the volume, every direction that misses it passes all the light; at the centre of a
+    # sphere every direction crosses one radius: exp(-sigma r).
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.full(3, 2.0), extinction=0.5)
+    assert self_shadow.world_transmittance([[0.0, 0.0, 0.0]], volume, 1.0)[0] == pytest.approx(np.exp(-1.0), rel=1e-12)
+    far_away = self_shadow.world_transmittance([[100.0, 0.0, 0.0]], volume, 1.0)[0]
+    assert 1.0 > far_away > 13.0 / 14.0  # only the direction back through the sphere is shadowed
+    assert self_shadow.world_transmittance([[0.5, 0.2, 0.1]], volume, 0.0)[0] == 1.0
+    assert len(self_shadow.WORLD_DIRECTIONS) == 14
+    np.testing.assert_allclose(np.linalg.norm(self_shadow.WORLD_DIRECTIONS, axis=1), 1.0)
+

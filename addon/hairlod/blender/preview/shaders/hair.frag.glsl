@@ -4,7 +4,8 @@
  * light_colours[k].rgb = the sun's irradiance, or the point light's intensity (its power over 4 pi)
  * that falls off with the squared distance, each times its self-shadowing transmittance through the
  * hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the object-space
- * ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the unshadowed world: as SRBF lights
+ * ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
+ * as the lights (hair_world_transmittance, averaged over 14 directions): as SRBF lights
  * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
  * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
  * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Eq. 7). shading_mode 1: the level's colour, darkened towards the silhouette.
@@ -37,6 +38,13 @@ void main()
   }
   vec3 radiance = vec3(0.0);
   vec3 p_object = (frame.model_inverse * vec4(v_position, 1.0)).xyz;
+  /* The world reaches p through the hair volume as the lights do (object space, as the volume). The
+   * strands on the way pass a_f of the light on forwards (dual scattering, Zinke et al. 2008): over an
+   * optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per channel, the world's at
+   * normal incidence (applied to the average over its directions). */
+  vec3 world_shadow = pow(vec3(hair_world_transmittance(p_object, frame.hair_centre.xyz, frame.hair_axes.xyz,
+                                                        frame.hair_centre.w)),
+                          vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - v_position * frame.light_vectors[k].w;
     /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */
@@ -47,16 +55,20 @@ void main()
     vec3 wi = normalize(to_light);
     float sin_i = dot(wi, t);
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
-    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
+    /* The forward-scattered share passes, coloured (a_f at the light's inclination): T^(1 - a_f). */
+    vec3 pass_forward = clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI),
+                              0.0, 1.0);
+    radiance += pow(vec3(shadow), vec3(1.0) - pass_forward) * frame.light_colours[k].rgb / distance2 *
+                aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
   }
   if (hair_world.constant.w > 0.5) {
-    radiance += srbf_world(wo, t) * aggregated_lookup(0, 0.0, n);
+    radiance += srbf_world(wo, t) * aggregated_lookup(0, 0.0, n) * world_shadow;
   }
   else {
     float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
     vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
                   lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
-    radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n);
+    radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n) * world_shadow;
   }
   fragColor = vec4(view_transform(radiance), 1.0);
 }

@@ -20,3 +20,18 @@ float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 s
   float t_exit = min((-b + root) / a, t_max);
   return exp(-sigma * max(t_exit - t_enter, 0.0) * length(to_light));
 }
+
+/* The share of a uniform world's light that reaches p through the hair volume: hair_transmittance
+ * averaged over 14 directions spread over the sphere (the 6 axes and the 8 cube diagonals), the
+ * world occluded by the hair as the suns are. */
+float hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma)
+{
+  const vec3 directions[14] = vec3[](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1),
+                                     vec3(0, 0, -1), vec3(1, 1, 1), vec3(1, 1, -1), vec3(1, -1, 1), vec3(1, -1, -1),
+                                     vec3(-1, 1, 1), vec3(-1, 1, -1), vec3(-1, -1, 1), vec3(-1, -1, -1));
+  float sum = 0.0;
+  for (int k = 0; k < 14; ++k) {
+    sum += hair_transmittance(p, normalize(directions[k]), 1e30, centre, semi_axes, sigma);
+  }
+  return sum / 14.0;
+}
