@@ -12,9 +12,10 @@ never crosses the volume from). The light reaching the point is T = exp(-sigma d
 
 2 r L / V the projected fibre area per unit volume (all strands' length L times their mean
 diameter 2 r, over the ellipsoid's volume V = 4/3 pi a b c): the extinction coefficient of a
-volume of fibres crossed at right angles. `strength` (the panel's "Shadowing") scales it: a
-fibre passes much of the light that hits it forward (the TT lobe), so the effective extinction is
-a fraction of the geometric one; 0 disables the term.
+volume of fibres crossed at right angles. `strength` (the panel's "Shadowing", default 1) scales
+it; 0 disables the term. A fibre passes much of the light that hits it forward (the TT lobe): the
+preview's shader keeps T^(1 - a_f) per channel, a_f the fibre's forward-scattered share (dual
+scattering), which this module leaves to it.
 
 shaders/self_shadow.glsl evaluates the same formula; tests/ui/test_bcsdf_shader.py compares them.
 """
