@@ -44,6 +44,8 @@ def parse_args():
     parser.add_argument("--scale", type=float, default=0.25)
     parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--views", default="mid,near")
+    parser.add_argument("--cycles-samples", type=int, default=0,
+                        help="also render the view with Cycles at this many samples (tests/blender/cycles_scene.py)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -79,6 +81,36 @@ def summary(linear, mask, weights=None):
 def unmixed(image, alpha, background):
     """The hair's own radiance in pixels it covers partly: image = alpha hair + (1 - alpha) background."""
     return (image - (1.0 - alpha[..., None]) * background) / np.maximum(alpha[..., None], 1e-6)
+
+
+def cycles_image(strands, camera, sun_direction, samples):
+    """The view rendered by Cycles (a headless Blender running tests/blender/cycles_scene.py) with the
+    Principled Hair BSDF of the preview's default hair: linear RGB [H, W, 3], rows top-down."""
+    import subprocess
+    import tempfile
+
+    import OpenImageIO as oiio
+
+    from hairlod import io
+
+    folder = tempfile.mkdtemp(prefix="hairlod-fidelity-")
+    hair, scene, image = (os.path.join(folder, name) for name in ("hair.hair", "scene.json", "cycles.exr"))
+    io.write(hair, strands)
+    spec = {"addon": os.path.join(REPO_ROOT, "addon"), "hair": hair,
+            "camera": {key: (list(map(float, value)) if isinstance(value, list) else value) for key, value in camera.items()},
+            "sun": {"direction": list(map(float, sun_direction)), "irradiance": SUN_IRRADIANCE}, "world": WORLD,
+            "node": {"parametrization": "MELANIN", "melanin": 0.5, "melanin_redness": 0.3, "roughness": 0.3,
+                     "radial_roughness": 0.3},
+            "spp": samples, "seed": 5, "max_bounces": 70}
+    with open(scene, "w", encoding="utf-8") as f:
+        json.dump(spec, f)
+    subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", "--python",
+                    os.path.join(REPO_ROOT, "tests", "blender", "cycles_scene.py"), "--", scene, image],
+                   check=True, capture_output=True)
+    source = oiio.ImageInput.open(image)
+    pixels = source.read_image(format="float")[..., :3]
+    source.close()
+    return np.asarray(pixels, np.float64)
 
 
 def steps(args):
@@ -204,6 +236,12 @@ def steps(args):
                      "render_seconds": time.perf_counter() - start, "spp": args.spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
+            if args.cycles_samples:
+                cycles = cycles_image(strands, traced_camera, sun_direction, args.cycles_samples)[::-1]
+                entry["cycles"] = summary(unmixed(cycles, alpha, WORLD), covered, weights=alpha)
+                entry["cycles_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["cycles"]["mean"])).tolist()
+                entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
+                                                    np.array(entry["cycles"]["mean"])).tolist()
             results[f"{name} {view}"] = entry
             print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio",)}), "preview", entry["preview"],
                   "traced", entry["path_traced"], flush=True)
