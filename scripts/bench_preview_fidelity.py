@@ -249,11 +249,7 @@ def steps(args):
                                             f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
         lod_preview.detach(holder.name)
         bpy.data.objects.remove(holder)
-    text = json.dumps(results, indent=1)
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text)
+    window_steps.report(results, args.out)
 
 
 window_steps.run(steps(parse_args()))

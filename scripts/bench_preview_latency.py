@@ -94,11 +94,7 @@ def steps(args):
     bpy.types.SpaceView3D.draw_handler_remove(counter, 'WINDOW')
     result = {"strands": args.count, "runs": runs,
               "median": {key: statistics.median(run[key] for run in runs) for key in runs[0]}}
-    text = json.dumps(result, indent=1)
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text)
+    window_steps.report(result, args.out)
 
 
 window_steps.run(steps(parse_args()))

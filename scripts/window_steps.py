@@ -2,6 +2,7 @@
 before its next step runs from a timer, so that the window redraws between steps. Blender exits 0 when
 the steps end and 1, with the traceback, when one raises."""
 
+import json
 import os
 import traceback
 
@@ -23,3 +24,12 @@ def run(steps, first_delay=1.0):
         return None
 
     bpy.app.timers.register(tick, first_interval=first_delay)
+
+
+def report(result, path=None):
+    """Prints `result` as one indented JSON object, and writes it to `path` when given."""
+    text = json.dumps(result, indent=1)
+    print(text)
+    if path:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
