@@ -24,31 +24,14 @@ def main():
     sys.path.insert(0, spec["addon"])
     from hairlod import io
     from hairlod.blender.curves import strands_to_curves
+    from hairlod.blender.principled_hair import new_hair_material
     from hairlod.camera import look_at
 
     bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
     hair = strands_to_curves(io.read(spec["hair"]), "Hair", scene.collection)
 
-    material = bpy.data.materials.new("Hair")
-    material.use_nodes = True
-    nodes = material.node_tree.nodes
-    for node in list(nodes):
-        nodes.remove(node)
-    output = nodes.new("ShaderNodeOutputMaterial")
-    node = nodes.new("ShaderNodeBsdfHairPrincipled")
-    node.parametrization = spec["node"]["parametrization"]
-    sockets = {socket.name.lower().replace(" ", "_"): socket for socket in node.inputs}
-    for name, value in spec["node"].items():
-        if name == "parametrization":
-            continue
-        socket = sockets[name]
-        if isinstance(value, list):  # colours have alpha, vectors (the absorption coefficient) do not
-            value = (list(value) + [1.0])[:len(socket.default_value)]
-        socket.default_value = value
-    for name in ("Random Color", "Random Roughness", "Random"):
-        node.inputs[name].default_value = 0.0
-    material.node_tree.links.new(node.outputs[0], output.inputs["Surface"])
+    material = new_hair_material("Hair", {**spec["node"], "random_color": 0.0, "random_roughness": 0.0, "random": 0.0})
     hair.data.materials.append(material)
 
     camera = spec["camera"]

@@ -260,7 +260,7 @@ def test_preview_bake_and_export_use_one_hair(hair_object, tmp_path):
 
     from hairlod import bcsdf
     from hairlod.blender.preview.lod_preview import uses_material
-    from hairlod.blender.principled_hair import object_hair_params
+    from hairlod.blender.principled_hair import new_hair_material, object_hair_params
 
     assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
     settings = hair_object.hairlod_lod_preview
@@ -273,14 +273,7 @@ def test_preview_bake_and_export_use_one_hair(hair_object, tmp_path):
     settings.melanin = 0.9
     darker = baked()
     assert darker == bcsdf.params_to_dict(object_hair_params(hair_object)) and darker["sigma_a"][0] > 0.5
-    material = bpy.data.materials.new("Blond")
-    material.use_nodes = True
-    nodes = material.node_tree.nodes
-    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
-    hair.parametrization = 'MELANIN'
-    hair.inputs["Melanin"].default_value = 0.1
-    material.node_tree.links.new(hair.outputs[0], nodes["Material Output"].inputs["Surface"])
-    hair_object.data.materials.append(material)
+    hair_object.data.materials.append(new_hair_material("Blond", {"parametrization": 'MELANIN', "melanin": 0.1}))
     assert uses_material(hair_object, settings)
     blond = baked()
     assert blond == bcsdf.params_to_dict(object_hair_params(hair_object)) and blond["sigma_a"][0] < darker["sigma_a"][0]

@@ -42,3 +42,23 @@ def test_material_without_the_node_is_named():
     with pytest.raises(ValueError, match="material 'PlainTest' has no Principled Hair BSDF node"):
         params_from_material(plain)
     bpy.data.materials.remove(plain)
+
+
+def test_new_hair_material_sets_the_inputs_principled_hair_inputs_reads():
+    from hairlod.blender.principled_hair import new_hair_material
+
+    wanted = {"parametrization": "MELANIN", "melanin": 0.7, "melanin_redness": 0.2, "tint": [0.9, 0.8, 0.7],
+              "roughness": 0.25, "offset": math.radians(3.0)}
+    material = new_hair_material("Written", wanted)
+    try:
+        inputs = principled_hair_inputs(material)
+        assert inputs["parametrization"] == "MELANIN"
+        for key, value in wanted.items():
+            if key != "parametrization":
+                assert inputs[key] == pytest.approx(value, rel=1e-6), key
+    finally:
+        bpy.data.materials.remove(material)
+    materials = len(bpy.data.materials)
+    with pytest.raises(KeyError, match="no input 'shine'"):
+        new_hair_material("Bad", {"shine": 1.0})
+    assert len(bpy.data.materials) == materials  # nothing left behind

@@ -23,17 +23,12 @@ MAKE_BLEND = textwrap.dedent("""
     import hairlod
     from hairlod import hairmesh
     from hairlod.blender.curves import strands_to_curves
+    from hairlod.blender.principled_hair import new_hair_material
     bpy.ops.wm.read_homefile(use_empty=True)
     source = hairmesh.read({hair_mesh!r})
     for name, seed in (("Bob", 1), ("Fringe", 2)):
         obj = strands_to_curves(hairlod.generate_strands(source, count=1500, vertices=9, seed=seed), name)
-    material = bpy.data.materials.new("Auburn")
-    material.use_nodes = True
-    nodes = material.node_tree.nodes
-    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
-    hair.parametrization = 'MELANIN'
-    hair.inputs["Melanin"].default_value = 0.6
-    material.node_tree.links.new(hair.outputs[0], nodes["Material Output"].inputs["Surface"])
+    material = new_hair_material("Auburn", {{"parametrization": 'MELANIN', "melanin": 0.6}})
     bpy.data.objects["Bob"].data.materials.append(material)
     bpy.ops.wm.save_as_mainfile(filepath={blend!r})
 """)

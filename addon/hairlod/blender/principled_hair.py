@@ -45,6 +45,34 @@ def principled_hair_inputs(material):
     return inputs
 
 
+def new_hair_material(name, inputs):
+    """A new material whose surface is a Principled Hair BSDF set from `inputs`, in the names that
+    principled_hair_inputs returns ("parametrization", then sockets in snake case: "melanin",
+    "absorption_coefficient", ...; colours as RGB, Offset in radians); other inputs keep Blender's
+    defaults. KeyError names an input the node does not have."""
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    nodes = material.node_tree.nodes
+    for node in list(nodes):
+        nodes.remove(node)
+    output = nodes.new("ShaderNodeOutputMaterial")
+    node = nodes.new(NODE_TYPE)
+    sockets = {socket.name.lower().replace(" ", "_"): socket for socket in node.inputs}
+    for key, value in inputs.items():
+        if key == "parametrization":
+            node.parametrization = value
+            continue
+        if key not in sockets:
+            bpy.data.materials.remove(material)
+            raise KeyError(f"the Principled Hair BSDF has no input '{key}'")
+        socket = sockets[key]
+        if hasattr(value, "__len__"):  # colours have alpha, vectors (the absorption coefficient) do not
+            value = (list(value) + [1.0])[:len(socket.default_value)]
+        socket.default_value = value
+    material.node_tree.links.new(node.outputs[0], output.inputs["Surface"])
+    return material
+
+
 def params_from_material(material):
     """hairlod HairParams of the material's Principled Hair BSDF (Cycles' Chiang model)."""
     from ..bcsdf import from_principled_hair
