@@ -57,6 +57,14 @@ struct HairScene::Geometry {
     size_t segments() const { return segment_curve.size(); }
 };
 
+// Where a ray meets a thick hair's first member strand, and what lies behind it in the hair.
+struct HairScene::FirstStrand {
+    double t = 0.0;                // along the ray
+    double behind_expected = 0.0;  // strands the ray would meet on average past it
+    double behind_chord = 0.0;     // in-plane length of the ray in the hair past it
+    double chord = 0.0;            // in-plane length of the ray in the whole hair
+};
+
 namespace {
 
 void error_callback(void* user, RTCError code, const char* message) {
@@ -208,15 +216,14 @@ HairCrossing cross_thick_hair(const HairScene::Geometry& g, uint32_t curve, cons
     return crossing;
 }
 
-// Where along the ray the first member strand lies: the Poisson process of the strands a ray meets
-// (expected_hairs_met per unit of in-plane length, constant within each slab) reaches its first
-// arrival where the expected count passed equals `arrival`. The slabs partition the hair, so their
-// intervals along the ray are disjoint: they are walked in order of t. Returns the ray's t there
-// (the end of the last interval when `arrival` exceeds the hair's total).
-double first_strand_distance(const HairScene::Geometry& g, uint32_t curve, const glm::vec3& origin,
-                             const glm::vec3& direction, double arrival) {
+// The Poisson process of the strands a ray meets (expected_hairs_met per unit of in-plane length,
+// constant within each slab) reaches its first arrival where the expected count passed equals
+// `arrival`. The slabs partition the hair, so their intervals along the ray are disjoint: they are
+// walked in order of t. Past the last interval when `arrival` exceeds the hair's total.
+HairScene::FirstStrand first_strand(const HairScene::Geometry& g, uint32_t curve, const glm::vec3& origin,
+                         const glm::vec3& direction, double arrival) {
     struct Piece {
-        double t_near, t_far, expected;
+        double t_near, t_far, expected, chord;
     };
     std::array<Piece, 64> pieces;
     size_t used = 0;
@@ -227,7 +234,8 @@ double first_strand_distance(const HairScene::Geometry& g, uint32_t curve, const
         const ChordInterval interval = ellipse_interval(origin, direction, middle, g.slabs[segment].ends);
         if (!(interval.chord > 0.0f)) continue;
         t_last = std::max(t_last, interval.t_far);
-        const Piece piece{interval.t_near, interval.t_far, expected_in_slab(g, curve, middle, interval.chord)};
+        const Piece piece{interval.t_near, interval.t_far, expected_in_slab(g, curve, middle, interval.chord),
+                          interval.chord};
         if (used < pieces.size()) {
             pieces[used++] = piece;
         } else {  // a ray through more than 64 slabs of one hair: keep the nearest 64
@@ -237,12 +245,26 @@ double first_strand_distance(const HairScene::Geometry& g, uint32_t curve, const
         }
     }
     std::sort(pieces.begin(), pieces.begin() + used, [](const Piece& x, const Piece& y) { return x.t_near < y.t_near; });
+    HairScene::FirstStrand found;
+    found.t = t_last;
+    bool arrived = false;
     for (size_t k = 0; k < used; ++k) {
         const Piece& p = pieces[k];
-        if (arrival <= p.expected) return p.t_near + (p.t_far - p.t_near) * (p.expected > 0.0 ? arrival / p.expected : 0.0);
-        arrival -= p.expected;
+        found.chord += p.chord;
+        if (arrived) {
+            found.behind_expected += p.expected;
+            found.behind_chord += p.chord;
+        } else if (arrival <= p.expected) {
+            const double passed = p.expected > 0.0 ? arrival / p.expected : 0.0;
+            found.t = p.t_near + (p.t_far - p.t_near) * passed;
+            found.behind_expected = p.expected - arrival;
+            found.behind_chord = p.chord * (1.0 - passed);
+            arrived = true;
+        } else {
+            arrival -= p.expected;
+        }
     }
-    return t_last;
+    return found;
 }
 
 // The uniform number that decides a ray's crossing of a thick hair: a hash of the ray and the hair,
@@ -484,14 +506,16 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
         const Geometry& g = *geometries_[rh.hit.geomID];
         const uint32_t curve = g.segment_curve[rh.hit.primID];
         float t = rh.ray.tfar;
+        FirstStrand inside;  // unused for strands
         if (g.kind == CurveKind::Thick) {
             const double u = crossing_uniform(origin, direction, rh.hit.geomID, curve);
-            t = std::max(t, static_cast<float>(first_strand_distance(g, curve, origin, direction, -std::log1p(-u))));
+            inside = first_strand(g, curve, origin, direction, -std::log1p(-u));
+            t = std::max(t, static_cast<float>(inside.t));
         }
         if (t < limit) {
             found = true;
             limit = t;
-            fill_hit(g, rh, origin, direction, t, &ctx, hit);
+            fill_hit(g, rh, origin, direction, t, inside, hit);
         }
         if (g.kind != CurveKind::Thick || ctx.excluded_count == static_cast<int>(ctx.excluded.size())) break;
         ctx.excluded[ctx.excluded_count++] = {rh.hit.geomID, curve};
@@ -500,8 +524,7 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
 }
 
 void HairScene::fill_hit(const Geometry& g, const RTCRayHit& rh, const glm::vec3& origin, const glm::vec3& direction,
-                         float t, const void* context, SurfaceHit& hit) const {
-    const auto& ctx = *static_cast<const RayContext*>(context);
+                         float t, const FirstStrand& inside, SurfaceHit& hit) const {
     const uint32_t prim = rh.hit.primID;
     const float u = rh.hit.u;
     const glm::vec4* v = g.vertices.data() + g.segment_first[prim];
@@ -519,15 +542,12 @@ void HairScene::fill_hit(const Geometry& g, const RTCRayHit& rh, const glm::vec3
     hit.curve = g.segment_curve[prim];
     if (g.kind == CurveKind::Thick) {
         const Section s = thick_section(g, prim, u);
-        // The filter crossed this hair for this ray already unless a later candidate replaced the cache.
-        const bool crossed = ctx.crossed_geometry == hit.geometry && ctx.crossed_curve == hit.curve;
-        hit.chord = crossed ? ctx.crossing.chord : cross_thick_hair(g, hit.curve, origin, direction).chord;
+        hit.chord = static_cast<float>(inside.chord);
         hit.n_total = g.n_total[hit.curve];
         hit.density = s.density;
         hit.radii = s.radii;
-        const HairCrossing behind = cross_thick_hair(g, hit.curve, hit.position, direction);
-        hit.strands_behind = static_cast<float>(behind.expected);
-        hit.cleared_chord = std::max(0.0f, hit.chord - behind.chord);
+        hit.strands_behind = static_cast<float>(inside.behind_expected);
+        hit.cleared_chord = static_cast<float>(std::max(0.0, inside.chord - inside.behind_chord));
         // The strand met lies at an offset h across it that is uniform in [-1, 1] (strands sit anywhere
         // across the ray), not where the ray enters the wide tube: the normal that gives the fibre frame
         // (x the tangent, z towards the viewer) that h.

@@ -120,13 +120,14 @@ public:
     // The origin record of a ray leaving `hit` in `direction`.
     RayOrigin leaving(const SurfaceHit& hit, const glm::vec3& direction) const;
 
-    struct Geometry;  // buffers of one Embree curve geometry (scene.cpp)
+    struct Geometry;     // buffers of one Embree curve geometry (scene.cpp)
+    struct FirstStrand;  // where a ray meets a thick hair's first strand (scene.cpp)
 
 private:
     void attach(std::unique_ptr<Geometry> geometry);
-    // `context` is the query's RayContext (scene.cpp).
+    // `inside`: for a thick hair, where the ray meets its first strand and what lies behind (scene.cpp).
     void fill_hit(const Geometry& g, const RTCRayHit& rh, const glm::vec3& origin, const glm::vec3& direction, float t,
-                  const void* context, SurfaceHit& hit) const;
+                  const FirstStrand& inside, SurfaceHit& hit) const;
 
     std::shared_ptr<Device> device_;
     RTCScene scene_ = nullptr;
