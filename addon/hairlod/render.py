@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 
-from . import _core, atomic_output, memory_budget
+from . import _core, atomic_output, memory_budget, png
 from .bcsdf import as_params
 from .camera import look_at, perspective
 
@@ -169,8 +169,8 @@ def write_image(path, image):
         if extension == ".exr":
             _core.write_exr(temporary, image, ["R", "G", "B"])
         else:
-            import matplotlib.image
-            matplotlib.image.imsave(temporary, to_srgb8(image), format="png")
+            with open(temporary, "wb") as file:
+                file.write(png.encode_png(to_srgb8(image[..., :3])))
 
 
 def psnr(image, reference):

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -165,7 +166,9 @@ TEST_F(LodAssetTest, LevelsAboutFourfoldApartInAreaDownToFourStrandsPerHair) {
             int children = 0;
             for (size_t f = 0; f < fine.hair_count(); ++f) children += fine.parent[f] == static_cast<int32_t>(h) ? 1 : 0;
             ASSERT_GE(children, 1);
-            if (children > 1) EXPECT_GE(coarse.n_total(h), 4 * children) << "level " << l << " hair " << h;
+            if (children > 1) {
+                EXPECT_GE(coarse.n_total(h), 4 * children) << "level " << l << " hair " << h;
+            }
         }
     }
 }

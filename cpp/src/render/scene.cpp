@@ -292,7 +292,7 @@ bool meets_a_hair(const glm::vec3& origin, const glm::vec3& direction, unsigned 
 
 // What the context filter needs: the ray's origin record, the geometries and the counting state.
 struct RayContext {
-    RTCIntersectContext context;  // first member: Embree passes its address back
+    embree::QueryContext context;  // first member: Embree passes its address back to the filter
     const std::vector<std::unique_ptr<HairScene::Geometry>>* geometries;
     RayOrigin from;
     bool counting = false;
@@ -360,8 +360,7 @@ void filter(const RTCFilterFunctionNArguments* args) {
 
 void init_context(RayContext& ctx, const std::vector<std::unique_ptr<HairScene::Geometry>>& geometries,
                   const RayOrigin& from) {
-    rtcInitIntersectContext(&ctx.context);
-    ctx.context.filter = &filter;
+    embree::init_context(ctx.context);
     ctx.geometries = &geometries;
     ctx.from = from;
 }
@@ -420,7 +419,7 @@ void ThickHairs::validate() const {
 
 HairScene::HairScene(std::shared_ptr<Device> device) : device_(std::move(device)) {
     scene_ = rtcNewScene(device_->get());
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneFlags(scene_, embree::kQueryFilterFlag);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
     device_->check("rtcNewScene");
 }
@@ -501,7 +500,7 @@ bool HairScene::intersect(const glm::vec3& origin, const glm::vec3& direction, f
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
         ctx.crossed_geometry = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &ctx.context, &rh);
+        embree::intersect1(scene_, ctx.context, &filter, rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
         const Geometry& g = *geometries_[rh.hit.geomID];
         const uint32_t curve = g.segment_curve[rh.hit.primID];
@@ -572,7 +571,7 @@ bool HairScene::occluded(const glm::vec3& origin, const glm::vec3& direction, fl
     RayContext ctx;
     init_context(ctx, geometries_, from);
     RTCRay ray = make_ray(origin, direction, t_max);
-    rtcOccluded1(scene_, &ctx.context, &ray);
+    embree::occluded1(scene_, ctx.context, &filter, ray);
     return ray.tfar < 0.0f;
 }
 
@@ -583,7 +582,7 @@ int HairScene::count_crossings(const glm::vec3& origin, const glm::vec3& directi
     ctx.counting = true;
     ctx.limit = std::max(1, limit);
     RTCRay ray = make_ray(origin, direction, t_max);
-    rtcOccluded1(scene_, &ctx.context, &ray);
+    embree::occluded1(scene_, ctx.context, &filter, ray);
     return std::min(ctx.count, ctx.limit);
 }
 

@@ -21,7 +21,11 @@ public:
     void write(T value) {
         auto raw = std::bit_cast<std::array<std::byte, sizeof(T)>>(value);
         if constexpr (std::endian::native == std::endian::big) std::reverse(raw.begin(), raw.end());
-        bytes_.insert(bytes_.end(), raw.begin(), raw.end());
+        // Grown and copied into, not insert(): GCC 14 warns falsely (-Warray-bounds) on a
+        // one-byte range insert.
+        const size_t at = bytes_.size();
+        bytes_.resize(at + raw.size());
+        std::copy(raw.begin(), raw.end(), bytes_.begin() + static_cast<std::ptrdiff_t>(at));
     }
 
     // Writes all values in one copy on little-endian hosts (the hot path for point arrays).

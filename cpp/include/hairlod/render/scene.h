@@ -1,5 +1,5 @@
 #pragma once
-// The Embree 3 scene of the reference renderer: strands as round Catmull-Rom curves with per-point
+// The Embree scene (3 or 4, render/embree.h) of the reference renderer: strands as round Catmull-Rom curves with per-point
 // radius, and LoD thick hairs as round curves of radius = the major radius whose hits are kept only
 // where the ray crosses the elliptical cross-section (hair-lod-aggregated-bcsdf.txt Sec. 4, the ray
 // length through the ellipse gives the hair count n). Vertex and index buffers are owned here and
@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include <embree3/rtcore.h>
 #include <glm/vec3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "hairlod/core/strand_set.h"
+#include "hairlod/render/embree.h"
 
 namespace hairlod::render {
 

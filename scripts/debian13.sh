@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# A Debian 13 (trixie) chroot for what Debian 12 cannot give: Blender 4.3 with Python 3.13, Embree 4,
+# TBB 2022, OpenSubdiv 3.6 and NumPy 2. Made once per machine with debootstrap and kept in
+# $HAIRLOD_DEBIAN13 (default /var/cache/hairlod/debian13); made again when missing, and topped up
+# when the package list below changes.
+#
+#   scripts/debian13.sh setup          make or top up the chroot
+#   scripts/debian13.sh run CMD...     run CMD inside it (as root, in /hairlod = this checkout,
+#                                      /shared = ../shared when present)
+#
+# `run` mounts proc, dev, a tmpfs on /tmp and this checkout in a private mount namespace
+# (unshare), so the mounts vanish with the command, also when it fails or is killed.
+set -euo pipefail
+
+root=${HAIRLOD_DEBIAN13:-/var/cache/hairlod/debian13}
+mirror=${HAIRLOD_DEBIAN_MIRROR:-http://deb.debian.org/debian}
+checkout=$(cd "$(dirname "$0")/.." && pwd)
+
+# What the build, the suites and Blender 4.3 under Xvfb need (x11-apps: xwd captures the window,
+# since bpy.ops.screen.screenshot returns black there).
+packages=(
+  build-essential cmake pkg-config
+  libglm-dev libtbb-dev libembree-dev libosd-dev libopenexr-dev libeigen3-dev libnanoflann-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-matplotlib python3-skimage python3-openimageio
+  libgtest-dev
+  blender xvfb xauth x11-apps
+)
+
+die() { echo "debian13.sh: $*" >&2; exit 1; }
+
+need_root() {
+  [ "$(id -u)" -eq 0 ] || die "needs root (debootstrap, chroot and mounts); run it as root or under sudo"
+}
+
+install_host_tools() {
+  local missing=()
+  command -v debootstrap >/dev/null || missing+=(debootstrap)
+  command -v unshare >/dev/null || missing+=(util-linux)
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "debian13.sh: installing ${missing[*]} on the host"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}"
+  fi
+}
+
+# Runs a command in the chroot with the mounts it needs, in a mount namespace of its own.
+in_chroot() {
+  local dir=$1; shift
+  unshare --mount --propagation private -- /bin/sh -c '
+    set -e
+    dir=$1; checkout=$2; shift 2
+    mount -t proc proc "$dir/proc"
+    mount --rbind /dev "$dir/dev"
+    mount -t tmpfs tmpfs "$dir/tmp"
+    mkdir -p "$dir/hairlod"
+    mount --bind "$checkout" "$dir/hairlod"
+    # The shared test data beside the checkout (../shared), where the suites look for it.
+    if [ -d "$checkout/../shared" ]; then
+      mkdir -p "$dir/shared"
+      mount --bind "$checkout/../shared" "$dir/shared"
+    fi
+    cp /etc/resolv.conf "$dir/etc/resolv.conf" 2>/dev/null || true
+    exec chroot "$dir" /usr/bin/env -i HOME=/root PATH=/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 \
+      TERM="${TERM:-dumb}" /bin/sh -c "cd /hairlod && exec \"\$@\"" sh "$@"
+  ' sh "$dir" "$checkout" "$@"
+}
+
+package_stamp() { printf '%s\n' "${packages[@]}" | sha256sum | cut -c1-16; }
+
+setup() {
+  need_root
+  install_host_tools
+  local stamp; stamp=$(package_stamp)
+  if [ -x "$root/usr/bin/blender" ] && [ "$(cat "$root/.hairlod-packages" 2>/dev/null)" = "$stamp" ]; then
+    return 0
+  fi
+  if [ ! -f "$root/.hairlod-base" ]; then
+    # Made beside its final place and renamed when complete: an interrupted run leaves no chroot
+    # that looks finished.
+    local partial="$root.partial"
+    rm -rf "$partial"
+    mkdir -p "$(dirname "$root")"
+    echo "debian13.sh: debootstrap trixie into $root (about a minute)"
+    debootstrap --variant=minbase trixie "$partial" "$mirror" >"$partial.log" 2>&1 ||
+      { tail -n 20 "$partial.log" >&2; die "debootstrap failed (log: $partial.log)"; }
+    touch "$partial/.hairlod-base"
+    rm -rf "$root"
+    mv "$partial" "$root"
+    rm -f "$partial.log"
+  fi
+  echo "debian13.sh: installing ${#packages[@]} packages in the chroot (Blender 4.3 among them)"
+  in_chroot "$root" /bin/sh -c "export DEBIAN_FRONTEND=noninteractive &&
+    apt-get update -q && apt-get install -y -q --no-install-recommends $(printf '%s ' "${packages[@]}") >/tmp/apt.log 2>&1 ||
+    { tail -n 30 /tmp/apt.log >&2; exit 1; }; apt-get clean"
+  echo "$stamp" >"$root/.hairlod-packages"
+}
+
+case "${1:-}" in
+  setup) setup ;;
+  run)
+    shift
+    [ $# -gt 0 ] || die "run: give a command"
+    need_root
+    [ -f "$root/.hairlod-packages" ] || die "no chroot in $root: run 'scripts/debian13.sh setup' first"
+    in_chroot "$root" "$@"
+    ;;
+  *) die "usage: scripts/debian13.sh setup | run CMD..." ;;
+esac

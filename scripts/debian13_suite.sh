@@ -1,0 +1,36 @@
+#!/bin/sh
+# The test suites on Debian 13 (Blender 4.3, Python 3.13, Embree 4, TBB 2022, OpenSubdiv 3.6,
+# NumPy 2): run inside the chroot of scripts/debian13.sh, from `make test-debian13`. Builds the core
+# for this Python into build-debian13/ (its _core.cpython-313-*.so lands in addon/hairlod beside the
+# host's cp311 one; each Python loads its own) and runs the C++, Python, headless-Blender and UI
+# suites. Arguments name the suites to run (default: all of cpp python blender ui).
+set -eu
+cd "$(dirname "$0")/.."
+[ -f /etc/debian_version ] && case "$(cat /etc/debian_version)" in 13*|trixie*) ;; *)
+    echo "debian13_suite.sh: runs inside the Debian 13 chroot: use 'make test-debian13'" >&2; exit 2 ;; esac
+
+suites=${*:-cpp python blender ui}
+echo "debian13: $(blender --version 2>/dev/null | head -n 1), $(python3 --version), NumPy $(python3 -c 'import numpy; print(numpy.__version__)')"
+
+cmake -S . -B build-debian13 -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3 \
+    -DHAIRLOD_BUILD_BENCH=OFF >/dev/null
+cmake --build build-debian13 -j "${JOBS:-2}" >build-debian13/build.log 2>&1 ||
+    { tail -n 40 build-debian13/build.log; echo "debian13: build failed (build-debian13/build.log)" >&2; exit 1; }
+grep -E 'warning:' build-debian13/build.log || true
+
+failed=""
+for suite in $suites; do
+    echo "== debian13 $suite"
+    case "$suite" in
+        cpp) ctest --test-dir build-debian13 --output-on-failure -j "${JOBS:-2}" || failed="$failed cpp" ;;
+        python) python3 -m pytest -q -rs -p no:cacheprovider tests/python || failed="$failed python" ;;
+        blender) scripts/run_blender_tests.sh || failed="$failed blender" ;;
+        ui) HAIRLOD_UI_OUT=${HAIRLOD_UI_OUT:-$PWD/out/ui-debian13} scripts/run_ui_tests.sh || failed="$failed ui" ;;
+        *) echo "debian13_suite.sh: unknown suite '$suite' (cpp python blender ui)" >&2; exit 2 ;;
+    esac
+done
+if [ -n "$failed" ]; then
+    echo "debian13: FAILED:$failed"
+    exit 1
+fi
+echo "debian13: all of '$suites' passed"
