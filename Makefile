@@ -5,7 +5,7 @@ BUILD_DIR := build
 JOBS      ?= 2
 CMAKE_ARGS ?=
 
-.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui addon bench fuzz clean
+.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui test-debian13 addon bench fuzz clean
 
 all: build
 
@@ -22,7 +22,7 @@ demo: bootstrap build
 	$(PYTHON) examples/demo.py
 
 test: bootstrap build
-	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui
+	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui test-debian13
 
 test-cpp:
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
@@ -35,6 +35,13 @@ test-blender:
 
 test-ui:
 	scripts/run_ui_tests.sh
+
+# The same suites on Debian 13 (Blender 4.3, Python 3.13, Embree 4, TBB 2022, NumPy 2) in a chroot
+# that scripts/debian13.sh makes once per machine (needs root). DEBIAN13_SUITES picks suites.
+DEBIAN13_SUITES ?= cpp python blender ui
+test-debian13:
+	scripts/debian13.sh setup
+	scripts/debian13.sh run env JOBS=$(JOBS) scripts/debian13_suite.sh $(DEBIAN13_SUITES)
 
 addon: build
 	$(PYTHON) scripts/build_addon.py
@@ -56,4 +63,4 @@ else
 endif
 
 clean:
-	rm -rf $(BUILD_DIR) dist addon/hairlod/_core*.so
+	rm -rf $(BUILD_DIR) build-debian13 dist addon/hairlod/_core*.so

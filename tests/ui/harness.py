@@ -3,7 +3,9 @@ checks that print what they verified, and a runner that drives a test's steps fr
 the window redraws between them, ending Blender with the test's status."""
 
 import os
+import subprocess
 import sys
+import tempfile
 import traceback
 
 import bpy
@@ -29,12 +31,64 @@ def screenshot(window, area, name, whole_window=False):
             bpy.ops.screen.screenshot(filepath=path, check_existing=False)
         else:
             bpy.ops.screen.screenshot_area(filepath=path, check_existing=False)
+    pixels = _load_rgb(path)
+    if not pixels.any():
+        # Blender 4.3 under Xvfb (Debian 13's Mesa) reads its window back as black; the X server holds
+        # what the window shows, so the picture is taken from there instead (and saved in its place).
+        pixels = _x_display_pixels(window, None if whole_window else area)
+        _save_rgb(pixels, path)
+    return pixels
+
+
+def _load_rgb(path):
     image = bpy.data.images.load(path)
     width, height = image.size
     pixels = np.empty(width * height * 4, np.float32)
     image.pixels.foreach_get(pixels)
     bpy.data.images.remove(image)
     return pixels.reshape(height, width, 4)[..., :3]
+
+
+def _save_rgb(pixels, path):
+    height, width = pixels.shape[:2]
+    image = bpy.data.images.new("hairlod screenshot", width, height)
+    rgba = np.ones((height, width, 4), np.float32)
+    rgba[..., :3] = pixels
+    image.pixels.foreach_set(rgba.ravel())
+    image.filepath_raw, image.file_format = path, 'PNG'
+    image.save()
+    bpy.data.images.remove(image)
+
+
+def _x_display_pixels(window, area):
+    """The window (or the area's rectangle of it) as the X display shows it, captured with xwd: RGB float
+    [H, W, 3] in [0, 1], rows bottom-up. Blender's window fills the Xvfb screen from its top-left corner
+    (there is no window manager to move it)."""
+    with tempfile.NamedTemporaryFile(suffix=".xwd") as capture:
+        subprocess.run(["xwd", "-root", "-silent", "-out", capture.name], check=True)
+        screen = read_xwd(capture.name)
+    top = screen.shape[0] - window.height  # the window's bottom row is window y = 0
+    pixels = screen[top:top + window.height, :window.width][::-1]
+    if area is not None:
+        pixels = pixels[area.y:area.y + area.height, area.x:area.x + area.width]
+    return np.ascontiguousarray(pixels, np.float32) / 255.0
+
+
+def read_xwd(path):
+    """uint8 RGB [H, W, 3], rows top-down, of an X window dump of a TrueColor 24/32-bit screen (XWD
+    version 7: a header of big-endian 32-bit fields, the window name, the colour map, then the rows)."""
+    data = np.fromfile(path, np.uint8)
+    header = data[:100].view(">u4")
+    header_size, version, depth, width, height = (int(header[i]) for i in (0, 1, 3, 4, 5))
+    byte_order, bits_per_pixel, bytes_per_line = int(header[7]), int(header[11]), int(header[12])
+    red_mask, green_mask, blue_mask, colours = (int(header[i]) for i in (14, 15, 16, 19))
+    if version != 7 or bits_per_pixel != 32 or depth != 24:
+        raise ValueError(f"{path}: not a 24-bit TrueColor XWD (version {version}, depth {depth}, {bits_per_pixel} bpp)")
+    start = header_size + 12 * colours
+    rows = data[start:start + height * bytes_per_line].reshape(height, bytes_per_line)[:, :4 * width]
+    words = rows.copy().view("<u4" if byte_order == 0 else ">u4").reshape(height, width)
+    shifts = [(mask & -mask).bit_length() - 1 for mask in (red_mask, green_mask, blue_mask)]
+    return np.stack([(words >> s) & 0xFF for s in shifts], axis=-1).astype(np.uint8)
 
 
 def run(steps, first_delay=1.0):

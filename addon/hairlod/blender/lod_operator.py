@@ -75,6 +75,17 @@ def packed_asset(obj):
     return None if data is None else lod.unpack(data, where=f"object {obj.name}: {PACKED_PROPERTY}")
 
 
+def store_packed_asset(obj, asset):
+    """Packs `asset` into `obj` (replacing what a previous build packed there)."""
+    from .. import lod
+
+    # Blender 4.3 cuts bytes assigned over an existing bytes property at their first NUL (a fresh
+    # property keeps them whole), so the old one is removed first.
+    if PACKED_PROPERTY in obj:
+        del obj[PACKED_PROPERTY]
+    obj[PACKED_PROPERTY] = lod.pack(asset)
+
+
 class LodBuildJob:
     """Build Hair LoD in steps. The constructor reads the strands (and the scene's cameras) and
     starts the build in a worker thread; step() does the next piece of main-thread work and returns
@@ -129,7 +140,7 @@ class LodBuildJob:
         if self.cameras is not None and self.selected_levels is None:
             self.asset, self.selected_levels = lod.keep_scene_levels(self.asset, self.cameras, self.width_px)
         if not self.level_objects:
-            self.source[PACKED_PROPERTY] = lod.pack(self.asset)
+            store_packed_asset(self.source, self.asset)
             return True
         if self.collection is None:
             self.collection = bpy.data.collections.get(COLLECTION_NAME)
@@ -150,7 +161,7 @@ class LodBuildJob:
             self.created.append(obj)
             self._levels_made += 1
             return False
-        self.source[PACKED_PROPERTY] = lod.pack(self.asset)
+        store_packed_asset(self.source, self.asset)
         return True
 
     def cancel(self):

@@ -373,12 +373,11 @@ class LodPreview:
 
 
 def _gpu_finish():
-    """glFinish where this Blender still has the bgl module (deprecated in 4.x, gone in 5.x), else None."""
-    try:
-        import bgl
-    except ImportError:
-        return None
-    return getattr(bgl, "glFinish", None)
+    """A function that returns once the GPU has done the work queued for the framebuffer being drawn:
+    reading one of its pixels back must wait for it (the gpu module has no finish; bgl's glFinish is
+    deprecated in 4.x and gone in 5.x)."""
+    framebuffer = gpu.state.active_framebuffer_get()
+    return lambda: framebuffer.read_color(0, 0, 1, 1, 4, 0, 'UBYTE')
 
 
 def uses_material(obj, settings):
