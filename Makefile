@@ -5,7 +5,7 @@ BUILD_DIR := build
 JOBS      ?= 2
 CMAKE_ARGS ?=
 
-.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui test-debian13 addon bench fuzz clean
+.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui test-packages test-debian13 addon bench fuzz clean
 
 all: build
 
@@ -22,7 +22,7 @@ demo: bootstrap build
 	$(PYTHON) examples/demo.py
 
 test: bootstrap build
-	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui test-debian13
+	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui test-packages test-debian13
 
 test-cpp:
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
@@ -36,15 +36,27 @@ test-blender:
 test-ui:
 	scripts/run_ui_tests.sh
 
+# The packages for this Python (cp311) unpacked in a bare Debian 12 (python3 and NumPy only), as the
+# legacy add-on and as the extension's wheel: import, build an LoD, bake (tests/packages/bare_import.py).
+test-packages: build
+	rm -rf $(BUILD_DIR)/packages
+	$(PYTHON) scripts/build_addon.py --output-dir $(BUILD_DIR)/packages
+	scripts/chroot.sh bare12 setup
+	scripts/chroot.sh bare12 run python3 tests/packages/bare_import.py $(BUILD_DIR)/packages/hairlod-*-linux_x64-legacy.zip legacy examples/data/bob.hair
+	scripts/chroot.sh bare12 run python3 tests/packages/bare_import.py $(BUILD_DIR)/packages/hairlod-*-linux_x64.zip extension examples/data/bob.hair
+
 # The same suites on Debian 13 (Blender 4.3, Python 3.13, Embree 4, TBB 2022, NumPy 2) in a chroot
-# that scripts/debian13.sh makes once per machine (needs root). DEBIAN13_SUITES picks suites.
+# that scripts/chroot.sh makes once per machine (needs root). DEBIAN13_SUITES picks suites.
 DEBIAN13_SUITES ?= cpp python blender ui
 test-debian13:
-	scripts/debian13.sh setup
-	scripts/debian13.sh run env JOBS=$(JOBS) scripts/debian13_suite.sh $(DEBIAN13_SUITES)
+	scripts/chroot.sh debian13 setup
+	scripts/chroot.sh debian13 run env JOBS=$(JOBS) scripts/debian13_suite.sh $(DEBIAN13_SUITES)
 
+# dist/: the extension and the legacy zip for cp311 (here) and cp313 (built in the Debian 13 chroot).
 addon: build
 	$(PYTHON) scripts/build_addon.py
+	scripts/chroot.sh debian13 setup
+	scripts/chroot.sh debian13 run sh -c 'scripts/debian13_suite.sh build && python3 scripts/build_addon.py'
 
 bench: bootstrap build
 	scripts/bench.sh

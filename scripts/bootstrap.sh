@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config patchelf debootstrap
   libglm-dev libtbb-dev libembree-dev libosd-dev libopenexr-dev libeigen3-dev libnanoflann-dev
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-setuptools python3-pip
   python3-matplotlib python3-skimage python3-openimageio

@@ -16,6 +16,9 @@ bl_info = {
 
 __version__ = ".".join(str(part) for part in bl_info["version"])
 
+from ._native import load_core  # noqa: E402
+
+_core = load_core(__name__)
 from ._core import HairlodError, Strands  # noqa: E402
 from . import io  # noqa: E402
 from .hairmesh import HairMesh, generate_strands  # noqa: E402

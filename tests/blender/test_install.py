@@ -1,4 +1,5 @@
-"""The packed add-on zip installs into a fresh user scripts folder and works from there."""
+"""The legacy add-on zip (scripts/build_addon.py) installs into a fresh user scripts folder and works from
+there, its compiled core and bundled libraries included (the extension: tests/packages/)."""
 
 import os
 import subprocess
@@ -30,7 +31,9 @@ def addon_zip(tmp_path):
                             "--output-dir", str(tmp_path / "dist")],
                            capture_output=True, text=True, check=False)
     assert built.returncode == 0, built.stderr
-    return built.stdout.strip()
+    legacy = [path for path in built.stdout.split() if path.endswith("-legacy.zip")]
+    assert len(legacy) == 1, built.stdout
+    return legacy[0]
 
 
 def test_zip_installs_enables_and_imports(empty_scene, user_scripts, addon_zip, shared_data):
@@ -40,13 +43,15 @@ def test_zip_installs_enables_and_imports(empty_scene, user_scripts, addon_zip, 
     assert os.path.basename(addon_zip).startswith("hairlod-0.1.0-")
     assert bpy.ops.preferences.addon_install(filepath=addon_zip) == {'FINISHED'}
     installed = user_scripts / "addons" / "hairlod"
-    assert (installed / "blender_manifest.toml").is_file()
+    assert not (installed / "blender_manifest.toml").exists()
     assert not list(installed.rglob("__pycache__"))
+    assert list((installed / "_core.libs").glob("libembree*-hairlod-*"))
 
     assert bpy.ops.preferences.addon_enable(module="hairlod") == {'FINISHED'}
     import hairlod
 
     assert os.path.dirname(hairlod.__file__) == str(installed)
+    assert os.path.dirname(hairlod._core.__file__) == str(installed)
     assert "hairlod" in {addon.module for addon in bpy.context.preferences.addons}
 
     path = str(shared_data / "Bangs_100.hair")

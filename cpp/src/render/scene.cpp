@@ -378,12 +378,12 @@ RTCRay make_ray(const glm::vec3& origin, const glm::vec3& direction, float t_max
 }  // namespace
 
 Device::Device() {
-    device_ = rtcNewDevice(nullptr);
-    if (!device_) throw Error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
-    rtcSetDeviceErrorFunction(device_, &error_callback, &error_);
+    device_ = embree::api().rtcNewDevice(nullptr);
+    if (!device_) throw Error("Embree: rtcNewDevice failed (error " + std::to_string(embree::api().rtcGetDeviceError(nullptr)) + ")");
+    embree::api().rtcSetDeviceErrorFunction(device_, &error_callback, &error_);
 }
 
-Device::~Device() { rtcReleaseDevice(device_); }
+Device::~Device() { embree::api().rtcReleaseDevice(device_); }
 
 void Device::check(const char* what) {
     if (error_.empty()) return;
@@ -418,25 +418,25 @@ void ThickHairs::validate() const {
 }
 
 HairScene::HairScene(std::shared_ptr<Device> device) : device_(std::move(device)) {
-    scene_ = rtcNewScene(device_->get());
-    rtcSetSceneFlags(scene_, embree::kQueryFilterFlag);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    scene_ = embree::api().rtcNewScene(device_->get());
+    embree::api().rtcSetSceneFlags(scene_, embree::kQueryFilterFlag);
+    embree::api().rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
     device_->check("rtcNewScene");
 }
 
-HairScene::~HairScene() { rtcReleaseScene(scene_); }
+HairScene::~HairScene() { embree::api().rtcReleaseScene(scene_); }
 
 void HairScene::attach(std::unique_ptr<Geometry> g) {
     if (committed_) throw Error("HairScene: geometry added after commit()");
     if (g->segments() == 0) return;
-    RTCGeometry geometry = rtcNewGeometry(device_->get(), RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, g->vertices.data(), 0,
+    RTCGeometry geometry = embree::api().rtcNewGeometry(device_->get(), RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE);
+    embree::api().rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, g->vertices.data(), 0,
                                sizeof(glm::vec4), g->vertices.size() - 1);
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, g->segment_first.data(), 0,
+    embree::api().rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, g->segment_first.data(), 0,
                                sizeof(uint32_t), g->segments());
-    rtcCommitGeometry(geometry);
-    const unsigned id = rtcAttachGeometry(scene_, geometry);
-    rtcReleaseGeometry(geometry);
+    embree::api().rtcCommitGeometry(geometry);
+    const unsigned id = embree::api().rtcAttachGeometry(scene_, geometry);
+    embree::api().rtcReleaseGeometry(geometry);
     device_->check("attaching hair curves");
     if (geometries_.size() <= id) geometries_.resize(id + 1);
     geometries_[id] = std::move(g);
@@ -469,7 +469,7 @@ void HairScene::add_thick_hairs(const ThickHairs& hairs) {
 }
 
 void HairScene::commit() {
-    rtcCommitScene(scene_);
+    embree::api().rtcCommitScene(scene_);
     device_->check("building the hair BVH");
     committed_ = true;
 }

@@ -6,6 +6,12 @@
 // RTCOccludedArguments, enabled by RTC_SCENE_FLAG_FILTER_FUNCTION_IN_ARGUMENTS and invoked for every
 // geometry with RTC_RAY_QUERY_FLAG_INVOKE_ARGUMENT_FILTER) and in the context type the callback
 // receives (RTCIntersectContext / RTCRayQueryContext). Everything else the renderer calls is common.
+//
+// Every Embree function is called through api(): pointers looked up in the libraries this core
+// itself loaded, never in the process's global scope. A Blender that links another Embree (official
+// 4.2+ builds and Debian 13's load libembree4.so.4 at start-up, whose C functions have the same names
+// as Embree 3's) exports its functions globally, and a plain call would bind to them: the wrong
+// version, and not the copy bundled with the package (scripts/native_bundle.py).
 #if HAIRLOD_EMBREE_MAJOR >= 4
 #include <embree4/rtcore.h>
 #else
@@ -13,6 +19,30 @@
 #endif
 
 namespace hairlod::render::embree {
+
+// The Embree functions the renderer calls, named as Embree names them.
+struct Api {
+    decltype(&::rtcNewDevice) rtcNewDevice;
+    decltype(&::rtcGetDeviceError) rtcGetDeviceError;
+    decltype(&::rtcSetDeviceErrorFunction) rtcSetDeviceErrorFunction;
+    decltype(&::rtcReleaseDevice) rtcReleaseDevice;
+    decltype(&::rtcNewScene) rtcNewScene;
+    decltype(&::rtcSetSceneFlags) rtcSetSceneFlags;
+    decltype(&::rtcSetSceneBuildQuality) rtcSetSceneBuildQuality;
+    decltype(&::rtcCommitScene) rtcCommitScene;
+    decltype(&::rtcReleaseScene) rtcReleaseScene;
+    decltype(&::rtcNewGeometry) rtcNewGeometry;
+    decltype(&::rtcSetSharedGeometryBuffer) rtcSetSharedGeometryBuffer;
+    decltype(&::rtcCommitGeometry) rtcCommitGeometry;
+    decltype(&::rtcAttachGeometry) rtcAttachGeometry;
+    decltype(&::rtcReleaseGeometry) rtcReleaseGeometry;
+    decltype(&::rtcIntersect1) rtcIntersect1;
+    decltype(&::rtcOccluded1) rtcOccluded1;
+};
+
+// The functions of the Embree this core was linked with (looked up once); throws hairlod::Error
+// naming a function that cannot be found.
+const Api& api();
 
 #if HAIRLOD_EMBREE_MAJOR >= 4
 
@@ -31,7 +61,7 @@ inline void intersect1(RTCScene scene, QueryContext& context, RTCFilterFunctionN
     args.flags = static_cast<RTCRayQueryFlags>(args.flags | RTC_RAY_QUERY_FLAG_INVOKE_ARGUMENT_FILTER);
     args.context = &context;
     args.filter = filter;
-    rtcIntersect1(scene, &ray_hit, &args);
+    api().rtcIntersect1(scene, &ray_hit, &args);
 }
 
 // Any hit (ray.tfar becomes -inf when one is accepted), with `filter` as above.
@@ -41,7 +71,7 @@ inline void occluded1(RTCScene scene, QueryContext& context, RTCFilterFunctionN 
     args.flags = static_cast<RTCRayQueryFlags>(args.flags | RTC_RAY_QUERY_FLAG_INVOKE_ARGUMENT_FILTER);
     args.context = &context;
     args.filter = filter;
-    rtcOccluded1(scene, &ray, &args);
+    api().rtcOccluded1(scene, &ray, &args);
 }
 
 #else
@@ -53,12 +83,12 @@ inline void init_context(QueryContext& context) { rtcInitIntersectContext(&conte
 
 inline void intersect1(RTCScene scene, QueryContext& context, RTCFilterFunctionN filter, RTCRayHit& ray_hit) {
     context.filter = filter;
-    rtcIntersect1(scene, &context, &ray_hit);
+    api().rtcIntersect1(scene, &context, &ray_hit);
 }
 
 inline void occluded1(RTCScene scene, QueryContext& context, RTCFilterFunctionN filter, RTCRay& ray) {
     context.filter = filter;
-    rtcOccluded1(scene, &context, &ray);
+    api().rtcOccluded1(scene, &context, &ray);
 }
 
 #endif

@@ -1,33 +1,47 @@
 #!/usr/bin/env bash
-# A Debian 13 (trixie) chroot for what Debian 12 cannot give: Blender 4.3 with Python 3.13, Embree 4,
-# TBB 2022, OpenSubdiv 3.6 and NumPy 2. Made once per machine with debootstrap and kept in
-# $HAIRLOD_DEBIAN13 (default /var/cache/hairlod/debian13); made again when missing, and topped up
-# when the package list below changes.
+# Debian chroots for what this machine (Debian 12) cannot show by itself, made with debootstrap once
+# per machine and kept in $HAIRLOD_CHROOTS (default /var/cache/hairlod): made again when missing,
+# topped up when their package list below changes.
 #
-#   scripts/debian13.sh setup          make or top up the chroot
-#   scripts/debian13.sh run CMD...     run CMD inside it (as root, in /hairlod = this checkout,
-#                                      /shared = ../shared when present)
+#   debian13  Debian 13 (trixie) with the build tools and Blender 4.3 (Python 3.13, Embree 4,
+#             TBB 2022, OpenSubdiv 3.6, NumPy 2): the suites on a second platform.
+#   bare12    Debian 12 with only python3 and python3-numpy: where a packaged hairlod must import
+#             and work with nothing else installed.
+#
+#   scripts/chroot.sh NAME setup          make or top up the chroot
+#   scripts/chroot.sh NAME run CMD...     run CMD inside it (as root, in /hairlod = this checkout,
+#                                         /shared = ../shared when present)
 #
 # `run` mounts proc, dev, a tmpfs on /tmp and this checkout in a private mount namespace
 # (unshare), so the mounts vanish with the command, also when it fails or is killed.
 set -euo pipefail
 
-root=${HAIRLOD_DEBIAN13:-/var/cache/hairlod/debian13}
 mirror=${HAIRLOD_DEBIAN_MIRROR:-http://deb.debian.org/debian}
 checkout=$(cd "$(dirname "$0")/.." && pwd)
 
-# What the build, the suites and Blender 4.3 under Xvfb need (x11-apps: xwd captures the window,
-# since bpy.ops.screen.screenshot returns black there).
-packages=(
-  build-essential cmake pkg-config
-  libglm-dev libtbb-dev libembree-dev libosd-dev libopenexr-dev libeigen3-dev libnanoflann-dev
-  pybind11-dev python3-dev python3-numpy python3-pytest
-  python3-matplotlib python3-skimage python3-openimageio
-  libgtest-dev
-  blender xvfb xauth x11-apps
-)
+die() { echo "chroot.sh: $*" >&2; exit 1; }
 
-die() { echo "debian13.sh: $*" >&2; exit 1; }
+name=${1:-}
+case "$name" in
+  debian13)
+    release=trixie
+    # What the build, the suites and Blender 4.3 under Xvfb need (x11-apps: xwd captures the window,
+    # since bpy.ops.screen.screenshot returns black there; patchelf: the packages).
+    packages=(
+      build-essential cmake pkg-config patchelf
+      libglm-dev libtbb-dev libembree-dev libosd-dev libopenexr-dev libeigen3-dev libnanoflann-dev
+      pybind11-dev python3-dev python3-numpy python3-pytest
+      python3-matplotlib python3-skimage python3-openimageio
+      libgtest-dev
+      blender xvfb xauth x11-apps
+    ) ;;
+  bare12)
+    release=bookworm
+    packages=(python3 python3-numpy) ;;
+  *) die "usage: scripts/chroot.sh debian13|bare12 setup | run CMD..." ;;
+esac
+shift
+root=${HAIRLOD_CHROOTS:-/var/cache/hairlod}/$name
 
 need_root() {
   [ "$(id -u)" -eq 0 ] || die "needs root (debootstrap, chroot and mounts); run it as root or under sudo"
@@ -38,7 +52,7 @@ install_host_tools() {
   command -v debootstrap >/dev/null || missing+=(debootstrap)
   command -v unshare >/dev/null || missing+=(util-linux)
   if [ ${#missing[@]} -gt 0 ]; then
-    echo "debian13.sh: installing ${missing[*]} on the host"
+    echo "chroot.sh: installing ${missing[*]} on the host"
     DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}"
   fi
 }
@@ -71,7 +85,7 @@ setup() {
   need_root
   install_host_tools
   local stamp; stamp=$(package_stamp)
-  if [ -x "$root/usr/bin/blender" ] && [ "$(cat "$root/.hairlod-packages" 2>/dev/null)" = "$stamp" ]; then
+  if [ "$(cat "$root/.hairlod-packages" 2>/dev/null)" = "$stamp" ]; then
     return 0
   fi
   if [ ! -f "$root/.hairlod-base" ]; then
@@ -80,15 +94,15 @@ setup() {
     local partial="$root.partial"
     rm -rf "$partial"
     mkdir -p "$(dirname "$root")"
-    echo "debian13.sh: debootstrap trixie into $root (about a minute)"
-    debootstrap --variant=minbase trixie "$partial" "$mirror" >"$partial.log" 2>&1 ||
+    echo "chroot.sh: debootstrap $release into $root (about a minute)"
+    debootstrap --variant=minbase "$release" "$partial" "$mirror" >"$partial.log" 2>&1 ||
       { tail -n 20 "$partial.log" >&2; die "debootstrap failed (log: $partial.log)"; }
     touch "$partial/.hairlod-base"
     rm -rf "$root"
     mv "$partial" "$root"
     rm -f "$partial.log"
   fi
-  echo "debian13.sh: installing ${#packages[@]} packages in the chroot (Blender 4.3 among them)"
+  echo "chroot.sh: installing ${#packages[@]} packages in the $name chroot"
   in_chroot "$root" /bin/sh -c "export DEBIAN_FRONTEND=noninteractive &&
     apt-get update -q && apt-get install -y -q --no-install-recommends $(printf '%s ' "${packages[@]}") >/tmp/apt.log 2>&1 ||
     { tail -n 30 /tmp/apt.log >&2; exit 1; }; apt-get clean"
@@ -101,8 +115,8 @@ case "${1:-}" in
     shift
     [ $# -gt 0 ] || die "run: give a command"
     need_root
-    [ -f "$root/.hairlod-packages" ] || die "no chroot in $root: run 'scripts/debian13.sh setup' first"
+    [ -f "$root/.hairlod-packages" ] || die "no chroot in $root: run 'scripts/chroot.sh $name setup' first"
     in_chroot "$root" "$@"
     ;;
-  *) die "usage: scripts/debian13.sh setup | run CMD..." ;;
+  *) die "usage: scripts/chroot.sh debian13|bare12 setup | run CMD..." ;;
 esac
