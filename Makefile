@@ -47,7 +47,7 @@ test-packages: build
 
 # The same suites on Debian 13 (Blender 4.3, Python 3.13, Embree 4, TBB 2022, NumPy 2) in a chroot
 # that scripts/chroot.sh makes once per machine (needs root). DEBIAN13_SUITES picks suites.
-DEBIAN13_SUITES ?= cpp python blender ui
+DEBIAN13_SUITES ?= cpp python blender ui package
 test-debian13:
 	scripts/chroot.sh debian13 setup
 	scripts/chroot.sh debian13 run env JOBS=$(JOBS) scripts/debian13_suite.sh $(DEBIAN13_SUITES)

@@ -4,8 +4,8 @@ Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python s
      [-- --count 100000 --runs 3 --out FILE.json]
 Generates --count strands of 17 points in examples/data/wavy_cap.hairmesh.json as a hair Curves object in
 the default scene (its grey world, one light) and measures, per run: the LoD build run directly
-(hairlod.blender.pipeline.build_lod: read the curves, build, pack into the object, in this process), the
-same build from the button (the modal operator, from invoke until the asset is packed), and the first frame of the preview after it (from the
+(hairlod.blender.pipeline.build_lod: read the curves, build, pack into the object, in this process), its
+export with the BCSDF tables baked (pipeline.export_lod), the same build from the button (the modal operator, from invoke until the asset is packed), and the first frame of the preview after it (from the
 asset being packed to the first draw of the preview ending, and that draw's own time). Prints one JSON
 object with every run and the medians; the ratio of button to direct build in the same run.
 """
@@ -15,6 +15,7 @@ import json
 import os
 import statistics
 import sys
+import tempfile
 import time
 
 import bpy
@@ -69,6 +70,10 @@ def steps(args):
         start = time.perf_counter()
         pipeline.build_lod(source)
         direct = time.perf_counter() - start
+        with tempfile.TemporaryDirectory() as folder:
+            start = time.perf_counter()
+            pipeline.export_lod(source, folder, bake=True)
+            export = time.perf_counter() - start
         if PACKED_PROPERTY in source:
             del source[PACKED_PROPERTY]
         lod_preview.detach(source.name)
@@ -86,13 +91,13 @@ def steps(args):
         while not draws:
             yield POLL
         first_start, first_end = draws[0]
-        runs.append({"direct_build_s": direct, "button_build_s": packed - start,
+        runs.append({"direct_build_s": direct, "export_bake_s": export, "button_build_s": packed - start,
                      "button_over_direct": (packed - start) / direct, "first_frame_s": first_end - packed,
                      "first_draw_s": first_end - first_start, "viewport_redraws_during_build": redraws_during_build})
         print(json.dumps(runs[-1]), flush=True)
     lod_preview.LodPreview.draw = original_draw
     bpy.types.SpaceView3D.draw_handler_remove(counter, 'WINDOW')
-    result = {"strands": args.count, "runs": runs,
+    result = {"blender": bpy.app.version_string, "strands": args.count, "runs": runs,
               "median": {key: statistics.median(run[key] for run in runs) for key in runs[0]}}
     window_steps.report(result, args.out)
 

@@ -27,6 +27,10 @@ check_extension() (
     python3 scripts/build_addon.py --output-dir build-debian13/packages
     extension=$(ls build-debian13/packages/hairlod-*-cp313-linux_x64.zip)
     blender --command extension validate "$extension"
+    # The cp311 extension built on the host (make test-packages), where present: its manifest and wheel too.
+    for host_extension in build/packages/hairlod-*-cp311-linux_x64.zip; do
+        [ -f "$host_extension" ] && blender --command extension validate "$host_extension"
+    done
     users=$(mktemp -d) work=$(mktemp -d)
     BLENDER_USER_RESOURCES=$users blender --command extension install-file -r user_default -e "$extension"
     BLENDER_USER_RESOURCES=$users blender -b --python-exit-code 1 --python tests/packages/blender_extension.py \
