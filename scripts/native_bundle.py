@@ -2,8 +2,8 @@
 library it loads, except the C/C++ runtime, is copied beside it under a name of its own
 (lib<name>-hairlod-<hash>.so...), with that name as its soname, its dependants pointing at the copy
 and $ORIGIN run paths, so that nothing else on the system is needed and nothing collides with the
-copies of TBB, Embree, OpenSubdiv or OpenEXR that Blender itself has loaded. (The loader,
-hairlod/_native.py, opens the core with RTLD_DEEPBIND so that its symbols bind to these copies first.)
+copies of TBB, Embree, OpenSubdiv or OpenEXR that Blender itself has loaded. (Symbols are a second
+matter: the core calls Embree through pointers looked up in its own libraries, render/embree.h.)
 
 Needs ldd (glibc) and patchelf (Debian package patchelf), run where the module was built."""
 
