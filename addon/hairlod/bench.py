@@ -345,7 +345,7 @@ def synthetic_hair(strands, points, seed=7):
     return Strands.from_counts(positions, np.full(strands, points), np.full(strands * points, 0.001, np.float32))
 
 
-def bench_lod(strands=100_000, points=32, guides=None, levels=6, control_points=16, width_px=2.0, frames=200):
+def bench_lod(strands=100_000, points=32, guides=None, levels=6, control_points=16, width_px=_core.DEFAULT_WIDTH_PX, frames=200):
     """LoD build stages, selection time per frame at three distances, memory and quality per level
     on synthetic hair. No assertions: a benchmark, not a test."""
     from . import lod

@@ -14,6 +14,7 @@ import time
 import warnings
 
 from . import __version__, atomic_output, strict_json
+from .lod import DEFAULT_WIDTH_PX, MIN_WIDTH_PX
 
 EXIT_BAD_INPUT = 2
 INT32_MAX = 2**31 - 1
@@ -41,6 +42,11 @@ def _integer(lowest, highest=INT32_MAX):
             raise argparse.ArgumentTypeError(f"must be between {lowest} and {highest}, got {text[:40]}")
         return value
     return parse
+
+
+def _width_px():
+    """argparse type: a screen-width threshold in the range every tool accepts (lod.MIN_WIDTH_PX up)."""
+    return _number(at_least=MIN_WIDTH_PX, at_most=FLOAT32_MAX)
 
 
 def _number(above=None, at_least=None, at_most=None):
@@ -532,7 +538,8 @@ def build_parser():
     lod.add_argument("--levels", type=_integer(2), default=6, help="levels including the strands (default 6)")
     lod.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="control points per hair (default 16)")
     lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
-    lod.add_argument("--width-px", type=_number(above=0, at_most=FLOAT32_MAX), default=2.0, help="screen width threshold in pixels (default 2)")
+    lod.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
+                     help=f"screen width threshold in pixels (default {DEFAULT_WIDTH_PX:g})")
     lod.add_argument("--cameras", type=_path, help="JSON list of {view, projection, viewport}: export only the levels they select")
     lod.add_argument("--json", action="store_true", help="print one JSON object")
     lod.set_defaults(run=command_lod)
@@ -589,8 +596,8 @@ def build_parser():
                        "strands, 16 to 256)")
     bench.add_argument("--levels", type=_integer(2), default=6, help="lod: levels including the strands (default 6)")
     bench.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="lod: control points (default 16)")
-    bench.add_argument("--width-px", type=_number(above=0), default=2.0,
-                       help="lod, quality: LoD width threshold eps_w in pixels (default 2)")
+    bench.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
+                       help=f"lod, quality: LoD width threshold eps_w in pixels (default {DEFAULT_WIDTH_PX:g})")
     bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")
     bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides)")
     bench.add_argument("--spp", type=_integer(1), default=256, help="quality: samples per pixel of the methods (default 256)")

@@ -14,7 +14,12 @@ import numpy as np
 
 from . import _core, atomic_output, memory_budget, strict_json
 
-__all__ = ["BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
+# The screen-width threshold (pixels) every tool defaults to, and the smallest accepted: defined in C++
+# (lod/selection.h), where the selection uses them.
+DEFAULT_WIDTH_PX = round(_core.DEFAULT_WIDTH_PX, 6)  # float32 in C++; rounded for messages
+MIN_WIDTH_PX = round(_core.MIN_WIDTH_PX, 6)
+
+__all__ = ["DEFAULT_WIDTH_PX", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
            "read_cameras", "save", "scene_levels", "unpack"]
 
 MANIFEST = "manifest.json"
@@ -104,7 +109,7 @@ class LodAsset:
         (centres, tangents, major/minor semi-axes, corners) and 'cluster_bounds' [C, 4]."""
         return self._core.skin(np.asarray(deformed_guides, dtype=np.float32))
 
-    def select(self, view, projection, viewport_size, width_px=2.0, previous=None, guides=None):
+    def select(self, view, projection, viewport_size, width_px=DEFAULT_WIDTH_PX, previous=None, guides=None):
         """LoD selection from column-major-convention 4x4 matrices (numpy rows are matrix rows,
         as Blender's Matrix converts): the initial selection, or Eq. 16 from `previous`."""
         guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
@@ -192,7 +197,7 @@ def read_cameras(path):
     return cameras
 
 
-def scene_levels(asset, cameras, width_px=2.0):
+def scene_levels(asset, cameras, width_px=DEFAULT_WIDTH_PX):
     """Levels (0 = L0 .. len(asset.levels) = the strands) that the initial selection (Sec. 5.1 step 5)
     of some camera picks for some visible segment, at the rest pose."""
     used = set()
@@ -202,7 +207,7 @@ def scene_levels(asset, cameras, width_px=2.0):
     return sorted(used)
 
 
-def keep_scene_levels(asset, cameras, width_px=2.0):
+def keep_scene_levels(asset, cameras, width_px=DEFAULT_WIDTH_PX):
     """Item 8: (asset with only the thick levels some camera selects, selected levels). L0 always
     stays: its hairs are the clusters that selection and skinning are defined on."""
     finest = len(asset.levels)

@@ -77,7 +77,7 @@ def _db(value):
 
 
 def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=256, width=128,
-                  reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=2.0, guides=None,
+                  reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=lod.DEFAULT_WIDTH_PX, guides=None,
                   params=None, seed=0, keep_images=False, progress=None):
     """Dict with settings, the LoD build (when `asset` is None it is built here), one entry per view
     {camera, reference, rows: {method: row}}, the equal-time rows per view and the eps_w sweep rows.

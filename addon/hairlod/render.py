@@ -61,7 +61,7 @@ def _matrices(camera):
     return view, projection
 
 
-def lod_geometry(asset, camera, width_px=2.0):
+def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX):
     """The LoD selection (Sec. 5.1 step 5) for `camera` at the rest pose, as renderable geometry:
     (Strands of the strand-level segments or None, thick-hair dict or None, segment counts)."""
     view, projection = _matrices(camera)
@@ -109,7 +109,7 @@ def lod_geometry(asset, camera, width_px=2.0):
 
 
 def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, params=None, seed=0,
-           max_bounces=70, width_px=2.0, lights=None, camera=None, progress=None, coverage_only=False):
+           max_bounces=70, width_px=_core.DEFAULT_WIDTH_PX, lights=None, camera=None, progress=None, coverage_only=False):
     """Renders `strands` (full geometry; also frames the view) or, for the lod methods, the selection of
     `asset` for the framed camera. Returns a dict: image [H, W, 3] float32 linear, camera, seconds,
     setup_seconds, rays, rays_per_second, segments (Embree curve segments in the scene).
@@ -143,7 +143,7 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
     return result
 
 
-def coverage(strands, method="pt", view="mid", width=256, spp=16, asset=None, camera=None, width_px=2.0, seed=0):
+def coverage(strands, method="pt", view="mid", width=256, spp=16, asset=None, camera=None, width_px=_core.DEFAULT_WIDTH_PX, seed=0):
     """Alpha [H, W] float32 in [0, 1] of the geometry `method` renders (the strands, or the selection of
     `asset`), framed as render() frames it: the fraction of each pixel's camera rays that meet hair,
     through the thick hairs' gaps included (1 - render(coverage_only=True)'s image)."""

@@ -209,6 +209,8 @@ std::vector<glm::vec3> guides_from(const FloatArray& guides, const LodAsset& ass
 }  // namespace
 
 void bind_lod(py::module_& m) {
+    m.attr("DEFAULT_WIDTH_PX") = kDefaultWidthPx;
+    m.attr("MIN_WIDTH_PX") = kMinWidthPx;
     py::class_<Selection>(m, "Selection", "LoD level per L0 cluster and segment, visibility and draw ranges.")
         .def_property_readonly("levels",
                                [](const Selection& s) {
@@ -281,7 +283,7 @@ void bind_lod(py::module_& m) {
             }
             std::nth_element(seconds.begin(), seconds.begin() + frames / 2, seconds.end());
             return seconds[static_cast<size_t>(frames / 2)];
-        }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f, py::arg("frames") = 100,
+        }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx, py::arg("frames") = 100,
            "Median seconds of one Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
         .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,
                           std::pair<float, float> viewport, float width_px, const Selection* previous) {
@@ -291,7 +293,7 @@ void bind_lod(py::module_& m) {
             const LodGeometry geometry = a.skin(points);
             return previous ? select_deferred(a, geometry, camera, width_px, *previous)
                             : select_initial(a, geometry, camera, width_px);
-        }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f,
+        }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx,
            py::arg("previous") = py::none(),
            "Initial selection (Sec. 5.1 step 5), or Eq. 16 from `previous`, for guides [G, n_c, 3].");
 
@@ -309,7 +311,7 @@ void bind_lod(py::module_& m) {
             const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
             py::gil_scoped_release release;
             return v.update(camera, width_px);
-        }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = 2.0f,
+        }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx,
            "Selects for the camera; True when the selection changed.")
         .def("reset", &ViewSelection::reset, "The next update starts from the initial selection.")
         .def_property_readonly("level_count", &ViewSelection::level_count)

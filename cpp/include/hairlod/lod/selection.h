@@ -38,6 +38,13 @@ struct Selection {
     std::vector<DrawRange> draws;
 };
 
+// The screen-width threshold eps_w (Sec. 5.1 step 5, Eq. 16) in pixels: a cluster draws the coarsest
+// level whose hairs are at most this wide on screen. Every tool's default (CLI, Python API, Blender
+// panels) is this one, read through hairlod._core.
+inline constexpr float kDefaultWidthPx = 2.0f;
+// The smallest threshold the tools accept: at 0.01 px every visible cluster already draws its strands.
+inline constexpr float kMinWidthPx = 0.01f;
+
 // Projected width in pixels of one thick-hair cross-section (Sec. 5.2 "Hair width calculation"):
 // the corners projected onto the plane through the centre normal to the tangent, then to the
 // screen with the centre's perspective divide; the largest distance between them. Infinite when

@@ -1,0 +1,36 @@
+"""Every default and range is defined once: the screen-width threshold comes from C++ (lod/selection.h,
+hairlod._core) and the CLI, the Python API and the benchmarks all read it (the Blender properties:
+tests/blender/test_lod_operator.py)."""
+
+import inspect
+
+import pytest
+
+from hairlod import _core, bench, cli, lod, quality, render
+
+
+def test_width_threshold_comes_from_cpp():
+    assert lod.DEFAULT_WIDTH_PX == pytest.approx(_core.DEFAULT_WIDTH_PX)
+    assert lod.MIN_WIDTH_PX == pytest.approx(_core.MIN_WIDTH_PX)
+    assert 0 < lod.MIN_WIDTH_PX < lod.DEFAULT_WIDTH_PX
+
+
+@pytest.mark.parametrize("function", [lod.LodAsset.select, lod.scene_levels, lod.keep_scene_levels, render.render,
+                                      render.coverage, render.lod_geometry, quality.bench_quality, bench.bench_lod])
+def test_python_api_defaults_to_it(function):
+    assert inspect.signature(function).parameters["width_px"].default == lod.DEFAULT_WIDTH_PX
+
+
+@pytest.mark.parametrize("function", [_core.ViewSelection.update, _core.LodAsset.select, _core.LodAsset.time_selection])
+def test_bindings_default_to_it(function):
+    # pybind11 writes each default into the signature line of the docstring.
+    assert f"width_px: float = {lod.DEFAULT_WIDTH_PX}" in function.__doc__
+
+
+@pytest.mark.parametrize("command", [["lod", "hair.hair", "--out", "out"], ["bench", "lod"]])
+def test_cli_defaults_to_it_and_refuses_less_than_the_minimum(command):
+    parser = cli.build_parser()
+    assert parser.parse_args(command).width_px == lod.DEFAULT_WIDTH_PX
+    assert parser.parse_args(command + ["--width-px", str(lod.MIN_WIDTH_PX)]).width_px == lod.MIN_WIDTH_PX
+    with pytest.raises(cli.UsageError, match=f"--width-px.*>= {lod.MIN_WIDTH_PX}"):
+        parser.parse_args(command + ["--width-px", str(lod.MIN_WIDTH_PX / 2)])
