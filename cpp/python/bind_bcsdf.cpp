@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "numpy_arrays.h"
 #include "hairlod/bcsdf/bake.h"
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/dual_scattering.h"
@@ -30,17 +31,9 @@ namespace hairlod::python {
 namespace {
 
 using namespace hairlod::bcsdf;
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 glm::dvec3 to_dvec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 std::array<double, 3> to_array(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
-
-std::span<const glm::vec3> directions(const FloatArray& array, const char* name) {
-    if (array.ndim() != 2 || array.shape(1) != 3)
-        throw Error(std::string(name) + " must have shape [N, 3]");
-    return {reinterpret_cast<const glm::vec3*>(array.data()), static_cast<size_t>(array.shape(0))};
-}
 
 PrincipledParametrization parse_parametrization(const std::string& name) {
     if (name == "ABSORPTION") return PrincipledParametrization::AbsorptionCoefficient;
@@ -131,8 +124,8 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         [](const std::string& model, const HairParams& params, const FloatArray& wi, const FloatArray& wo,
            const std::optional<FloatArray>& h, const std::string& tt, double caustic_width, double caustic_fade_range,
            double caustic_max_window, double hair_count, double density) {
-            const std::span<const glm::vec3> in = directions(wi, "wi");
-            const std::span<const glm::vec3> out_dirs = directions(wo, "wo");
+            const std::span<const glm::vec3> in = rows_of<glm::vec3>(wi, 3, "wi");
+            const std::span<const glm::vec3> out_dirs = rows_of<glm::vec3>(wo, 3, "wo");
             if (in.size() != out_dirs.size()) throw Error("wi and wo must have the same number of directions");
             std::optional<std::span<const float>> offsets;
             if (h) {

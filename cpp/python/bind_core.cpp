@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bindings.h"
+#include "numpy_arrays.h"
 #include "hairlod/core/error.h"
 #include "hairlod/core/strand_metrics.h"
 #include "hairlod/core/strand_set.h"
@@ -17,7 +18,6 @@ namespace hairlod::python {
 
 namespace {
 
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using IndexArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
 
 AttributeDomain parse_domain(const std::string& domain) {
@@ -27,12 +27,8 @@ AttributeDomain parse_domain(const std::string& domain) {
 }
 
 std::vector<glm::vec3> points_from_array(const FloatArray& points) {
-    if (points.ndim() != 2 || points.shape(1) != 3)
-        throw Error("points must have shape [N, 3], got " + std::to_string(points.ndim()) +
-                    " dimensions" + (points.ndim() == 2 ? " with " + std::to_string(points.shape(1)) + " columns" : ""));
-    std::vector<glm::vec3> result(static_cast<size_t>(points.shape(0)));
-    std::memcpy(result.data(), points.data(), result.size() * sizeof(glm::vec3));
-    return result;
+    const std::span<const glm::vec3> rows = rows_of<glm::vec3>(points, 3, "points");
+    return {rows.begin(), rows.end()};
 }
 
 std::vector<float> floats_from_array(const FloatArray& values, const char* what) {

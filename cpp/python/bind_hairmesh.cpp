@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bindings.h"
+#include "numpy_arrays.h"
 #include "hairlod/core/error.h"
 #include "hairlod/hairmesh/generate.h"
 #include "hairlod/hairmesh/level_of_detail.h"
@@ -18,8 +19,6 @@ namespace hairlod::python {
 
 namespace {
 
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
-using IntArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
 
 HairMesh make_mesh(const FloatArray& layers, const IntArray& polygon_sizes, const IntArray& polygon_vertices,
                    const std::optional<FloatArray>& uv, const std::optional<FloatArray>& w) {
@@ -95,13 +94,6 @@ std::string operation_repr(const char* name, std::initializer_list<std::pair<con
     return text + ")";
 }
 
-template <typename T>
-py::array_t<T> copy_array(const T* data, std::vector<py::ssize_t> shape) {
-    py::array_t<T> result(shape);
-    std::memcpy(result.mutable_data(), data, static_cast<size_t>(result.size()) * sizeof(T));
-    return result;
-}
-
 }  // namespace
 
 void bind_hairmesh(py::module_& m) {
@@ -118,7 +110,7 @@ polygon corner and optional w float32 [L, V]; validated (ValueError naming the p
         .def_property_readonly("face_count", &HairMesh::face_count)
         .def_property_readonly("layers",
                                [](const HairMesh& h) {
-                                   return copy_array(point_floats(h.positions).data(),
+                                   return to_numpy(point_floats(h.positions).data(),
                                                      {static_cast<py::ssize_t>(h.layer_count()),
                                                       static_cast<py::ssize_t>(h.vertex_count), 3});
                                },
@@ -127,30 +119,30 @@ polygon corner and optional w float32 [L, V]; validated (ValueError naming the p
                                [](const HairMesh& h) {
                                    std::vector<int32_t> sizes(h.face_count());
                                    for (size_t f = 0; f < sizes.size(); ++f) sizes[f] = static_cast<int32_t>(h.face_size(f));
-                                   return copy_array(sizes.data(), {static_cast<py::ssize_t>(sizes.size())});
+                                   return to_numpy(sizes.data(), {static_cast<py::ssize_t>(sizes.size())});
                                },
                                "Vertices of each face after splitting (3 or 4), int32 [F].")
         .def_property_readonly("face_vertices",
                                [](const HairMesh& h) {
-                                   return copy_array(h.corner_vertices.data(),
+                                   return to_numpy(h.corner_vertices.data(),
                                                      {static_cast<py::ssize_t>(h.corner_vertices.size())});
                                })
         .def_property_readonly("uv",
                                [](const HairMesh& h) -> py::object {
                                    if (h.corner_uv.empty()) return py::none();
-                                   return copy_array(reinterpret_cast<const float*>(h.corner_uv.data()), {static_cast<py::ssize_t>(h.corner_uv.size()), 2});
+                                   return to_numpy(reinterpret_cast<const float*>(h.corner_uv.data()), {static_cast<py::ssize_t>(h.corner_uv.size()), 2});
                                })
         .def_property_readonly("w",
                                [](const HairMesh& h) -> py::object {
                                    if (h.w.empty()) return py::none();
-                                   return copy_array(h.w.data(), {static_cast<py::ssize_t>(h.layer_count()),
+                                   return to_numpy(h.w.data(), {static_cast<py::ssize_t>(h.layer_count()),
                                                                   static_cast<py::ssize_t>(h.vertex_count)});
                                })
         .def("root_face_areas",
              [](const HairMesh& h) {
                  std::vector<double> areas(h.face_count());
                  for (size_t f = 0; f < areas.size(); ++f) areas[f] = h.root_face_area(f);
-                 return copy_array(areas.data(), {static_cast<py::ssize_t>(areas.size())});
+                 return to_numpy(areas.data(), {static_cast<py::ssize_t>(areas.size())});
              })
         .def("subdivided",
              [](const HairMesh& h, int level) {

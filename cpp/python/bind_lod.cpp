@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "bindings.h"
+#include "numpy_arrays.h"
 #include "hairlod/core/error.h"
 #include "hairlod/lod/lod_asset.h"
 #include "hairlod/lod/selection.h"
@@ -20,16 +21,8 @@ namespace hairlod::python {
 
 namespace {
 
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
 // A numpy copy of `values` reshaped to `shape` (the element type's components form the last axes).
-template <typename Scalar, typename T>
-py::array_t<Scalar> to_numpy(const std::vector<T>& values, std::vector<py::ssize_t> shape) {
-    py::array_t<Scalar> result(shape);
-    std::memcpy(result.mutable_data(), values.data(), values.size() * sizeof(T));
-    return result;
-}
-
 py::ssize_t as_size(size_t n) { return static_cast<py::ssize_t>(n); }
 
 glm::mat4 matrix_from(const FloatArray& m, const char* what) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "numpy_arrays.h"
 #include "hairlod/core/error.h"
 #include "hairlod/render/integrator.h"
 
@@ -21,17 +22,13 @@ namespace hairlod::python {
 namespace {
 
 using namespace hairlod::render;
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
-using Int64Array = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
 
 glm::vec3 vec3(const std::array<float, 3>& v) { return {v[0], v[1], v[2]}; }
 
 template <typename T>
 std::vector<T> rows(const FloatArray& array, int columns, const char* name) {
-    if (array.ndim() != 2 || array.shape(1) != columns)
-        throw Error(std::string(name) + " must have shape [N, " + std::to_string(columns) + "]");
-    const auto* data = reinterpret_cast<const T*>(array.data());
-    return std::vector<T>(data, data + array.shape(0));
+    const std::span<const T> view = rows_of<T>(array, columns, name);
+    return {view.begin(), view.end()};
 }
 
 ThickHairs thick_from(const py::dict& d) {

@@ -1,0 +1,53 @@
+#pragma once
+// What every binding file needs to pass numpy arrays across: the contiguous array types pybind11
+// converts to (forcecast: any numeric dtype is accepted and converted), shape-checked views of
+// [N, columns] arrays as glm vectors, and copies of C++ data into new numpy arrays.
+#include <pybind11/numpy.h>
+
+#include <cstring>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hairlod/core/error.h"
+
+namespace hairlod::python {
+
+template <typename T>
+using NumpyArray = pybind11::array_t<T, pybind11::array::c_style | pybind11::array::forcecast>;
+using FloatArray = NumpyArray<float>;
+using DoubleArray = NumpyArray<double>;
+using IntArray = NumpyArray<int32_t>;
+using Int64Array = NumpyArray<int64_t>;
+
+// The rows of `array` [N, columns] as N items of Row (a glm vector of `columns` floats), without a
+// copy: valid while `array` lives. Throws hairlod::Error naming `name` and the shape it got.
+template <typename Row>
+std::span<const Row> rows_of(const FloatArray& array, int columns, const std::string& name) {
+    static_assert(sizeof(Row) % sizeof(float) == 0);
+    if (array.ndim() != 2 || array.shape(1) != columns || static_cast<int>(sizeof(Row) / sizeof(float)) != columns)
+        throw Error(name + " must have shape [N, " + std::to_string(columns) + "], got " + std::to_string(array.ndim()) +
+                    " dimensions" + (array.ndim() == 2 ? " with " + std::to_string(array.shape(1)) + " columns" : ""));
+    return {reinterpret_cast<const Row*>(array.data()), static_cast<size_t>(array.shape(0))};
+}
+
+// A new numpy array of Scalar with `shape`, holding a copy of `values` (T may be a glm vector of
+// Scalars); throws hairlod::Error when the shape does not hold exactly that many Scalars.
+template <typename Scalar, typename T>
+pybind11::array_t<Scalar> to_numpy(const std::vector<T>& values, std::vector<pybind11::ssize_t> shape) {
+    pybind11::array_t<Scalar> result(shape);
+    if (static_cast<size_t>(result.size()) * sizeof(Scalar) != values.size() * sizeof(T))
+        throw Error("to_numpy: the shape does not match the data");
+    if (!values.empty()) std::memcpy(result.mutable_data(), values.data(), values.size() * sizeof(T));
+    return result;
+}
+
+// A new numpy array with `shape`, holding a copy of as many Scalars from `data` as the shape holds.
+template <typename Scalar>
+pybind11::array_t<Scalar> to_numpy(const Scalar* data, std::vector<pybind11::ssize_t> shape) {
+    pybind11::array_t<Scalar> result(shape);
+    if (result.size() > 0) std::memcpy(result.mutable_data(), data, static_cast<size_t>(result.size()) * sizeof(Scalar));
+    return result;
+}
+
+}  // namespace hairlod::python
