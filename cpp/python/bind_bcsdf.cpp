@@ -2,7 +2,6 @@
 // white furnace and dual scattering. Thin: parsing of model inputs lives in hairlod/bcsdf.py.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -34,6 +33,20 @@ using namespace hairlod::bcsdf;
 
 glm::dvec3 to_dvec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 std::array<double, 3> to_array(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+// SRBF lights from their directions [N, 3], bandwidths [N] and RGB coefficients [N, 3].
+std::vector<SrbfLight> srbf_lights(const DoubleArray& directions, const DoubleArray& lambdas, const DoubleArray& coefficients) {
+    if (directions.ndim() != 2 || directions.shape(1) != 3) throw Error("light directions must have shape [N, 3]");
+    const py::ssize_t count = directions.shape(0);
+    if (lambdas.ndim() != 1 || lambdas.shape(0) != count) throw Error("lambdas must have shape [N]");
+    if (coefficients.ndim() != 2 || coefficients.shape(0) != count || coefficients.shape(1) != 3)
+        throw Error("coefficients must have shape [N, 3]");
+    std::vector<SrbfLight> lights(static_cast<size_t>(count));
+    for (py::ssize_t j = 0; j < count; ++j)
+        lights[j] = {{directions.at(j, 0), directions.at(j, 1), directions.at(j, 2)}, lambdas.at(j),
+                     {coefficients.at(j, 0), coefficients.at(j, 1), coefficients.at(j, 2)}};
+    return lights;
+}
 
 PrincipledParametrization parse_parametrization(const std::string& name) {
     if (name == "ABSORPTION") return PrincipledParametrization::AbsorptionCoefficient;
@@ -172,33 +185,19 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         [](const HairParams& params, const DoubleArray& directions, const DoubleArray& lambdas,
            const DoubleArray& coefficients, const DoubleArray& wo, double caustic_width, double caustic_fade_range,
            double caustic_max_window, int m) {
-            if (directions.ndim() != 2 || directions.shape(1) != 3) throw Error("light directions must have shape [N, 3]");
-            const py::ssize_t count = directions.shape(0);
-            if (lambdas.ndim() != 1 || lambdas.shape(0) != count) throw Error("lambdas must have shape [N]");
-            if (coefficients.ndim() != 2 || coefficients.shape(0) != count || coefficients.shape(1) != 3)
-                throw Error("coefficients must have shape [N, 3]");
+            const std::vector<SrbfLight> lights = srbf_lights(directions, lambdas, coefficients);
             if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [M, 3]");
-            std::vector<SrbfLight> lights(static_cast<size_t>(count));
-            for (py::ssize_t j = 0; j < count; ++j)
-                lights[j] = {{directions.at(j, 0), directions.at(j, 1), directions.at(j, 2)}, lambdas.at(j),
-                             {coefficients.at(j, 0), coefficients.at(j, 1), coefficients.at(j, 2)}};
-            const py::ssize_t views = wo.shape(0);
-            py::array_t<double> result({views, py::ssize_t(3)});
-            double* out = result.mutable_data();
-            const double* view = wo.data();
+            const std::span<const glm::dvec3> views(reinterpret_cast<const glm::dvec3*>(wo.data()),
+                                                    static_cast<size_t>(wo.shape(0)));
+            std::vector<glm::dvec3> radiance;
             {
                 py::gil_scoped_release release;
                 const CircularGaussianMarschner model(
                     MarschnerBcsdf(params, {caustic_width, caustic_fade_range, caustic_max_window}),
                     default_circular_gaussian_tables(), m);
-                for (py::ssize_t k = 0; k < views; ++k) {
-                    glm::dvec3 sum(0.0);
-                    const glm::dvec3 w{view[3 * k], view[3 * k + 1], view[3 * k + 2]};
-                    for (const SrbfLight& light : lights) sum += model.single_scattering(light, w);
-                    for (int c = 0; c < 3; ++c) out[3 * k + c] = sum[c];
-                }
+                radiance = model.single_scattering(lights, views);
             }
-            return result;
+            return to_numpy<double>(radiance, {wo.shape(0), py::ssize_t(3)});
         },
         py::arg("params"), py::arg("directions"), py::arg("lambdas"), py::arg("coefficients"), py::arg("wo"),
         py::arg("caustic_width") = MarschnerCaustic{}.width, py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
@@ -213,24 +212,17 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
            const DoubleArray& forward_variance, double forward_density, double backscatter_density, int table_samples,
            double caustic_width, double caustic_fade_range, double caustic_max_window, int m, bool reference,
            int theta_samples, int phi_samples) {
-            if (directions.ndim() != 2 || directions.shape(1) != 3) throw Error("light directions must have shape [N, 3]");
+            const std::vector<SrbfLight> lights = srbf_lights(directions, lambdas, coefficients);
             const py::ssize_t count = directions.shape(0);
-            if (lambdas.ndim() != 1 || lambdas.shape(0) != count) throw Error("lambdas must have shape [N]");
-            if (coefficients.ndim() != 2 || coefficients.shape(0) != count || coefficients.shape(1) != 3)
-                throw Error("coefficients must have shape [N, 3]");
             if (forward_attenuation.ndim() != 2 || forward_attenuation.shape(0) != count || forward_attenuation.shape(1) != 3)
                 throw Error("forward_attenuation must have shape [N, 3]");
             if (forward_variance.ndim() != 1 || forward_variance.shape(0) != count)
                 throw Error("forward_variance must have shape [N]");
             if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [M, 3]");
-            std::vector<SrbfLight> lights(static_cast<size_t>(count));
             std::vector<ForwardScattering> forward(static_cast<size_t>(count));
-            for (py::ssize_t j = 0; j < count; ++j) {
-                lights[j] = {{directions.at(j, 0), directions.at(j, 1), directions.at(j, 2)}, lambdas.at(j),
-                             {coefficients.at(j, 0), coefficients.at(j, 1), coefficients.at(j, 2)}};
+            for (py::ssize_t j = 0; j < count; ++j)
                 forward[j] = {{forward_attenuation.at(j, 0), forward_attenuation.at(j, 1), forward_attenuation.at(j, 2)},
                               forward_variance.at(j)};
-            }
             const py::ssize_t views = wo.shape(0);
             const std::span<const glm::dvec3> view(reinterpret_cast<const glm::dvec3*>(wo.data()), static_cast<size_t>(views));
             std::vector<MultipleScatteringRadiance> radiance(static_cast<size_t>(views));
@@ -245,13 +237,7 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
                     const SrbfMultipleScattering model(
                         CircularGaussianMarschner(marschner, default_circular_gaussian_tables(), m), std::move(backscatter),
                         forward_density);
-                    tbb::parallel_for(py::ssize_t(0), views, [&](py::ssize_t k) {
-                        for (size_t j = 0; j < lights.size(); ++j) {
-                            const MultipleScatteringRadiance r = model.eval(lights[j], view[k], forward[j]);
-                            radiance[k].global += r.global;
-                            radiance[k].local += r.local;
-                        }
-                    });
+                    radiance = model.eval(lights, forward, view);
                 }
             }
             py::array_t<double> global({views, py::ssize_t(3)}), local({views, py::ssize_t(3)});

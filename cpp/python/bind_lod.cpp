@@ -3,7 +3,6 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -263,19 +262,9 @@ void bind_lod(py::module_& m) {
         }, py::arg("deformed_guides"), "Skinned strands and thick hairs for guides [G, n_c, 3].")
         .def("time_selection", [](const LodAsset& a, const FloatArray& view, const FloatArray& projection,
                                   std::pair<float, float> viewport, float width_px, int frames) {
-            if (frames < 1) throw Error("frames must be >= 1");
             const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
             py::gil_scoped_release release;
-            const LodGeometry geometry = a.rest_geometry();
-            Selection selection = select_initial(a, geometry, camera, width_px);
-            std::vector<double> seconds(static_cast<size_t>(frames));
-            for (double& s : seconds) {
-                const auto start = std::chrono::steady_clock::now();
-                select_deferred_in_place(a, geometry, camera, width_px, selection);
-                s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            }
-            std::nth_element(seconds.begin(), seconds.begin() + frames / 2, seconds.end());
-            return seconds[static_cast<size_t>(frames / 2)];
+            return median_deferred_step_seconds(a, a.rest_geometry(), camera, width_px, frames);
         }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx, py::arg("frames") = 100,
            "Median seconds of one Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
         .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,

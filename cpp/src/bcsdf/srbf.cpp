@@ -7,6 +7,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
 
 #include "hairlod/bcsdf/fiber_frame.h"
 #include "hairlod/bcsdf/longitudinal.h"
@@ -192,6 +193,15 @@ glm::dvec3 CircularGaussianMarschner::single_scattering(const SrbfLight& light, 
         sum += (weight[p] * scale) * linear_quadrature(nodes, values, mu_star, v_star);
     }
     return light.coefficient * sum / glm::max(marschner_.energy(dout.theta), glm::dvec3(1.0));
+}
+
+std::vector<glm::dvec3> CircularGaussianMarschner::single_scattering(std::span<const SrbfLight> lights,
+                                                                    std::span<const glm::dvec3> views) const {
+    std::vector<glm::dvec3> radiance(views.size(), glm::dvec3(0.0));
+    tbb::parallel_for(size_t(0), views.size(), [&](size_t k) {
+        for (const SrbfLight& light : lights) radiance[k] += single_scattering(light, views[k]);
+    });
+    return radiance;
 }
 
 }  // namespace hairlod::bcsdf

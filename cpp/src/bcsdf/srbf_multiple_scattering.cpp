@@ -380,4 +380,19 @@ std::vector<MultipleScatteringRadiance> srbf_multiple_scattering_reference(
     return out;
 }
 
+std::vector<MultipleScatteringRadiance> SrbfMultipleScattering::eval(std::span<const SrbfLight> lights,
+                                                                     std::span<const ForwardScattering> forward,
+                                                                     std::span<const glm::dvec3> views) const {
+    if (forward.size() != lights.size()) throw Error("SRBF multiple scattering: one forward scattering per light");
+    std::vector<MultipleScatteringRadiance> radiance(views.size());
+    tbb::parallel_for(size_t(0), views.size(), [&](size_t k) {
+        for (size_t j = 0; j < lights.size(); ++j) {
+            const MultipleScatteringRadiance r = eval(lights[j], views[k], forward[j]);
+            radiance[k].global += r.global;
+            radiance[k].local += r.local;
+        }
+    });
+    return radiance;
+}
+
 }  // namespace hairlod::bcsdf

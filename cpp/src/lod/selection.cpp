@@ -1,6 +1,7 @@
 #include "hairlod/lod/selection.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -189,6 +190,20 @@ Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, co
     Selection next = previous;
     select_deferred_in_place(asset, geometry, camera, width_px, next);
     return next;
+}
+
+double median_deferred_step_seconds(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera,
+                                    float width_px, int frames) {
+    if (frames < 1) throw Error("frames must be >= 1");
+    Selection selection = select_initial(asset, geometry, camera, width_px);
+    std::vector<double> seconds(static_cast<size_t>(frames));
+    for (double& s : seconds) {
+        const auto start = std::chrono::steady_clock::now();
+        select_deferred_in_place(asset, geometry, camera, width_px, selection);
+        s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    std::nth_element(seconds.begin(), seconds.begin() + frames / 2, seconds.end());
+    return seconds[static_cast<size_t>(frames / 2)];
 }
 
 }  // namespace hairlod

@@ -53,6 +53,9 @@ public:
     // Gaussian exp(-(theta_i - theta_j)^2 / lambda^2) folded into M_t and the rest by linear quadrature.
     glm::dvec3 single_scattering(const SrbfLight& light, const glm::dvec3& wo) const;
 
+    // Eq. 2: the sum of single_scattering over `lights` at each of `views` (in parallel over views).
+    std::vector<glm::dvec3> single_scattering(std::span<const SrbfLight> lights, std::span<const glm::dvec3> views) const;
+
     const MarschnerBcsdf& marschner() const { return marschner_; }
     const CircularGaussianTables& tables() const { return *tables_; }
     int quadrature_order() const { return m_; }

@@ -87,6 +87,10 @@ public:
     // Global (Eq. 27-28) and local (Eq. 29-31) multiple scattering of one light at `wo`.
     MultipleScatteringRadiance eval(const SrbfLight& light, const glm::dvec3& wo,
                                     const ForwardScattering& forward) const;
+    // The sum over `lights` (forward[j] for lights[j]) at each of `views` (in parallel over views).
+    std::vector<MultipleScatteringRadiance> eval(std::span<const SrbfLight> lights,
+                                                 std::span<const ForwardScattering> forward,
+                                                 std::span<const glm::dvec3> views) const;
 
 private:
     // Eq. 28 generalised: (1/pi) integral over u in [-pi/2, pi/2] of the lobe's Eq. 12 convolution

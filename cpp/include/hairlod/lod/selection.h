@@ -90,4 +90,9 @@ void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry
 Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
                           const Selection& previous);
 
+// For benchmarks: the median seconds of one Eq. 16 step (select_deferred_in_place) over `frames`
+// steps from the initial selection, at a fixed camera (skinning excluded). frames >= 1.
+double median_deferred_step_seconds(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera,
+                                    float width_px, int frames);
+
 }  // namespace hairlod
