@@ -213,71 +213,11 @@ def dual_scattering(params, theta_d, model="chiang", backscatter_density=0.7, to
                                        tolerance=float(tolerance))
 
 
-def fibonacci_directions(count):
-    """count unit directions spread evenly over the sphere (golden-angle spiral), float64 [count, 3]."""
-    count = int(count)
-    if count < 1:
-        raise ValueError(f"count must be >= 1, got {count}")
-    k = np.arange(count) + 0.5
-    z = 1.0 - 2.0 * k / count
-    r = np.sqrt(np.maximum(0.0, 1.0 - z * z))
-    phi = np.pi * (3.0 - np.sqrt(5.0)) * k
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-
-
-def equirectangular_directions(height, width):
-    """Pixel-centre directions [H, W, 3] and solid angles [H, W] of an equirectangular map: row 0 looks
-    along +z (polar angle from +z), columns sweep the azimuth atan2(y, x) from -pi to pi."""
-    theta = (np.arange(height) + 0.5) / height * np.pi
-    phi = (np.arange(width) + 0.5) / width * 2.0 * np.pi - np.pi
-    sin_t = np.sin(theta)[:, None]
-    directions = np.stack(np.broadcast_arrays(sin_t * np.cos(phi)[None, :], sin_t * np.sin(phi)[None, :],
-                                              np.cos(theta)[:, None]), axis=-1)
-    solid_angle = np.broadcast_to(sin_t * (np.pi / height) * (2.0 * np.pi / width), (height, width))
-    return directions, solid_angle
-
-
-def srbf(w, centre, lam):
-    """Xu et al. 2011, Sec. 3: G(w; w_j, lambda) = exp(2 (w . w_j - 1) / lambda^2) for unit vectors."""
-    return np.exp(2.0 * (np.asarray(w) @ np.asarray(centre) - 1.0) / (lam * lam))
-
-
-def fit_environment(env, count, lam=None, ridge=1e-6):
-    """Least-squares fit of an equirectangular environment map (float [H, W, 3], layout of
-    equirectangular_directions) by ``count`` SRBF lights (Xu et al. 2011, Sec. 3) with centres on a
-    Fibonacci sphere and a shared bandwidth ``lam`` (default: the mean spacing sqrt(4 pi / count)).
-
-    Minimises the solid-angle-weighted squared error with a relative ridge ``ridge``. Returns a dict:
-    ``directions`` [N, 3], ``lambdas`` [N], ``coefficients`` [N, 3] (L_j, may be negative) and
-    ``relative_error`` (weighted RMS error over weighted RMS of the map).
-    """
-    env = np.asarray(env, dtype=np.float64)
-    if env.ndim != 3 or env.shape[2] != 3 or env.shape[0] < 2 or env.shape[1] < 2:
-        raise ValueError(f"env must have shape [H, W, 3] with H, W >= 2, got {env.shape}")
-    if not np.all(np.isfinite(env)):
-        raise ValueError("env must be finite")
-    centres = fibonacci_directions(count)
-    lam = float(np.sqrt(4.0 * np.pi / len(centres))) if lam is None else float(lam)
-    if not (np.isfinite(lam) and lam > 0.0):
-        raise ValueError(f"lam must be finite and > 0, got {lam}")
-    directions, solid_angle = equirectangular_directions(env.shape[0], env.shape[1])
-    basis = srbf(directions.reshape(-1, 3), centres.T, lam)  # [P, N]
-    weight = solid_angle.reshape(-1, 1)
-    normal = basis.T @ (basis * weight)
-    normal += ridge * np.trace(normal) / len(centres) * np.eye(len(centres))
-    target = env.reshape(-1, 3)
-    coefficients = np.linalg.solve(normal, basis.T @ (target * weight))
-    residual = basis @ coefficients - target
-    relative = float(np.sqrt(np.sum(weight * residual ** 2) / max(np.sum(weight * target ** 2), 1e-300)))
-    return {"directions": centres, "lambdas": np.full(len(centres), lam), "coefficients": coefficients,
-            "relative_error": relative}
-
-
 def srbf_single_scattering(params, lights, wo, m=4, **marschner_inputs):
     """Single scattering of the Marschner fibre under SRBF lights (Xu et al. 2011, Eq. 2 and 11-14):
     for each view direction, sum_j L_j * integral of G_j(wi) S(wi, wo) cos(theta_i) dw_i, float64 [M, 3].
 
-    ``lights``: a dict as fit_environment returns (``directions`` [N, 3], ``lambdas`` [N],
+    ``lights``: a dict of SRBF lights (``directions`` [N, 3], ``lambdas`` [N],
     ``coefficients`` [N, 3]), with directions in the fibre frame like ``wo`` [M, 3]; ``m`` is the
     linear quadrature's order (Sec. 4.2.2); marschner inputs as in evaluate().
     """
@@ -450,15 +390,11 @@ __all__ = [
     "lod_hair_count_range",
     "lut_lookup",
     "dual_scattering",
-    "equirectangular_directions",
     "evaluate",
-    "fibonacci_directions",
-    "fit_environment",
     "from_principled_hair",
     "params_to_dict",
     "sigma_a_from_color",
     "sigma_a_from_melanin",
-    "srbf",
     "srbf_multiple_scattering",
     "srbf_single_scattering",
     "white_furnace",

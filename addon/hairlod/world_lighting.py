@@ -15,11 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .bcsdf import fibonacci_directions, srbf
 
 __all__ = ["DEFAULT_LOBE_COUNT", "UNIFORM_BANDWIDTH", "WorldLights", "blender_equirectangular_directions",
            "blender_equirectangular_world", "fit_world",
-           "lobe_bandwidth", "uniform_world", "world_radiance"]
+           "fibonacci_directions", "lobe_bandwidth", "srbf", "uniform_world", "world_radiance"]
 
 DEFAULT_LOBE_COUNT = 16
 # The bandwidth standing for "infinite" where an SRBF evaluation needs a number: G >= 1 - 4e-6.
@@ -40,6 +39,23 @@ class WorldLights:
         return {"directions": np.vstack([self.directions, [[0.0, 0.0, 1.0]]]),
                 "lambdas": np.append(np.full(len(self.directions), self.lam), UNIFORM_BANDWIDTH),
                 "coefficients": np.vstack([self.coefficients, self.constant[None, :]])}
+
+
+def fibonacci_directions(count):
+    """count unit directions spread evenly over the sphere (golden-angle spiral), float64 [count, 3]."""
+    count = int(count)
+    if count < 1:
+        raise ValueError(f"count must be >= 1, got {count}")
+    k = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * k / count
+    r = np.sqrt(np.maximum(0.0, 1.0 - z * z))
+    phi = np.pi * (3.0 - np.sqrt(5.0)) * k
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
+def srbf(w, centre, lam):
+    """Xu et al. 2011, Sec. 3: G(w; w_j, lambda) = exp(2 (w . w_j - 1) / lambda^2) for unit vectors."""
+    return np.exp(2.0 * (np.asarray(w) @ np.asarray(centre) - 1.0) / (lam * lam))
 
 
 def lobe_bandwidth(count):

@@ -142,26 +142,6 @@ def test_aggregated_model_and_cluster_geometry():
         bcsdf.cluster_density(100, -1.0, 0.2, 0.1)
 
 
-def test_environment_fit_recovers_srbf_lights():
-    # A map made of the fit's own basis is reproduced; a smooth map is fitted better with more lights.
-    centres = bcsdf.fibonacci_directions(12)
-    lam = float(np.sqrt(4.0 * np.pi / 12))
-    truth = np.random.default_rng(4).uniform(0.1, 2.0, size=(12, 3))
-    directions, solid_angle = bcsdf.equirectangular_directions(48, 96)
-    assert abs(solid_angle.sum() - 4.0 * np.pi) < 1e-2
-    env = bcsdf.srbf(directions.reshape(-1, 3), centres.T, lam) @ truth
-    fit = bcsdf.fit_environment(env.reshape(48, 96, 3), 12, ridge=1e-12)
-    assert fit["relative_error"] < 1e-6
-    np.testing.assert_allclose(fit["coefficients"], truth, rtol=1e-4, atol=1e-4)
-    sky = np.repeat((0.5 + 0.5 * directions[..., 2:3]) ** 4, 3, axis=2)
-    errors = [bcsdf.fit_environment(sky, n)["relative_error"] for n in (8, 32, 128)]
-    assert errors[0] > errors[1] > errors[2]
-    with pytest.raises(ValueError, match="env"):
-        bcsdf.fit_environment(np.zeros((4, 4)), 8)
-    with pytest.raises(ValueError, match="count"):
-        bcsdf.fit_environment(sky, 0)
-
-
 def test_srbf_single_scattering_narrow_light_is_directional():
     # For lambda -> 0 an SRBF light is a directional light of solid-angle weight pi lambda^2.
     params = {"sigma_a": [0.2, 0.5, 1.2]}

@@ -36,14 +36,21 @@ def test_a_constant_world_fits_exactly():
 def test_a_single_srbf_world_is_recovered():
     directions, solid_angles = sphere_samples()
     count = 16
-    centre = bcsdf.fibonacci_directions(count)[5]
+    centre = world_lighting.fibonacci_directions(count)[5]
     amplitude = np.array([1.0, 2.0, 0.5])
-    radiance = bcsdf.srbf(directions, centre, world_lighting.lobe_bandwidth(count))[:, None] * amplitude
+    radiance = world_lighting.srbf(directions, centre, world_lighting.lobe_bandwidth(count))[:, None] * amplitude
     lights = world_lighting.fit_world(directions, solid_angles, radiance, count)
     np.testing.assert_allclose(lights.coefficients[5], amplitude, rtol=1e-6)
     np.testing.assert_allclose(np.delete(lights.coefficients, 5, axis=0), 0.0, atol=1e-6)
     np.testing.assert_allclose(lights.constant, 0.0, atol=1e-6)
     assert lights.relative_error < 1e-6
+
+
+def test_more_lobes_fit_a_smooth_sky_better():
+    directions, solid_angles = sphere_samples()
+    sky = np.repeat((0.5 + 0.5 * directions[:, 2:3]) ** 4, 3, axis=1)
+    errors = [world_lighting.fit_world(directions, solid_angles, sky, n).relative_error for n in (4, 16, 64)]
+    assert errors[0] > errors[1] > errors[2]
 
 
 def test_amplitudes_are_non_negative_where_least_squares_would_go_negative():
@@ -53,7 +60,7 @@ def test_amplitudes_are_non_negative_where_least_squares_would_go_negative():
     lights = world_lighting.fit_world(directions, solid_angles, radiance)
     assert np.all(lights.coefficients >= 0.0) and np.all(lights.constant >= 0.0)
     assert lights.coefficients.max() > 0.0
-    basis = np.concatenate([np.ones((len(directions), 1)), bcsdf.srbf(directions, lights.directions.T, lights.lam)], 1)
+    basis = np.concatenate([np.ones((len(directions), 1)), world_lighting.srbf(directions, lights.directions.T, lights.lam)], 1)
     unconstrained = np.linalg.lstsq(basis * np.sqrt(solid_angles)[:, None],
                                     radiance[:, 0] * np.sqrt(solid_angles), rcond=None)[0]
     assert unconstrained.min() < 0.0  # the case is one where the constraint matters
