@@ -138,15 +138,8 @@ def lod_hair_count_range(asset):
     for level in asset.levels:
         if len(level.n_total) == 0:
             continue
-        n_total = level.n_total.astype(np.float64)[:, None]
-        r_a = level.radii[..., 0].astype(np.float64)
-        r_b = level.radii[..., 1].astype(np.float64)
-        area = r_a * r_b
-        with np.errstate(divide="ignore", invalid="ignore"):
-            # rho is an area fraction: at most 1 (cluster_density), however tightly the ellipse fits.
-            rho = np.minimum(level.density, 1.0)
-            n = np.where(area > 0.0, rho * 2.0 * r_a * np.sqrt(n_total / (np.pi * area)), n_total)
-        crossed = max(crossed, float(np.max(np.minimum(n, n_total))))
+        crossed = max(crossed, _core.max_hairs_crossed(level.n_total, level.radii.reshape(-1, 2),
+                                                       level.density.reshape(-1)))
         densest = max(densest, int(level.n_total.max()))
     return crossed, densest
 

@@ -175,6 +175,14 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
     m.def("hairs_crossed", &hairs_crossed, py::arg("density"), py::arg("ray_length"), py::arg("hair_total"),
           py::arg("major_axis"), py::arg("minor_axis"),
           "Huang et al. 2025, Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)), at least 1.");
+    m.def("max_hairs_crossed", [](const FloatArray& n_total, const FloatArray& radii, const FloatArray& density) {
+              if (n_total.ndim() != 1) throw Error("n_total must have shape [H]");
+              if (density.ndim() != 1) throw Error("density must have shape [P]");
+              const std::span<const float> totals(n_total.data(), static_cast<size_t>(n_total.size()));
+              const std::span<const float> densities(density.data(), static_cast<size_t>(density.size()));
+              return max_hairs_crossed(totals, rows_of<glm::vec2>(radii, 2, "radii"), densities);
+          }, py::arg("n_total"), py::arg("radii"), py::arg("density"),
+          "Huang et al. 2025, Sec. 4 and 5.2: the most hairs a ray crosses in a level's thick hairs (at least 1).");
 
     m.def("bcsdf_white_furnace", &white_furnace_of, py::arg("model"), py::arg("params"), py::arg("wo"),
           py::arg("h") = py::none(), py::arg("tolerance") = 1e-6, py::arg("tt") = "tafuri",

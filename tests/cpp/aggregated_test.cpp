@@ -242,5 +242,27 @@ TEST(Aggregated, ClusterGeometry) {
     }
 }
 
+TEST(Aggregated, MaxHairsCrossedIsTheLongestChordOfTheDensestPoint) {
+    // Two hairs of 3 control points: n = rho 2 r_A sqrt(n_total / (pi r_A r_B)), capped by n_total.
+    const std::vector<float> n_total{40.0f, 9.0f};
+    const std::vector<glm::vec2> radii{{1.0f, 0.5f}, {3.0f, 0.01f}, {1.0f, 1.0f}, {3.0f, 0.1f}, {0.0f, 0.0f}, {1.0f, 1.0f}};
+    const std::vector<float> density{0.5f, 1.0f, 2.0f, 1.0f, 0.3f, 0.0f};
+    double expected = 1.0;
+    for (size_t i = 0; i < radii.size(); ++i) {
+        const double total = n_total[i / 3], rho = std::min(1.0f, density[i]);
+        if (radii[i].x > 0.0f && rho > 0.0)
+            expected = std::max(expected, std::min(total, hairs_crossed(rho, 2.0 * radii[i].x, total, radii[i].x, radii[i].y)));
+        else
+            expected = std::max(expected, total);
+    }
+    EXPECT_DOUBLE_EQ(max_hairs_crossed(n_total, radii, density), expected);
+    // The hair with the empty ellipse counts with its whole n_total (9); the wide flat one of the
+    // first hair (123 hairs along its chord) reaches its cap of 40.
+    EXPECT_DOUBLE_EQ(expected, 40.0);
+    EXPECT_DOUBLE_EQ(max_hairs_crossed({}, {}, {}), 1.0);
+    EXPECT_THROW(max_hairs_crossed(n_total, radii, std::span<const float>(density).first(5)), Error);
+    EXPECT_THROW(max_hairs_crossed(std::vector<float>{1.0f, 2.0f, 3.0f, 4.0f}, radii, density), Error);
+}
+
 }  // namespace
 }  // namespace hairlod::bcsdf

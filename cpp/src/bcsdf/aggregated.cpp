@@ -69,6 +69,25 @@ double hairs_crossed(double density, double ray_length, double hair_total, doubl
     return std::max(1.0, density * ray_length * std::sqrt(hair_total / (kPi * major_axis * minor_axis)));
 }
 
+double max_hairs_crossed(std::span<const float> n_total, std::span<const glm::vec2> radii,
+                         std::span<const float> density) {
+    if (radii.size() != density.size()) throw Error("max_hairs_crossed: radii and density need one entry per point");
+    if (n_total.empty()) return 1.0;
+    if (radii.size() % n_total.size() != 0)
+        throw Error("max_hairs_crossed: points must be a whole number of control points per hair");
+    const size_t per_hair = radii.size() / n_total.size();
+    double most = 1.0;
+    for (size_t i = 0; i < radii.size(); ++i) {
+        const double total = n_total[i / per_hair];
+        const double r_a = radii[i].x, r_b = radii[i].y, rho = std::min(1.0, static_cast<double>(density[i]));
+        const double n = (r_a > 0.0 && r_b > 0.0 && rho > 0.0 && total > 0.0)
+                             ? hairs_crossed(rho, 2.0 * r_a, total, r_a, r_b)
+                             : total;
+        most = std::max(most, std::min(n, total));
+    }
+    return most;
+}
+
 double expected_hairs_met(double density, double ray_length, double hair_total, double major_axis, double minor_axis) {
     validate_crossing(density, ray_length, hair_total, major_axis, minor_axis);
     // r = sqrt(rho |r_A| |r_B| / n_total) from Sec. 4's rho, so 2 r n_total / (pi |r_A| |r_B|) is this.

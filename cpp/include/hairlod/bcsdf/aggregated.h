@@ -9,7 +9,10 @@
 // variance sigma_f^2, A_1, A_3, Delta_b and sigma_b are tabulated over theta_d from the single fibre by
 // numerical integration (dual_scattering.h) when the model is built.
 #include <memory>
+#include <span>
 #include <vector>
+
+#include <glm/vec2.hpp>
 
 #include "hairlod/bcsdf/dual_scattering.h"
 #include "hairlod/bcsdf/fiber_rtd.h"
@@ -47,6 +50,14 @@ double cluster_density(double hair_total, double hair_radius, double major_axis,
 
 // Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)) hairs along a ray of length l, at least 1.
 double hairs_crossed(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
+
+// The most hairs a ray crosses in a level of thick hairs (Sec. 4 and 5.2): hairs_crossed along the
+// longest chord l = 2 r_A of each control point's ellipse, rho clamped to 1 and n never above the
+// hair's n_total; at least 1. n_total holds one count per hair; radii (r_A, r_B) and density one entry
+// per control point, n_total.size() x control points in all. Points with an empty ellipse or no
+// density cross nothing more than the hair itself. The largest n the aggregated tables must cover.
+double max_hairs_crossed(std::span<const float> n_total, std::span<const glm::vec2> radii,
+                         std::span<const float> density);
 
 // The probability that a ray of length l through the cross-section meets at least one of its hairs:
 // 1 - exp(-lambda), the hairs taken as n_total discs of radius r placed independently and uniformly in
