@@ -89,20 +89,7 @@ class LodAsset:
         kept = sorted(set(kept))
         if not kept or kept[0] < 0 or kept[-1] >= len(self.levels):
             raise ValueError(f"levels to keep must be a non-empty subset of 0..{len(self.levels) - 1}")
-        arrays, scalars = self.arrays(), self.scalars()
-        levels = arrays["levels"]
-        for previous, level in zip([None] + kept, kept):
-            parent = np.full(len(levels[level]["parent"]), -1, np.int32)
-            if previous is not None:
-                parent = levels[level]["parent"]
-                for between in range(level - 1, previous, -1):
-                    parent = levels[between]["parent"][parent]
-            levels[level] = dict(levels[level], parent=parent.astype(np.int32))
-        arrays["levels"] = [levels[level] for level in kept]
-        scalars["coverage"] = [scalars["coverage"][level] for level in kept]
-        scalars["mean_area"] = [scalars["mean_area"][level] for level in kept]
-        return LodAsset(_core.LodAsset.from_arrays(scalars, arrays), [self.level_ids[level] for level in kept],
-                        self.timings)
+        return LodAsset(self._core.with_levels(kept), [self.level_ids[level] for level in kept], self.timings)
 
     def skin(self, deformed_guides):
         """Strands and thick hairs for guides [G, n_c, 3]: dict with 'strands' (Strands), 'levels'

@@ -251,6 +251,8 @@ void bind_lod(py::module_& m) {
         .def("scalars", &asset_scalars, "control_points, radius_exponent, and coverage and mean_area per thick level.")
         .def_static("from_arrays", &asset_from, py::arg("scalars"), py::arg("arrays"),
                     "Rebuilds an asset from scalars() and arrays(); raises ValueError naming an inconsistent array.")
+        .def("with_levels", [](const LodAsset& a, const std::vector<size_t>& kept) { return a.with_levels(kept); },
+             py::arg("kept"), "A copy keeping the thick levels at positions `kept` (increasing), parents composed.")
         .def("skin", [](const LodAsset& a, const FloatArray& guides) {
             const std::vector<glm::vec3> points = guides_from(guides, a);
             LodGeometry geometry;

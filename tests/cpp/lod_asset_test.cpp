@@ -191,6 +191,23 @@ TEST(LodAssetLevels, LargeClustersShrinkFourfoldPerLevel) {
     }
 }
 
+TEST(LodAssetLevels, WithLevelsComposesParentsThroughDroppedLevels) {
+    const LodAsset a = build_lod(test_hair(4000, 8, 9), {.guides = 1, .levels = 4, .control_points = 6});
+    ASSERT_GE(a.thick_levels.size(), 3u);
+    const std::vector<size_t> kept_positions{0, 2};
+    const LodAsset kept = a.with_levels(kept_positions);
+    ASSERT_EQ(kept.thick_levels.size(), 2u);
+    for (int32_t parent : kept.thick_levels[0].parent) EXPECT_EQ(parent, -1);
+    const auto& fine = a.thick_levels[2];
+    for (size_t h = 0; h < fine.hair_count(); ++h)
+        EXPECT_EQ(kept.thick_levels[1].parent[h], a.thick_levels[1].parent[static_cast<size_t>(fine.parent[h])]);
+    EXPECT_EQ(kept.thick_levels[1].member_first, fine.member_first);
+    EXPECT_NO_THROW(kept.validate());
+    EXPECT_THROW(a.with_levels(std::vector<size_t>{}), Error);
+    EXPECT_THROW(a.with_levels(std::vector<size_t>{2, 0}), Error);
+    EXPECT_THROW(a.with_levels(std::vector<size_t>{0, a.thick_levels.size()}), Error);
+}
+
 TEST(LodAssetLevels, LevelsStopWhereAreaStopsShrinking) {
     // A single strand has nothing to split: L0 alone.
     const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 4, .levels = 6});

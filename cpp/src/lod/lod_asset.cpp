@@ -741,4 +741,25 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
     return geometry;
 }
 
+LodAsset LodAsset::with_levels(std::span<const size_t> kept) const {
+    if (kept.empty() || kept.back() >= thick_levels.size())
+        throw Error("levels to keep must be a non-empty subset of 0.." + std::to_string(thick_levels.size()) + " - 1");
+    for (size_t i = 1; i < kept.size(); ++i)
+        if (kept[i] <= kept[i - 1]) throw Error("levels to keep must be strictly increasing");
+    LodAsset result = *this;
+    result.thick_levels.clear();
+    for (size_t i = 0; i < kept.size(); ++i) {
+        ThickHairLevel level = thick_levels[kept[i]];
+        if (i == 0) {
+            std::fill(level.parent.begin(), level.parent.end(), -1);
+        } else {
+            // Follow the parents up through the levels dropped between this one and the last kept.
+            for (size_t between = kept[i] - 1; between > kept[i - 1]; --between)
+                for (int32_t& parent : level.parent) parent = thick_levels[between].parent[static_cast<size_t>(parent)];
+        }
+        result.thick_levels.push_back(std::move(level));
+    }
+    return result;
+}
+
 }  // namespace hairlod

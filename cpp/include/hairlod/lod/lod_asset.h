@@ -167,6 +167,11 @@ struct LodAsset {
     // back from files must be checked before skinning indexes with it).
     void validate() const;
 
+    // A copy keeping only the thick levels at positions `kept` (L0 first); each kept level's parents
+    // point to the next kept coarser level, composed through the dropped ones (-1 on the first kept).
+    // Throws Error unless `kept` is a non-empty, strictly increasing list of existing levels.
+    LodAsset with_levels(std::span<const size_t> kept) const;
+
     // Skins strands and thick hairs to `deformed_guides` ([guides * n_c] points, the guides in the
     // order of guide_strands) by the linear skinning of Sec. 5.1 step 4 / Sec. 5.2.
     LodGeometry skin(std::span<const glm::vec3> deformed_guides) const;
