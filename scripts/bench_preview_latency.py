@@ -44,7 +44,7 @@ def steps(args):
     from hairlod import hairmesh
     from hairlod.blender.curves import strands_to_curves
     from hairlod.blender import pipeline
-    from hairlod.blender.lod_operator import PACKED_PROPERTY
+    from hairlod.blender.packed_asset import PACKED_PROPERTY
     from hairlod.blender.preview import lod_preview
 
     window = bpy.context.window_manager.windows[0]

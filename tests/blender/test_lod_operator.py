@@ -8,7 +8,8 @@ import pytest
 
 from hairlod import Strands
 from hairlod.blender.curves import curves_to_strands, strands_to_curves
-from hairlod.blender.lod_operator import COLLECTION_NAME, PACKED_PROPERTY, LodBuildJob, packed_asset, scene_cameras
+from hairlod.blender.lod_build_job import COLLECTION_NAME, LodBuildJob, scene_cameras
+from hairlod.blender.packed_asset import PACKED_PROPERTY, packed_asset
 
 pytestmark = pytest.mark.usefixtures("addon")
 

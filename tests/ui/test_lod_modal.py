@@ -43,7 +43,9 @@ def steps():
     import addon_utils
 
     from hairlod.blender.curves import strands_to_curves
-    from hairlod.blender.lod_operator import COLLECTION_NAME, PACKED_PROPERTY, HAIRLOD_OT_build_lod, packed_asset
+    from hairlod.blender.lod_build_job import COLLECTION_NAME
+    from hairlod.blender.lod_operator import HAIRLOD_OT_build_lod
+    from hairlod.blender.packed_asset import PACKED_PROPERTY, packed_asset
 
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
     window = bpy.context.window_manager.windows[0]

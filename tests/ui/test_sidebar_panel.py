@@ -69,7 +69,8 @@ def drawn_properties(context):
 
 def build_from_the_panel(window, area):
     """The panel's parameters reach the build; redo keeps them; undo removes the build."""
-    from hairlod.blender.lod_operator import BUILD_PROPERTIES, PACKED_PROPERTY, packed_asset
+    from hairlod.blender.lod_build_settings import BUILD_PROPERTIES
+    from hairlod.blender.packed_asset import PACKED_PROPERTY, packed_asset
 
     obj = bpy.context.view_layer.objects.active
     check(obj is not None and obj.type == 'CURVES', "the imported hair is the active object")

@@ -7,7 +7,9 @@ touches individual points or curves.
 import bpy
 import numpy as np
 
-from .. import Strands
+# Taken from the core, not from the hairlod package: hairlod.register() imports hairlod.blender, so
+# that would be an import cycle (tests/python/test_import_layers.py).
+from .._core import Strands
 
 # Strands attribute domain <-> Blender attribute domain.
 _DOMAIN_TO_BLENDER = {"point": "POINT", "curve": "CURVE"}
@@ -128,6 +130,34 @@ def rewrite_strand_data(obj, strands: Strands):
         curves.attributes[name].data.foreach_set(prop, values)
     curves.update_tag()
     return True
+
+
+def replace_generated_curves(source, strands, name, collection):
+    """Writes ``strands`` into a new Curves object named ``name`` placed like ``source``. An earlier
+    Curves object of that name passes on its materials and collections and is deleted; without one
+    the new object goes to ``collection``. Another kind of object of that name is left alone (the
+    new one gets a numbered name)."""
+    previous = bpy.data.objects.get(name)
+    if previous is not None and previous.type != 'CURVES':
+        previous = None
+    if previous is not None and previous.users_collection:
+        collection = previous.users_collection[0]
+    obj = strands_to_curves(strands, name, collection)
+    obj.matrix_world = source.matrix_world
+    if previous is None:
+        return obj
+    for material in previous.data.materials:
+        obj.data.materials.append(material)
+    for other in previous.users_collection:
+        if obj.name not in other.objects:
+            other.objects.link(obj)
+    name, data_name = previous.name, previous.data.name
+    old_data = previous.data
+    bpy.data.objects.remove(previous)
+    if old_data.users == 0:
+        bpy.data.hair_curves.remove(old_data)
+    obj.name, obj.data.name = name, data_name
+    return obj
 
 
 def _attribute_layout(strands, name):

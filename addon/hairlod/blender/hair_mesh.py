@@ -11,7 +11,9 @@ Data moves with ``foreach_get`` / ``foreach_set`` on numpy arrays; no Python loo
 import bpy
 import numpy as np
 
-from .. import HairMesh
+# Taken from hairlod.hairmesh, not from the hairlod package: hairlod.register() imports hairlod.blender,
+# so that would be an import cycle (tests/python/test_import_layers.py).
+from ..hairmesh import HairMesh
 
 LAYER_ATTRIBUTE = "hair_layer"
 ROOT_ATTRIBUTE = "hair_root"

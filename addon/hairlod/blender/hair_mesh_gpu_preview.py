@@ -17,6 +17,8 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
+from .strand_settings import StrandSettings
+
 # Root and tip colours of the shading ramp (linear RGB); the root's alpha is the ambient fraction.
 ROOT_COLOUR = (0.10, 0.06, 0.035, 0.35)
 TIP_COLOUR = (0.55, 0.38, 0.22, 1.0)
@@ -113,7 +115,6 @@ def regenerate(obj, state, level):
     """Regenerates the strands of ``obj`` at camera level ``level`` if anything changed; returns True
     when it did. Raises ValueError or RuntimeError for settings the generator rejects."""
     from ..hairmesh import resolve_inputs, strand_generator
-    from .hair_mesh_operators import StrandSettings
 
     settings = obj.hairlod_strands
     values = tuple(getattr(settings, key) for key in StrandSettings.__annotations__)

@@ -8,6 +8,8 @@ PREVIEW_STRAND_LIMIT strands so that editing stays interactive.
 import bpy
 from bpy.app.handlers import persistent
 
+from .strand_settings import StrandSettings
+
 PREVIEW_STRAND_LIMIT = 2000
 
 # Per hair-mesh object name, the inputs of its current preview. Reading an edit-mode mesh tags it
@@ -37,9 +39,8 @@ def refresh_preview(obj):
         return
 
     from ..hairmesh import generate_strands
-    from .curves import rewrite_strand_data
+    from .curves import replace_generated_curves, rewrite_strand_data
     from .hair_mesh import hair_mesh_from_object
-    from .hair_mesh_operators import StrandSettings, replace_generated_curves
 
     try:
         hair_mesh = hair_mesh_from_object(obj)

@@ -18,7 +18,7 @@ class HAIRLOD_OT_export_lod(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        from .lod_operator import PACKED_PROPERTY
+        from .packed_asset import PACKED_PROPERTY
 
         obj = context.active_object
         return obj is not None and PACKED_PROPERTY in obj

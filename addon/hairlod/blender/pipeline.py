@@ -14,7 +14,7 @@ def build_lod(obj, context=None, guides=0, levels=6, control_points=16, seed=0, 
     packed into `obj`; with `level_objects`, one hidden, non-rendering Curves object per level in the
     "Hair LoD" collection) and returns the LodAsset. Raises ValueError on bad input; leaves nothing
     half-made."""
-    from .lod_operator import LodBuildJob
+    from .lod_build_job import LodBuildJob
 
     if obj is None or obj.type != 'CURVES':
         raise ValueError(f"'{getattr(obj, 'name', obj)}' is not a hair Curves object")
@@ -32,7 +32,7 @@ def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=6
     hair counts up to the asset's largest crossing count. Each folder appears complete or not at all.
     Returns a summary dict (paths, counts, the material used)."""
     from .. import atomic_output, bcsdf, lod
-    from .lod_operator import packed_asset
+    from .packed_asset import packed_asset
 
     asset = packed_asset(obj)
     if asset is None:

@@ -445,7 +445,7 @@ def attach(obj, asset, packed=False):
 def attach_packed_assets():
     """Previews the asset packed into every object that has one and no preview yet (after loading a
     .blend or enabling the add-on). An asset that cannot be read is reported once and skipped."""
-    from ..lod_operator import PACKED_PROPERTY, packed_asset
+    from ..packed_asset import PACKED_PROPERTY, packed_asset
 
     for obj in bpy.data.objects:
         if PACKED_PROPERTY not in obj or obj.name in _previews:
@@ -477,7 +477,7 @@ def _tag_viewports():
 
 
 def _draw():
-    from ..lod_operator import PACKED_PROPERTY
+    from ..packed_asset import PACKED_PROPERTY
 
     context = bpy.context
     region, region_3d = context.region, context.region_data

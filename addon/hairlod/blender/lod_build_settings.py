@@ -1,0 +1,50 @@
+"""Build Hair LoD's parameters, declared once: kept on each hair object (HAIRLOD_PG_lod_build, set in
+the sidebar before the build) and on the operator (its redo panel), whose defaults they are."""
+
+import bpy
+from bpy.props import BoolProperty, FloatProperty, IntProperty
+
+
+def build_property_annotations(options):
+    """The build's parameters as property annotations: stored per object (the sidebar's settings)
+    and on the operator (its redo panel), declared once."""
+    return {
+        "guides": IntProperty(name="Guides", description="Guide hairs chosen by k-means (0: automatic, one per 128 "
+                              "strands, 16 to 256)", default=0, min=0,
+                              options=options),
+        "levels": IntProperty(name="Levels", description="LoD levels including the strands themselves",
+                              default=6, min=2, max=16, options=options),
+        "control_points": IntProperty(name="Points", description="Control points per hair", default=16,
+                                      min=2, max=64, options=options),
+        "seed": IntProperty(name="Seed", description="Random seed of the k-means seeding", default=0, min=0,
+                            options=options),
+        "scene_cameras": BoolProperty(
+            name="Cameras Only",
+            description="Keep only the levels that some camera of the scene selects over the frame range "
+                        "(at the render resolution, every Frame Step frames)", default=False, options=options),
+        "frame_step": IntProperty(name="Frame Step", description="Frames between camera samples", default=1, min=1,
+                                  options=options),
+        "width_px": FloatProperty(name="Width (px)", description="Screen width threshold of the level selection",
+                                  default=2.0, min=0.01, options=options),
+        "level_objects": BoolProperty(
+            name="Level Objects", description="Also add one Curves object per thick level to the \"Hair LoD\" "
+            "collection, hidden and not rendered (the preview draws the LoD; Export Hair LoD writes the levels "
+            "either way)", default=False, options=options),
+    }
+
+
+BUILD_PROPERTIES = tuple(build_property_annotations(set()))
+
+
+class HAIRLOD_PG_lod_build(bpy.types.PropertyGroup):
+    """Build Hair LoD's parameters of one hair object, set in the sidebar before the build."""
+
+    __annotations__ = build_property_annotations({'ANIMATABLE'})
+
+
+def register_properties():
+    bpy.types.Object.hairlod_lod_build = bpy.props.PointerProperty(type=HAIRLOD_PG_lod_build)
+
+
+def unregister_properties():
+    del bpy.types.Object.hairlod_lod_build
