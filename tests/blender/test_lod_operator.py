@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 import pytest
 
-from hairlod import Strands
+from hairlod import Strands, lod
 from hairlod.blender.curves import curves_to_strands, strands_to_curves
 from hairlod.blender.lod_build_job import COLLECTION_NAME, LodBuildJob, scene_cameras
 from hairlod.blender.packed_asset import PACKED_PROPERTY, packed_asset
@@ -22,6 +22,12 @@ def hanging_hair(curves=600, points=8, seed=3):
     positions = roots[:, None, :] * (1 + 0.2 * t[None, :, None]) - np.array([0, 0, 1.0]) * t[None, :, None]
     return Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(curves, points),
                                np.full(curves * points, 0.002, np.float32))
+
+
+def start_job(obj, guides, levels, control_points, seed=0, level_objects=False):
+    """A LodBuildJob with the sidebar's defaults for what a test does not set."""
+    return LodBuildJob(bpy.context, obj, guides, levels, control_points, seed, False, 1, lod.DEFAULT_WIDTH_PX,
+                       level_objects)
 
 
 @pytest.fixture
@@ -118,7 +124,7 @@ def _lod_objects():
 
 def test_cancel_before_the_build_ends_leaves_nothing(hair_object):
     objects, curves = len(bpy.data.objects), len(bpy.data.hair_curves)
-    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6)
+    job = start_job(hair_object, guides=12, levels=4, control_points=6)
     job.cancel()  # what Esc in the modal operator calls
     assert job.progress.cancelled
     assert (len(bpy.data.objects), len(bpy.data.hair_curves)) == (objects, curves)
@@ -127,7 +133,7 @@ def test_cancel_before_the_build_ends_leaves_nothing(hair_object):
 
 def test_cancel_after_some_levels_removes_them(hair_object):
     objects, curves = len(bpy.data.objects), len(bpy.data.hair_curves)
-    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6, level_objects=True)
+    job = start_job(hair_object, guides=12, levels=4, control_points=6, level_objects=True)
     fractions = []
     while len(job.created) < 2:
         assert not job.step()
@@ -140,7 +146,7 @@ def test_cancel_after_some_levels_removes_them(hair_object):
 
 
 def test_stepped_job_matches_the_operator(hair_object):
-    job = LodBuildJob(bpy.context, hair_object, guides=12, levels=4, control_points=6, seed=1, level_objects=True)
+    job = start_job(hair_object, guides=12, levels=4, control_points=6, seed=1, level_objects=True)
     while not job.step():
         pass
     assert job.fraction == 1.0 and len(_lod_objects()) == len(job.asset.levels)
@@ -225,7 +231,22 @@ def test_scene_cameras_option_drops_levels_no_camera_needs(addon, empty_scene):
     bpy.data.objects.remove(camera)
     _animated_camera([(1500, 0, 0), (100, 0, 0), (10, 0, 0), (3, 0, 0)])
     assert bpy.ops.hairlod.build_lod(scene_cameras=True, frame_step=1, **options) == {'FINISHED'}
-    assert max(packed_asset(source).level_ids) > max(far_levels)
+    close_levels = packed_asset(source).level_ids
+    assert max(close_levels) > max(far_levels)
+    # Cameras Only keeps what the object's one width threshold (the preview's) selects: a wider one
+    # lets the same cameras do with the coarsest level alone.
+    source.hairlod_lod_preview.width_px = 10000.0
+    assert bpy.ops.hairlod.build_lod(scene_cameras=True, frame_step=1, **options) == {'FINISHED'}
+    assert packed_asset(source).level_ids == [0]
+
+
+def test_one_width_property_with_the_cores_default_and_minimum(hair_object):
+    settings = hair_object.hairlod_lod_preview
+    definition = settings.bl_rna.properties["width_px"]
+    assert definition.default == pytest.approx(lod.DEFAULT_WIDTH_PX)
+    assert definition.hard_min == pytest.approx(lod.MIN_WIDTH_PX)
+    assert "width_px" not in hair_object.hairlod_lod_build.bl_rna.properties
+    assert "width_px" not in bpy.types.HAIRLOD_OT_build_lod.bl_rna.properties
 
 
 def test_scene_cameras_option_needs_a_camera(addon, empty_scene):

@@ -68,8 +68,8 @@ class LodBuildJob:
     starts the build in a worker thread; step() does the next piece of main-thread work and returns
     True when all is done; cancel() stops the build and removes everything the job made."""
 
-    def __init__(self, context, source, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
-                 frame_step=1, width_px=2.0, level_objects=False):
+    def __init__(self, context, source, guides, levels, control_points, seed, scene_cameras_only, frame_step,
+                 width_px, level_objects):
         from .. import lod
         from .curves import curves_to_strands
 

@@ -1,5 +1,7 @@
 """Build Hair LoD's parameters, declared once: kept on each hair object (HAIRLOD_PG_lod_build, set in
-the sidebar before the build) and on the operator (its redo panel), whose defaults they are."""
+the sidebar before the build) and on the operator (its redo panel), whose defaults they are. The
+screen-width threshold is not among them: Cameras Only keeps the levels the LoD preview's Width
+(HAIRLOD_PG_lod_preview.width_px) selects, the one width property of an object."""
 
 import bpy
 from bpy.props import BoolProperty, FloatProperty, IntProperty
@@ -24,8 +26,6 @@ def build_property_annotations(options):
                         "(at the render resolution, every Frame Step frames)", default=False, options=options),
         "frame_step": IntProperty(name="Frame Step", description="Frames between camera samples", default=1, min=1,
                                   options=options),
-        "width_px": FloatProperty(name="Width (px)", description="Screen width threshold of the level selection",
-                                  default=2.0, min=0.01, options=options),
         "level_objects": BoolProperty(
             name="Level Objects", description="Also add one Curves object per thick level to the \"Hair LoD\" "
             "collection, hidden and not rendered (the preview draws the LoD; Export Hair LoD writes the levels "

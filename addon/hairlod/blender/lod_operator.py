@@ -39,7 +39,8 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
                 setattr(self, name, getattr(settings, name))
         try:
             return LodBuildJob(context, source, self.guides, self.levels, self.control_points, self.seed,
-                               self.scene_cameras, self.frame_step, self.width_px, self.level_objects)
+                               self.scene_cameras, self.frame_step, source.hairlod_lod_preview.width_px,
+                               self.level_objects)
         except Exception as error:
             self.report({'ERROR'}, f"Cannot build the hair LoD of {source.name}: {error}")
             return None

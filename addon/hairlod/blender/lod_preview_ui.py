@@ -5,6 +5,8 @@ import textwrap
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 
+from .. import lod
+
 
 def _redraw(self, context):
     from .preview import lod_preview
@@ -25,8 +27,9 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                           "the object's own drawing (it draws as its bounds meanwhile; renders are unchanged)",
                           default=True, update=_enabled_changed)
     width_px: FloatProperty(name="Width (px)", description="Largest on-screen width of a thick hair, in "
-                            "pixels (eps_w): smaller values draw finer levels", default=2.0, min=0.05,
-                            soft_max=32.0, update=_redraw)
+                            "pixels (eps_w): smaller values draw finer levels. Build Hair LoD's Cameras Only "
+                            "keeps the levels this width selects", default=lod.DEFAULT_WIDTH_PX,
+                            min=lod.MIN_WIDTH_PX, soft_max=32.0, update=_redraw)
     overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
                           items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),
                                  ('LEVELS', "Levels", "Each LoD level in its own colour")),

@@ -29,25 +29,29 @@ class VIEW3D_PT_hairlod(bpy.types.Panel):
         column = box.column(align=True)
         column.label(text=f"Strands: {len(obj.data.curves):,}")
         column.label(text=f"Points: {len(obj.data.points):,}")
-        draw_build_settings(box, obj.hairlod_lod_build)
+        draw_build_settings(box, obj)
         box.operator(HAIRLOD_OT_build_lod.bl_idname, icon='MOD_PARTICLES')
 
 
-def draw_build_settings(layout, settings):
-    """Build Hair LoD's parameters, which the button uses for whatever it is not given."""
+def draw_build_settings(layout, obj):
+    """Build Hair LoD's parameters of `obj`, which the button uses for whatever it is not given."""
+    settings = obj.hairlod_lod_build
     column = layout.column()
     column.use_property_split = True
     column.use_property_decorate = False
     block = column.column(align=True)
     for key in ("guides", "levels", "control_points", "seed"):
         block.prop(settings, key)
-    column.prop(settings, "width_px")
     # Check boxes with their names across the full width.
     options = layout.column(align=True)
     options.prop(settings, "scene_cameras")
     step = options.row(align=True)
     step.active = settings.scene_cameras
     step.prop(settings, "frame_step")
+    # The preview's width, the one threshold of the object: Cameras Only keeps what it selects.
+    step = options.row(align=True)
+    step.active = settings.scene_cameras
+    step.prop(obj.hairlod_lod_preview, "width_px")
     options.prop(settings, "level_objects")
 
 

@@ -8,18 +8,27 @@ import os
 import bpy
 
 
-def build_lod(obj, context=None, guides=0, levels=6, control_points=16, seed=0, scene_cameras_only=False,
-              frame_step=1, width_px=2.0, level_objects=False):
+def build_lod(obj, context=None, guides=None, levels=None, control_points=None, seed=None, scene_cameras_only=None,
+              frame_step=None, width_px=None, level_objects=None):
     """Builds the LoD of the hair Curves object `obj` as the Build Hair LoD operator does (the asset
     packed into `obj`; with `level_objects`, one hidden, non-rendering Curves object per level in the
-    "Hair LoD" collection) and returns the LodAsset. Raises ValueError on bad input; leaves nothing
-    half-made."""
+    "Hair LoD" collection) and returns the LodAsset. Like the operator, a parameter left None comes
+    from the object's settings (the sidebar: obj.hairlod_lod_build, and the preview's width_px for
+    the width threshold). Raises ValueError on bad input; leaves nothing half-made."""
     from .lod_build_job import LodBuildJob
 
     if obj is None or obj.type != 'CURVES':
         raise ValueError(f"'{getattr(obj, 'name', obj)}' is not a hair Curves object")
-    job = LodBuildJob(context or bpy.context, obj, guides, levels, control_points, seed, scene_cameras_only,
-                      frame_step, width_px, level_objects)
+    settings = obj.hairlod_lod_build
+
+    def given(value, name):
+        return getattr(settings, name) if value is None else value
+
+    job = LodBuildJob(context or bpy.context, obj, given(guides, "guides"), given(levels, "levels"),
+                      given(control_points, "control_points"), given(seed, "seed"),
+                      given(scene_cameras_only, "scene_cameras"), given(frame_step, "frame_step"),
+                      obj.hairlod_lod_preview.width_px if width_px is None else width_px,
+                      given(level_objects, "level_objects"))
     job.run()
     return job.asset
 
