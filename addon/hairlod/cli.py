@@ -14,7 +14,8 @@ import time
 import warnings
 
 from . import __version__, atomic_output, strict_json
-from .lod import DEFAULT_WIDTH_PX, MIN_WIDTH_PX
+from .lod import (DEFAULT_WIDTH_PX, LOD_DEFAULTS, MAX_CONTROL_POINTS, MAX_LEVELS, MIN_CONTROL_POINTS, MIN_LEVELS,
+                  MIN_WIDTH_PX)
 
 EXIT_BAD_INPUT = 2
 INT32_MAX = 2**31 - 1
@@ -493,7 +494,6 @@ def command_bench(args):
 
 
 def build_parser():
-    from .lod import MAX_CONTROL_POINTS
     from .render import BLUR_BOX
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
@@ -535,9 +535,13 @@ def build_parser():
                      "wrote (never the current, home or root folder, nor one holding the input)")
     lod.add_argument("--guides", type=_integer(1), default=None, help="k of the guide k-means (default: one per 128 "
                      "strands, 16 to 256)")
-    lod.add_argument("--levels", type=_integer(2), default=6, help="levels including the strands (default 6)")
-    lod.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="control points per hair (default 16)")
-    lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
+    lod.add_argument("--levels", type=_integer(MIN_LEVELS, MAX_LEVELS), default=LOD_DEFAULTS["levels"],
+                     help=f"levels including the strands, {MIN_LEVELS} to {MAX_LEVELS} (default {LOD_DEFAULTS['levels']})")
+    lod.add_argument("--control-points", type=_integer(MIN_CONTROL_POINTS, MAX_CONTROL_POINTS),
+                     default=LOD_DEFAULTS["control_points"],
+                     help=f"control points per hair (default {LOD_DEFAULTS['control_points']})")
+    lod.add_argument("--seed", type=_integer(0, SEED_MAX), default=LOD_DEFAULTS["seed"],
+                     help=f"random seed (default {LOD_DEFAULTS['seed']})")
     lod.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
                      help=f"screen width threshold in pixels (default {DEFAULT_WIDTH_PX:g})")
     lod.add_argument("--cameras", type=_path, help="JSON list of {view, projection, viewport}: export only the levels they select")
@@ -594,8 +598,11 @@ def build_parser():
     bench.add_argument("--points", type=_integer(2), default=32, help="lod: points per synthetic strand (default 32)")
     bench.add_argument("--guides", type=_integer(1), default=None, help="lod, quality: guides (default: one per 128 "
                        "strands, 16 to 256)")
-    bench.add_argument("--levels", type=_integer(2), default=6, help="lod: levels including the strands (default 6)")
-    bench.add_argument("--control-points", type=_integer(2, MAX_CONTROL_POINTS), default=16, help="lod: control points (default 16)")
+    bench.add_argument("--levels", type=_integer(MIN_LEVELS, MAX_LEVELS), default=LOD_DEFAULTS["levels"],
+                       help=f"lod: levels including the strands (default {LOD_DEFAULTS['levels']})")
+    bench.add_argument("--control-points", type=_integer(MIN_CONTROL_POINTS, MAX_CONTROL_POINTS),
+                       default=LOD_DEFAULTS["control_points"],
+                       help=f"lod: control points (default {LOD_DEFAULTS['control_points']})")
     bench.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
                        help=f"lod, quality: LoD width threshold eps_w in pixels (default {DEFAULT_WIDTH_PX:g})")
     bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")

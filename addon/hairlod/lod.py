@@ -18,8 +18,14 @@ from . import _core, atomic_output, memory_budget, strict_json
 # (lod/selection.h), where the selection uses them.
 DEFAULT_WIDTH_PX = round(_core.DEFAULT_WIDTH_PX, 6)  # float32 in C++; rounded for messages
 MIN_WIDTH_PX = round(_core.MIN_WIDTH_PX, 6)
+# The build's defaults (guides 0 = automatic, levels, control_points, seed, ellipse_coverage) and ranges,
+# defined in C++ (lod/lod_asset.h LodOptions) for every tool.
+LOD_DEFAULTS = {name: (round(value, 6) if isinstance(value, float) else value)
+                for name, value in _core.LOD_DEFAULTS.items()}
+MIN_LEVELS, MAX_LEVELS = _core.LEVELS_RANGE
+MIN_CONTROL_POINTS = _core.MIN_CONTROL_POINTS
 
-__all__ = ["DEFAULT_WIDTH_PX", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
+__all__ = ["DEFAULT_WIDTH_PX", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
            "read_cameras", "save", "scene_levels", "unpack"]
 
 MANIFEST = "manifest.json"
@@ -146,15 +152,16 @@ def _require_integer(name, value, lowest, highest=2**31 - 1):
     return int(value)
 
 
-def build_lod(strands, guides=None, levels=6, control_points=16, seed=0, ellipse_coverage=0.95, progress=None):
+def build_lod(strands, guides=None, levels=LOD_DEFAULTS["levels"], control_points=LOD_DEFAULTS["control_points"],
+              seed=LOD_DEFAULTS["seed"], ellipse_coverage=LOD_DEFAULTS["ellipse_coverage"], progress=None):
     """Builds an LodAsset from Strands (Sec. 5.1); `guides` None (or 0) picks auto_guide_count(len(strands)).
     Raises ValueError on invalid input (before
     allocating when the sizes asked for exceed the memory budget). The C++ build releases the GIL:
     another thread may watch `progress` (BuildProgress: done / total steps) and call its cancel(),
     after which this raises BuildCancelled."""
     guides = 0 if guides is None else _require_integer("guides", guides, 0)
-    levels = _require_integer("levels", levels, 2)
-    control_points = _require_integer("control_points", control_points, 2, MAX_CONTROL_POINTS)
+    levels = _require_integer("levels", levels, MIN_LEVELS, MAX_LEVELS)
+    control_points = _require_integer("control_points", control_points, MIN_CONTROL_POINTS, MAX_CONTROL_POINTS)
     seed = _require_integer("seed", seed, 0, 2**64 - 1)
     memory_budget.check(build_bytes(len(strands), strands.point_count, control_points),
                         f"an LoD of {len(strands)} strands with {control_points} control points (control_points)")

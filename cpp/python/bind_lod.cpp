@@ -202,6 +202,16 @@ std::vector<glm::vec3> guides_from(const FloatArray& guides, const LodAsset& ass
 
 void bind_lod(py::module_& m) {
     m.attr("DEFAULT_WIDTH_PX") = kDefaultWidthPx;
+    const LodOptions defaults;
+    py::dict lod_defaults;
+    lod_defaults["guides"] = defaults.guides;
+    lod_defaults["levels"] = defaults.levels;
+    lod_defaults["control_points"] = defaults.control_points;
+    lod_defaults["seed"] = defaults.seed;
+    lod_defaults["ellipse_coverage"] = defaults.ellipse_coverage;
+    m.attr("LOD_DEFAULTS") = lod_defaults;
+    m.attr("LEVELS_RANGE") = py::make_tuple(kMinLevels, kMaxLevels);
+    m.attr("MIN_CONTROL_POINTS") = kMinControlPoints;
     m.attr("MIN_WIDTH_PX") = kMinWidthPx;
     py::class_<Selection>(m, "Selection", "LoD level per L0 cluster and segment, visibility and draw ranges.")
         .def_property_readonly("levels",

@@ -310,3 +310,11 @@ def test_export_refuses_folders_it_did_not_write_and_changes_nothing(hair_object
         _export(tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == [foreign]
     assert [p.name for p in (tmp_path / foreign).iterdir()] == ["mine.txt"]
+
+
+def test_build_settings_default_to_the_cores_options(hair_object):
+    properties = hair_object.hairlod_lod_build.bl_rna.properties
+    for name in ("guides", "levels", "control_points", "seed"):
+        assert properties[name].default == lod.LOD_DEFAULTS[name], name
+    assert (properties["levels"].hard_min, properties["levels"].hard_max) == (lod.MIN_LEVELS, lod.MAX_LEVELS)
+    assert properties["control_points"].hard_min == lod.MIN_CONTROL_POINTS

@@ -34,3 +34,17 @@ def test_cli_defaults_to_it_and_refuses_less_than_the_minimum(command):
     assert parser.parse_args(command + ["--width-px", str(lod.MIN_WIDTH_PX)]).width_px == lod.MIN_WIDTH_PX
     with pytest.raises(cli.UsageError, match=f"--width-px.*>= {lod.MIN_WIDTH_PX}"):
         parser.parse_args(command + ["--width-px", str(lod.MIN_WIDTH_PX / 2)])
+
+
+def test_build_defaults_and_ranges_come_from_cpp():
+    assert lod.LOD_DEFAULTS == {"guides": 0, "levels": _core.LOD_DEFAULTS["levels"],
+                                "control_points": _core.LOD_DEFAULTS["control_points"], "seed": 0,
+                                "ellipse_coverage": pytest.approx(_core.LOD_DEFAULTS["ellipse_coverage"])}
+    parameters = inspect.signature(lod.build_lod).parameters
+    for name in ("levels", "control_points", "seed", "ellipse_coverage"):
+        assert parameters[name].default == lod.LOD_DEFAULTS[name]
+    for command in (["lod", "hair.hair", "--out", "out"], ["bench", "lod"]):
+        parsed = cli.build_parser().parse_args(command)
+        assert (parsed.levels, parsed.control_points) == (lod.LOD_DEFAULTS["levels"], lod.LOD_DEFAULTS["control_points"])
+    with pytest.raises(cli.UsageError, match="--levels"):
+        cli.build_parser().parse_args(["lod", "hair.hair", "--out", "out", "--levels", str(lod.MAX_LEVELS + 1)])

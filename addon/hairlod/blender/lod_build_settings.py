@@ -4,7 +4,9 @@ screen-width threshold is not among them: Cameras Only keeps the levels the LoD 
 (HAIRLOD_PG_lod_preview.width_px) selects, the one width property of an object."""
 
 import bpy
-from bpy.props import BoolProperty, FloatProperty, IntProperty
+from bpy.props import BoolProperty, IntProperty
+
+from .. import lod
 
 
 def build_property_annotations(options):
@@ -12,14 +14,17 @@ def build_property_annotations(options):
     and on the operator (its redo panel), declared once."""
     return {
         "guides": IntProperty(name="Guides", description="Guide hairs chosen by k-means (0: automatic, one per 128 "
-                              "strands, 16 to 256)", default=0, min=0,
+                              "strands, 16 to 256)", default=lod.LOD_DEFAULTS["guides"], min=0,
                               options=options),
         "levels": IntProperty(name="Levels", description="LoD levels including the strands themselves",
-                              default=6, min=2, max=16, options=options),
-        "control_points": IntProperty(name="Points", description="Control points per hair", default=16,
-                                      min=2, max=64, options=options),
-        "seed": IntProperty(name="Seed", description="Random seed of the k-means seeding", default=0, min=0,
-                            options=options),
+                              default=lod.LOD_DEFAULTS["levels"], min=lod.MIN_LEVELS, max=lod.MAX_LEVELS,
+                              options=options),
+        "control_points": IntProperty(name="Points", description="Control points per hair",
+                                      default=lod.LOD_DEFAULTS["control_points"], min=lod.MIN_CONTROL_POINTS,
+                                      max=lod.MAX_CONTROL_POINTS, soft_max=64, options=options),
+        # IntProperty holds 32 bits; the core's seed takes 64.
+        "seed": IntProperty(name="Seed", description="Random seed of the k-means seeding",
+                            default=lod.LOD_DEFAULTS["seed"], min=0, options=options),
         "scene_cameras": BoolProperty(
             name="Cameras Only",
             description="Keep only the levels that some camera of the scene selects over the frame range "

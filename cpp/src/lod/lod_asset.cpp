@@ -354,9 +354,12 @@ float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const s
 
 void check_options(const LodOptions& options) {
     if (options.guides < 0) throw Error("build_lod: guides must be >= 1 (or 0: automatic), got " + std::to_string(options.guides));
-    if (options.levels < 2 || options.levels > 16)
-        throw Error("build_lod: levels must be in [2, 16] (thick levels plus the strands), got " + std::to_string(options.levels));
-    if (options.control_points < 2) throw Error("build_lod: control_points must be >= 2, got " + std::to_string(options.control_points));
+    if (options.levels < kMinLevels || options.levels > kMaxLevels)
+        throw Error("build_lod: levels must be in [" + std::to_string(kMinLevels) + ", " + std::to_string(kMaxLevels) +
+                    "] (thick levels plus the strands), got " + std::to_string(options.levels));
+    if (options.control_points < kMinControlPoints)
+        throw Error("build_lod: control_points must be >= " + std::to_string(kMinControlPoints) + ", got " +
+                    std::to_string(options.control_points));
     if (options.max_kmeans_iterations < 0) throw Error("build_lod: max_kmeans_iterations must be >= 0");
     if (!(options.kmeans_stop_fraction >= 0.0 && options.kmeans_stop_fraction < 1.0))
         throw Error("build_lod: kmeans_stop_fraction must be in [0, 1)");

@@ -33,6 +33,12 @@ public:
     LodBuildCancelled() : Error("build_lod: cancelled") {}
 };
 
+// The ranges build_lod accepts: levels (thick levels plus the strands) and control points per hair.
+inline constexpr int kMinLevels = 2;
+inline constexpr int kMaxLevels = 16;
+inline constexpr int kMinControlPoints = 2;
+
+// Every default here is the tools' default too (CLI, Python API, Blender settings: hairlod._core.LOD_DEFAULTS).
 struct LodOptions {
     int guides = 0;            // k of the guide k-means; 0: auto_guide_count(strand count)
     int levels = 6;            // n_L at most: thick-hair levels L0 .. L_{n_L - 2}, then the strands
