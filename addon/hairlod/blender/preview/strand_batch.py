@@ -12,11 +12,10 @@ equal sizes share them, and they are kept while the topology stays the same, so 
 unchanged topology uploads positions and tangents only.
 """
 
-import os
-
 import numpy as np
 
-SHADER_FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
+from .shaders import glsl_source
+
 
 _shader = None
 
@@ -83,11 +82,6 @@ def along_strand(offsets):
     return (index / np.repeat(np.maximum(counts - 1, 1), counts)).astype(np.float32)
 
 
-def _source(name):
-    with open(os.path.join(SHADER_FOLDER, name), encoding="utf-8") as stream:
-        return stream.read()
-
-
 def strand_shader():
     """The strand shader (built once; needs a GPU context, so never in background mode)."""
     global _shader
@@ -107,8 +101,8 @@ def strand_shader():
         interface.smooth('VEC3', "shade")
         info.vertex_out(interface)
         info.fragment_out(0, 'VEC4', "fragment_colour")
-        info.vertex_source(_source("strands_vert.glsl"))
-        info.fragment_source(_source("strands_frag.glsl"))
+        info.vertex_source(glsl_source("strands_vert.glsl"))
+        info.fragment_source(glsl_source("strands_frag.glsl"))
         _shader = gpu.shader.create_from_info(info)
     return _shader
 
