@@ -37,7 +37,7 @@ DEFAULT_RADIUS_FRACTION = 5e-4
 
 __all__ = [
     "Clump", "Curl", "Frizz", "HairMesh", "HairMeshFile", "StrandGenerator", "Trim", "Twist", "Wave",
-    "default_radius", "detail_level", "generate_strands", "hair_mesh_from_dict", "hair_mesh_to_dict", "read",
+    "default_radius", "detail_level", "extrude_faces", "generate_strands", "hair_mesh_from_dict", "hair_mesh_to_dict", "read",
     "resolve_inputs", "strand_generator", "styling_from_dicts", "styling_to_dicts", "write",
 ]
 
@@ -286,3 +286,43 @@ def generate_strands(hair_mesh, count=10000, vertices=17, styling=(), seed=0, lo
                                  vertex_lod=float(vertex_lod), lod_transition=float(lod_transition), radius=radius)
     require_finite(strands)
     return strands
+
+
+def extrude_faces(positions, loop_vertices, loop_starts, loop_totals, face_normals, face_areas, selected, layers,
+                  length, taper=0.0, loop_uv=None):
+    """A HairMesh grown from mesh faces (New Hair Mesh from Faces): the selected faces (all of them when
+    none is) are the root layer, extruded `layers` times along the area-weighted smooth normals of the
+    selected faces to `length`, each layer shrunk by `taper` towards its centre relative to the one
+    below. Arrays as a mesh stores them: vertex positions [V, 3], per-loop vertex indices [L], per-face
+    loop_starts / loop_totals / normals [F, 3] / areas / selected flags, and optional per-loop UVs [L, 2]."""
+    positions = np.asarray(positions, np.float32).reshape(-1, 3)
+    loop_vertices = np.asarray(loop_vertices, np.int64)
+    loop_starts, loop_totals = np.asarray(loop_starts, np.int64), np.asarray(loop_totals, np.int64)
+    face_normals = np.asarray(face_normals, np.float64).reshape(-1, 3)
+    face_areas = np.asarray(face_areas, np.float64)
+    selected = np.array(selected, bool)
+    if len(loop_starts) == 0:
+        raise ValueError("the mesh has no faces to extrude")
+    if not (len(loop_totals) == len(face_normals) == len(face_areas) == len(selected) == len(loop_starts)):
+        raise ValueError("loop_starts, loop_totals, face_normals, face_areas and selected need one entry per face")
+    if isinstance(layers, bool) or int(layers) != layers or layers < 1:
+        raise ValueError(f"layers must be an integer >= 1, got {layers!r}")
+    if not (np.isfinite(length) and length >= 0.0) or not (0.0 <= taper < 1.0):
+        raise ValueError(f"length must be finite and >= 0 and taper in [0, 1), got {length!r}, {taper!r}")
+    if not selected.any():
+        selected[:] = True
+    sizes = loop_totals[selected]
+    first_in_output = np.cumsum(sizes) - sizes
+    loops = np.repeat(loop_starts[selected] - first_in_output, sizes) + np.arange(int(sizes.sum()))
+    used, root_of_loop = np.unique(loop_vertices[loops], return_inverse=True)
+    # Smooth normals of the selected faces only, area-weighted, so that unselected neighbours do not
+    # bend the extrusion at the selection's border.
+    normals = np.zeros((len(used), 3), np.float64)
+    np.add.at(normals, root_of_loop, np.repeat(face_normals[selected] * face_areas[selected, None], sizes, axis=0))
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
+    step = np.arange(int(layers) + 1)[:, None, None]
+    offset_layers = positions[used][None] + normals[None] * (float(length) * step / int(layers))
+    centres = offset_layers.mean(axis=1, keepdims=True)
+    grown = centres + (offset_layers - centres) * (1.0 - float(taper)) ** step
+    uv = None if loop_uv is None else np.asarray(loop_uv, np.float32).reshape(-1, 2)[loops]
+    return HairMesh(grown.astype(np.float32), sizes.astype(np.int32), root_of_loop.astype(np.int32).ravel(), uv)

@@ -254,3 +254,41 @@ def test_generator_reuses_root_samples_only_when_they_are_the_same():
         expected = hairmesh.strand_generator(moved, count, seed).generate(vertices=5)
         actual = hairmesh.strand_generator(moved, count, seed, reuse=earlier).generate(vertices=5)
         assert np.array_equal(actual.points, expected.points), (count, seed)
+
+
+def _two_quads():
+    """Two unit quads side by side in z = 0 (6 vertices), face normals +z, per-loop UVs = (x, y)."""
+    positions = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [1, 1, 0], [2, 1, 0]], np.float32)
+    loop_vertices = np.array([0, 1, 4, 3, 1, 2, 5, 4], np.int32)
+    return dict(positions=positions, loop_vertices=loop_vertices, loop_starts=[0, 4], loop_totals=[4, 4],
+                face_normals=[[0, 0, 1], [0, 0, 1]], face_areas=[1.0, 1.0],
+                loop_uv=positions[loop_vertices, :2].copy())
+
+
+def test_extrude_faces_grows_the_selected_faces_along_their_normals():
+    mesh = hairmesh.extrude_faces(**_two_quads(), selected=[False, True], layers=3, length=0.6, taper=0.0)
+    assert (mesh.layer_count, mesh.face_count, mesh.vertex_count) == (4, 1, 4)
+    layers = mesh.layers
+    np.testing.assert_allclose(layers[0][:, :2], [[1, 0], [2, 0], [1, 1], [2, 1]])  # the selected quad's corners
+    np.testing.assert_allclose(layers[:, :, 2], np.repeat([[0.0], [0.2], [0.4], [0.6]], 4, axis=1), atol=1e-6)
+    np.testing.assert_allclose(mesh.uv, layers[0][mesh.face_vertices.ravel(), :2], atol=1e-6)
+
+
+def test_extrude_faces_tapers_each_layer_towards_its_centre_and_takes_all_faces_when_none_is_selected():
+    mesh = hairmesh.extrude_faces(**_two_quads(), selected=[False, False], layers=2, length=1.0, taper=0.5)
+    assert (mesh.face_count, mesh.vertex_count) == (2, 6)
+    layers = mesh.layers
+    centre = layers[0].mean(axis=0)
+    for k in range(3):
+        np.testing.assert_allclose(layers[k][:, :2] - centre[:2], (layers[0][:, :2] - centre[:2]) * 0.5 ** k, atol=1e-6)
+
+
+@pytest.mark.parametrize("change, match", [({"layers": 0}, "layers"), ({"taper": 1.0}, "taper"),
+                                           ({"loop_starts": [], "loop_totals": [], "face_normals": np.zeros((0, 3)),
+                                             "face_areas": [], "selected": []}, "no faces"),
+                                           ({"face_areas": [1.0]}, "one entry per face")])
+def test_extrude_faces_names_bad_input(change, match):
+    arguments = dict(_two_quads(), selected=[True, True], layers=2, length=1.0, taper=0.0)
+    arguments.update(change)
+    with pytest.raises(ValueError, match=match):
+        hairmesh.extrude_faces(**arguments)

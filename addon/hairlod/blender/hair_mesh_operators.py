@@ -45,7 +45,7 @@ class HAIRLOD_OT_hair_mesh_from_faces(bpy.types.Operator):
     def execute(self, context):
         import numpy as np
 
-        from ..hairmesh import HairMesh
+        from ..hairmesh import extrude_faces
         from .hair_mesh import object_from_hair_mesh
 
         scalp = context.active_object
@@ -60,8 +60,6 @@ class HAIRLOD_OT_hair_mesh_from_faces(bpy.types.Operator):
 
         selected = np.empty(face_count, bool)
         mesh.polygons.foreach_get("select", selected)
-        if not selected.any():
-            selected[:] = True
         loop_starts = np.empty(face_count, np.int32)
         loop_totals = np.empty(face_count, np.int32)
         mesh.polygons.foreach_get("loop_start", loop_starts)
@@ -74,30 +72,13 @@ class HAIRLOD_OT_hair_mesh_from_faces(bpy.types.Operator):
         mesh.loops.foreach_get("vertex_index", loop_vertices)
         positions = np.empty((len(mesh.vertices), 3), np.float32)
         mesh.vertices.foreach_get("co", positions.ravel())
-
-        sizes = loop_totals[selected]
-        first_in_output = np.cumsum(sizes) - sizes
-        loops = np.repeat(loop_starts[selected] - first_in_output, sizes) + np.arange(int(sizes.sum()))
-        used, root_of_loop = np.unique(loop_vertices[loops], return_inverse=True)
-
-        # Smooth normals of the selected faces only, area-weighted, so that unselected
-        # neighbours do not bend the extrusion at the selection's border.
-        normals = np.zeros((len(used), 3), np.float64)
-        np.add.at(normals, root_of_loop, np.repeat(face_normals[selected] * face_areas[selected, None], sizes, axis=0))
-        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
-
-        step = np.arange(self.layers + 1)[:, None, None]
-        offset_layers = positions[used][None] + normals[None] * (self.length * step / self.layers)
-        centres = offset_layers.mean(axis=1, keepdims=True)
-        layers = centres + (offset_layers - centres) * (1.0 - self.taper) ** step
-
-        uv = None
+        loop_uv = None
         if mesh.uv_layers.active is not None:
             loop_uv = np.empty((len(mesh.loops), 2), np.float32)
             mesh.uv_layers.active.data.foreach_get("uv", loop_uv.ravel())
-            uv = loop_uv[loops]
         try:
-            hair_mesh = HairMesh(layers.astype(np.float32), sizes, root_of_loop.astype(np.int32), uv)
+            hair_mesh = extrude_faces(positions, loop_vertices, loop_starts, loop_totals, face_normals, face_areas,
+                                      selected, self.layers, self.length, self.taper, loop_uv)
             obj = object_from_hair_mesh(hair_mesh, f"{scalp.name}_hair_mesh", context.collection)
         except ValueError as error:
             self.report({'ERROR'}, f"Cannot make a hair mesh from '{scalp.name}': {error}")
