@@ -206,6 +206,21 @@ def dual_scattering(params, theta_d, model="chiang", backscatter_density=0.7, to
                                        tolerance=float(tolerance))
 
 
+def _srbf_inputs(caller, lights, wo, marschner_inputs):
+    """(directions, lambdas, coefficients, wo) as contiguous float64 arrays, checked for `caller`."""
+    unknown = sorted(set(marschner_inputs) - _MODEL_INPUTS["marschner"])
+    if unknown:
+        raise ValueError(f"{caller} takes no input(s) {', '.join(unknown)}")
+    for key in ("directions", "lambdas", "coefficients"):
+        if key not in lights:
+            raise ValueError(f"lights needs {key!r}")
+    wo = np.ascontiguousarray(wo, dtype=np.float64)
+    if wo.ndim != 2 or wo.shape[1] != 3:
+        raise ValueError(f"wo must have shape [M, 3], got {wo.shape}")
+    return (*(np.ascontiguousarray(lights[key], dtype=np.float64) for key in ("directions", "lambdas", "coefficients")),
+            wo)
+
+
 def srbf_single_scattering(params, lights, wo, m=4, **marschner_inputs):
     """Single scattering of the Marschner fibre under SRBF lights (Xu et al. 2011, Eq. 2 and 11-14):
     for each view direction, sum_j L_j * integral of G_j(wi) S(wi, wo) cos(theta_i) dw_i, float64 [M, 3].
@@ -214,24 +229,14 @@ def srbf_single_scattering(params, lights, wo, m=4, **marschner_inputs):
     ``coefficients`` [N, 3]), with directions in the fibre frame like ``wo`` [M, 3]; ``m`` is the
     linear quadrature's order (Sec. 4.2.2); marschner inputs as in evaluate().
     """
-    unknown = sorted(set(marschner_inputs) - _MODEL_INPUTS["marschner"])
-    if unknown:
-        raise ValueError(f"srbf_single_scattering takes no input(s) {', '.join(unknown)}")
-    for key in ("directions", "lambdas", "coefficients"):
-        if key not in lights:
-            raise ValueError(f"lights needs {key!r}")
-    wo = np.ascontiguousarray(wo, dtype=np.float64)
-    if wo.ndim != 2 or wo.shape[1] != 3:
-        raise ValueError(f"wo must have shape [M, 3], got {wo.shape}")
-    return _core.bcsdf_srbf_single_scattering(
-        as_params(params), np.ascontiguousarray(lights["directions"], dtype=np.float64),
-        np.ascontiguousarray(lights["lambdas"], dtype=np.float64),
-        np.ascontiguousarray(lights["coefficients"], dtype=np.float64), wo, m=int(m), **marschner_inputs)
-
+    directions, lambdas, coefficients, wo = _srbf_inputs("srbf_single_scattering", lights, wo, marschner_inputs)
+    return _core.bcsdf_srbf_single_scattering(as_params(params), directions, lambdas, coefficients, wo, m=int(m),
+                                              **marschner_inputs)
 
 
 def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forward_variance=0.0,
-                             forward_density=0.7, backscatter_density=0.7, m=4, table_samples=33,
+                             forward_density=_core.DEFAULT_FORWARD_DENSITY,
+                             backscatter_density=_core.DEFAULT_BACKSCATTER_DENSITY, m=4, table_samples=33,
                              components=False, reference=False, theta_samples=256, phi_samples=512,
                              **marschner_inputs):
     """Multiple scattering of the Marschner fibre under SRBF lights with dual scattering (Xu et al. 2011,
@@ -245,17 +250,8 @@ def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forwar
     sigma_b table. ``components=True`` returns (global, local) instead of their sum;
     ``reference=True`` integrates the same model by brute force on a theta x phi grid.
     """
-    unknown = sorted(set(marschner_inputs) - _MODEL_INPUTS["marschner"])
-    if unknown:
-        raise ValueError(f"srbf_multiple_scattering takes no input(s) {', '.join(unknown)}")
-    for key in ("directions", "lambdas", "coefficients"):
-        if key not in lights:
-            raise ValueError(f"lights needs {key!r}")
-    directions = np.ascontiguousarray(lights["directions"], dtype=np.float64)
+    directions, lambdas, coefficients, wo = _srbf_inputs("srbf_multiple_scattering", lights, wo, marschner_inputs)
     count = len(directions)
-    wo = np.ascontiguousarray(wo, dtype=np.float64)
-    if wo.ndim != 2 or wo.shape[1] != 3:
-        raise ValueError(f"wo must have shape [M, 3], got {wo.shape}")
     attenuation = np.asarray(forward_attenuation, dtype=np.float64)
     if attenuation.ndim == 0 or attenuation.shape == (3,):
         attenuation = np.broadcast_to(attenuation, (count, 3))
@@ -267,13 +263,13 @@ def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forwar
     if variance.shape != (count,):
         raise ValueError(f"forward_variance must be a scalar or [{count}], got {variance.shape}")
     global_part, local_part = _core.bcsdf_srbf_multiple_scattering(
-        as_params(params), directions, np.ascontiguousarray(lights["lambdas"], dtype=np.float64),
-        np.ascontiguousarray(lights["coefficients"], dtype=np.float64), wo, np.ascontiguousarray(attenuation),
+        as_params(params), directions, lambdas, coefficients, wo, np.ascontiguousarray(attenuation),
         np.ascontiguousarray(variance), forward_density=float(forward_density),
         backscatter_density=float(backscatter_density), table_samples=int(table_samples), m=int(m),
         reference=bool(reference), theta_samples=int(theta_samples), phi_samples=int(phi_samples),
         **marschner_inputs)
     return (global_part, local_part) if components else global_part + local_part
+
 
 # theta_d nodes of the per-hair table the aggregated tables interpolate: the default set bakes in
 # about 0.5 s on 2 cores (129: 1.1 s); see bench bcsdf for the error against it.

@@ -170,6 +170,8 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         py::arg("density") = 1.0,
         "S(wi, wo) as float32 [N, 3]; directions in the fibre frame (tangent +x).");
 
+    m.attr("DEFAULT_FORWARD_DENSITY") = kDefaultForwardDensity;
+    m.attr("DEFAULT_BACKSCATTER_DENSITY") = kDefaultBackscatterDensity;
     m.def("cluster_density", &cluster_density, py::arg("hair_total"), py::arg("hair_radius"), py::arg("major_axis"),
           py::arg("minor_axis"), "Huang et al. 2025, Sec. 4: rho = n_total r^2 / (|r_A| |r_B|), at most 1.");
     m.def("hairs_crossed", &hairs_crossed, py::arg("density"), py::arg("ray_length"), py::arg("hair_total"),
