@@ -193,7 +193,7 @@ def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6, tt=
     return np.array(_core.bcsdf_white_furnace(model, as_params(params), wo, h=h, tolerance=float(tolerance), tt=tt))
 
 
-def dual_scattering(params, theta_d, model="chiang", backscatter_density=0.7, tolerance=1e-6):
+def dual_scattering(params, theta_d, model="chiang", backscatter_density=_core.DEFAULT_BACKSCATTER_DENSITY, tolerance=1e-6):
     """Zinke et al. 2008 dual-scattering terms of the fibre, tabulated over theta_d (radians).
 
     Returns a dict: ``theta_d`` [K] and, each [K, 3] RGB, ``a_f``, ``a_b`` (average forward/backward
