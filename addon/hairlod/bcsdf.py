@@ -1,7 +1,7 @@
 """Hair BCSDFs: fibre parameters, single-fibre models, white furnace and dual scattering.
 
 Directions are in the fibre frame with the tangent along +x (sin(theta) = x), as in pbrt. A value S
-follows DESIGN.md: L_o = integral of L_i S cos(theta_i) dw_i, so a lossless energy-conserving fibre
+follows docs/ARCHITECTURE.md ("BCSDF measure"): L_o = integral of L_i S cos(theta_i) dw_i, so a lossless energy-conserving fibre
 has a white furnace of 1. Every function taking parameters accepts a ``HairParams`` or a dict of its
 fields.
 

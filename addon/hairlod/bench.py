@@ -1,5 +1,5 @@
-"""Benchmarks: speed against error of the BCSDF tiers and of the LoD build and selection (DESIGN.md,
-"Speed and accuracy are reported together").
+"""Benchmarks: speed against error of the BCSDF tiers and of the LoD build and selection (the README's
+"Speed against error (measured)" holds the latest numbers).
 
 bench_bcsdf() measures, for each model and tier, nanoseconds per evaluation (median of repeats,
 batched through the C++ core), relative error against a reference over a dense grid that includes

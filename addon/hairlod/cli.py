@@ -1,6 +1,6 @@
 """Command line: python3 -m hairlod <command> ... [--json].
 
-Contract (DESIGN.md): --json prints one JSON object on stdout; bad input exits with code 2 and one
+Contract (docs/ARCHITECTURE.md, "Command line" and "Errors"): --json prints one JSON object on stdout; bad input exits with code 2 and one
 line on stderr naming the file or parameter and the problem, never a traceback; no partial output
 file is left behind.
 """

@@ -1,5 +1,5 @@
 """LoD quality: the bias of the render methods against a converged reference (hair-lod-aggregated-bcsdf.txt
-Sec. 6, Fig. 5 and 12; DESIGN.md, "Judging the LoD's look: bias, not noise").
+Sec. 6, Fig. 5 and 12; docs/ARCHITECTURE.md, "Judging the LoD").
 
 bench_quality() renders, for each view (near, mid, far), a path-traced full-geometry reference ('pt' at
 `reference_spp`, default 1024, with a seed of its own) and every method at `spp` (default 256), 128 x 128

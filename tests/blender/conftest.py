@@ -16,7 +16,7 @@ sys.path.insert(0, ADDON_DIR)
 
 @pytest.fixture(scope="session")
 def shared_data():
-    """../shared/data/hairutil. It lives outside the repository (DESIGN.md): a clone without it skips
+    """../shared/data/hairutil. It lives outside the repository (../shared/DESIGN.md): a clone without it skips
     the tests that need it with a message saying so (pytest -rs prints it), never passes them."""
     folder = pathlib.Path(SHARED_DATA_DIR, "hairutil")
     if not folder.is_dir():

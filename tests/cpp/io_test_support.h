@@ -36,7 +36,7 @@ inline void load_hairutil_file(const std::string& name, std::vector<std::byte>& 
 
 }  // namespace hairlod::io::testing
 
-// The shared files live outside the repository (../shared/data, DESIGN.md); a clone without that
+// The shared files live outside the repository (../shared/data); a clone without that
 // folder skips these tests with a message saying so, never passes them silently. Macros because
 // GTEST_SKIP must return from the test body itself.
 #define HAIRLOD_SKIP_WITHOUT_SHARED_DATA()                                                      \

@@ -16,7 +16,7 @@ REAL_HAIR = REPO / "examples" / "data" / "tressfx" / "Ratboy_mohawk.tfx"
 
 @pytest.fixture(scope="session")
 def shared_data():
-    """../shared/data/hairutil. It lives outside the repository (DESIGN.md): a clone without it skips
+    """../shared/data/hairutil. It lives outside the repository (../shared/DESIGN.md): a clone without it skips
     the tests that need it with a message saying so (pytest -rs prints it), never passes them."""
     folder = SHARED_DATA / "hairutil"
     if not folder.is_dir():

@@ -1,7 +1,7 @@
 #pragma once
 // FiberBcsdf: the interface every single-fibre scattering model implements, and batched evaluation.
 //
-// A value S follows DESIGN.md: L_o(w_o) = integral of L_i(w_i) S(w_i, w_o) cos(theta_i) dw_i, with
+// A value S follows docs/ARCHITECTURE.md ("BCSDF measure"): L_o(w_o) = integral of L_i(w_i) S(w_i, w_o) cos(theta_i) dw_i, with
 // theta_i the angle between w_i and the fibre's normal plane, so a lossless, energy-conserving fibre
 // has integral of S cos(theta_i) dw_i = 1 (white furnace). Directions are in the fibre frame with the
 // tangent along +x and need not be normalised.

@@ -12,7 +12,7 @@ namespace hairlod::render {
 
 struct BcsdfSample {
     glm::dvec3 wi{0.0};
-    glm::dvec3 value{0.0};  // S(wi, wo) cos(theta_i) (RGB), the integrand of DESIGN.md's measure
+    glm::dvec3 value{0.0};  // S(wi, wo) cos(theta_i) (RGB), the integrand of the BCSDF measure (docs/ARCHITECTURE.md)
     double pdf = 0.0;       // per unit solid angle
 };
 

@@ -6,7 +6,7 @@
  *   aggregated_lut:  blocks a_F^(n-1), A_1+, B^ budget, each over (theta_d in [-pi/2, pi/2], n in [1, n_max])
  * Texel centres sit on the axis nodes; every lookup interpolates linearly with texelFetch, so the
  * result does not depend on the sampler's filter. Directions are unit vectors; the fibre tangent is
- * t, theta is measured from the normal plane (sin theta = dot(w, t)), as in pbrt and DESIGN.md.
+ * t, theta is measured from the normal plane (sin theta = dot(w, t)), as in pbrt and docs/ARCHITECTURE.md ("Conventions").
  * Needs: sampler2D fiber_lut, dual_lut, aggregated_lut; vec4 lobe_shapes (R shift, R variance,
  * TT shift, TT variance); vec2 lut_constants (TT azimuthal variance, n_max). */
 
