@@ -132,7 +132,7 @@ def _srbf_multiple_rows(repeats):
                                                                   theta_samples=96, phi_samples=192, **forward), 1)
     items = 3 * len(many)
     max_error, mean_error = _relative_error(np.concatenate(values), np.concatenate(reference))
-    return [{"model": "marschner", "tier": "SRBF multiple scattering (Eq. 27-31, m = 4, incl. table)",
+    return [{"model": "marschner", "tier": "SRBF multiple scattering (Eq. 27-31, m = 4, incl. table)",  # Xu 2011
              "ns_per_eval": full / items * 1e9, "max_rel_error": max_error, "mean_rel_error": mean_error,
              "energy_error": None, "max_energy": None, "bytes": None,
              "reference": "brute force of the same model, 96 x 192 grid"},
@@ -159,7 +159,7 @@ def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128), table_samp
         return values, ns
 
     marschner, ns = run("marschner")
-    row("marschner", "exact", marschner, None, "itself (roots of Eq. 10)", ns, _energy("marschner"))
+    row("marschner", "exact", marschner, None, "itself (roots of Eq. 10)", ns, _energy("marschner"))  # Marschner 2003
     values, ns = run("marschner_cg")
     row("marschner", "circular gaussian", values, marschner, "marschner exact", ns, _energy("marschner_cg"))
     for tt in ("tafuri", "karis"):

@@ -2,10 +2,10 @@
 Evaluator for Alternating Images", HPG 2020), implemented from the paper in numpy.
 
 Pipeline (paper Sec. 3-4): sRGB -> linear RGB -> YyCxCz (opponent space); contrast sensitivity
-filters (Gaussian sums, Sec. 4.1, Table/Eq. 2-3) per channel at `pixels_per_degree`; Hunt-adjusted
-L*a*b*, HyAB colour distance, compressed towards 1 (Eq. 4-6); feature (edge and point) detection on
-the achromatic channel with Gaussian first and second derivatives (Sec. 4.2, Eq. 7-9);
-E = E_c^(1 - E_f) per pixel (Eq. 10). Images are [H, W, 3] sRGB in [0, 1]; the mean error is in [0, 1].
+filters (Gaussian sums, Sec. 4.1, FLIP Table/Eq. 2-3) per channel at `pixels_per_degree`; Hunt-adjusted
+L*a*b*, HyAB colour distance, compressed towards 1 (FLIP Eq. 4-6); feature (edge and point) detection on
+the achromatic channel with Gaussian first and second derivatives (Sec. 4.2, FLIP Eq. 7-9);
+E = E_c^(1 - E_f) per pixel (FLIP Eq. 10). Images are [H, W, 3] sRGB in [0, 1]; the mean error is in [0, 1].
 """
 
 import numpy as np
@@ -78,7 +78,7 @@ def _convolve(image, kernel):
 
 def _csf_kernel(channel, ppd):
     """Spatial filter of one channel: the inverse Fourier transform of a1 e^(-pi^2 b1 f^2)... a sum of
-    Gaussians of variance b_i / (2 pi^2) deg^2, normalised to unit sum (Eq. 3)."""
+    Gaussians of variance b_i / (2 pi^2) deg^2, normalised to unit sum (FLIP Eq. 3)."""
     a1, b1, a2, b2 = _CSF[channel]
     radius = int(np.ceil(3.0 * np.sqrt(max(b1, b2) / (2.0 * np.pi ** 2)) * ppd))
     x = np.arange(-radius, radius + 1) / ppd
@@ -112,7 +112,7 @@ def _max_distance():
 
 
 def _compress(e_c, cmax):
-    """Eq. 5-6: errors below p_c cmax map linearly to [0, p_t], above compressed into (p_t, 1]."""
+    """FLIP Eq. 5-6: errors below p_c cmax map linearly to [0, p_t], above compressed into (p_t, 1]."""
     pc, pt = _GPC * cmax, _GPT
     return np.where(e_c < pc, e_c * pt / pc, pt + (e_c - pc) / (cmax - pc) * (1.0 - pt))
 

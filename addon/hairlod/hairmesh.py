@@ -270,10 +270,10 @@ def generate_strands(hair_mesh, count=10000, vertices=17, styling=(), seed=0, lo
     vertices        vertices per strand at full LoD: 2^e + 1 (2, 3, 5, 9, 17, 33, 65, ...)
     styling         list of operations (Curl(...), ... or dicts {"op": "curl", ...}), applied in order
     seed            every random choice (roots, per-strand styling, LoD increments) follows from it
-    lod             level of detail L in (0, 1] (Eq. 7), or a pair (strand L, vertex L)
+    lod             level of detail L in (0, 1] (Bhokare 2024 Eq. 7), or a pair (strand L, vertex L)
     subdivision     OpenSubdiv refinement level 0-3 of the hair mesh before generating
     radius          strand radius at full LoD (default: the file's, else 5e-4 of the mesh diagonal)
-    lod_transition  vertex LoD morphing window lambda in (0, 1] (Eq. 10)
+    lod_transition  vertex LoD morphing window lambda in (0, 1] (Bhokare 2024 Eq. 10)
 
     Returns Strands with point attributes 'tangent' [N, 3] and 'uvw' [N, 3] and the curve attribute
     'bundle' (index of the root face of the, possibly subdivided, hair mesh).

@@ -104,13 +104,13 @@ class LodAsset:
 
     def select(self, view, projection, viewport_size, width_px=DEFAULT_WIDTH_PX, previous=None, guides=None):
         """LoD selection from column-major-convention 4x4 matrices (numpy rows are matrix rows,
-        as Blender's Matrix converts): the initial selection, or Eq. 16 from `previous`."""
+        as Blender's Matrix converts): the initial selection, or Huang 2025 Eq. 16 from `previous`."""
         guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
         return self._core.select(guides, np.asarray(view, dtype=np.float32), np.asarray(projection, dtype=np.float32),
                                  tuple(float(v) for v in viewport_size), float(width_px), previous)
 
     def view_selection(self, guides=None):
-        """Per-view selection state for drawing (initial selection, then one Eq. 16 step per
+        """Per-view selection state for drawing (initial selection, then one Huang 2025 Eq. 16 step per
         update), on the rest pose or the skinned guides [G, n_c, 3]."""
         guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
         return _core.ViewSelection(self._core, guides)

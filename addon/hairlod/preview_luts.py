@@ -4,8 +4,9 @@ The shader (addon/hairlod/blender/preview/shaders/aggregated_bcsdf.glsl) takes t
 textures whose rows are the baked quantities, one RGB quantity per row, and a few lobe constants:
 
   fiber:       rows A_R, A_TT, A_D over theta_o in [0, pi/2]                       (Huang et al. 2025, Eq. 1)
-  dual:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2 over theta_d   (Zinke et al. 2008; Eq. 9)
-  aggregated:  blocks a_F^(n-1), A_1+, B^ budget, each n_samples rows over (theta_d, n in [1, n_max]) (Eq. 7, 10)
+  dual:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2 over theta_d   (Zinke et al. 2008; Huang 2025 Eq. 9)
+  aggregated:  blocks a_F^(n-1), A_1+, B^ budget, each n_samples rows over (theta_d, n in [1, n_max])
+               (Huang 2025 Eq. 7, 10)
 
 Every table comes straight from the C++ bake (cpp/src/bcsdf/bake.cpp), so the shader and
 ``hairlod.bcsdf.bake`` read the same numbers.

@@ -15,7 +15,7 @@ methods' seed): the noise floor the other rows are read against.
 
 The equal-time table renders every method again at `equal_time_spp` (default 16) against the same
 reference: the error at a real-time sample budget, noise included. A sweep of the LoD width threshold
-eps_w (pixels, Eq. 16) at one view, at `spp`, gives segments and time against error.
+eps_w (pixels, Huang 2025 Eq. 16) at one view, at `spp`, gives segments and time against error.
 write_view_images() draws per view reference | ds | lod | lod-single | lod - reference around the
 hair; plot_quality() the paper's FLIP-against-segments figure. No assertions on times: a benchmark,
 not a test.

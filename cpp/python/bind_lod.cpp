@@ -278,7 +278,7 @@ void bind_lod(py::module_& m) {
             py::gil_scoped_release release;
             return median_deferred_step_seconds(a, a.rest_geometry(), camera, width_px, frames);
         }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx, py::arg("frames") = 100,
-           "Median seconds of one Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
+           "Median seconds of one Huang 2025 Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
         .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,
                           std::pair<float, float> viewport, float width_px, const Selection* previous) {
             const std::vector<glm::vec3> points = guides_from(guides, a);
@@ -289,11 +289,11 @@ void bind_lod(py::module_& m) {
                             : select_initial(a, geometry, camera, width_px);
         }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx,
            py::arg("previous") = py::none(),
-           "Initial selection (Sec. 5.1 step 5), or Eq. 16 from `previous`, for guides [G, n_c, 3].");
+           "Initial selection (Sec. 5.1 step 5), or Huang 2025 Eq. 16 from `previous`, for guides [G, n_c, 3].");
 
     py::class_<ViewSelection>(m, "ViewSelection",
-                              "Per-view LoD state: the initial selection, then one Eq. 16 step per update, and the index "
-                              "lists to draw it (vertex buffers item-major, strands in hierarchy order).")
+                              "Per-view LoD state: the initial selection, then one Huang 2025 Eq. 16 step per update, "
+                              "and the index lists to draw it (vertex buffers item-major, strands in hierarchy order).")
         .def(py::init([](const LodAsset& a, const FloatArray& guides) {
                  const std::vector<glm::vec3> points = guides_from(guides, a);
                  py::gil_scoped_release release;

@@ -350,7 +350,7 @@ def test_camera_detail_level_is_eq7_of_the_distance_to_the_bounds():
         return camera_detail_level(bounds, view.view_matrix, view.window_matrix, view.is_perspective, 500,
                                    full_detail_px)
 
-    # Eq. 7 with tan(theta) = 2 tan(fov / 2) = 1: L = h R / (d full_detail_px) = 25 / d.
+    # Bhokare 2024 Eq. 7 with tan(theta) = 2 tan(fov / 2) = 1: L = h R / (d full_detail_px) = 25 / d.
     for distance in (50.0, 100.0, 400.0):
         assert level((1.0, 1.0, distance)) == pytest.approx(25.0 / distance, rel=1e-5)
     # d is measured to the nearest point of the box, not its centre.
@@ -400,7 +400,7 @@ def test_viewport_strands_follow_edits_settings_and_level(empty_scene, addon):
     assert not regenerate(obj, state, 1.0), "nothing changed: no regeneration"
     assert set(state.timings) == {"generate_s", "upload_s"}
 
-    # A lower camera level: fewer strands (Eq. 8) and vertices (Eq. 9), from the cached generator.
+    # A lower camera level: fewer strands (Bhokare 2024 Eq. 8) and vertices (Eq. 9), from the cached generator.
     generator = state.generator
     assert regenerate(obj, state, 0.25) and state.generator is generator
     assert 0.2 * 3000 < state.batch.strand_count < 0.3 * 3000

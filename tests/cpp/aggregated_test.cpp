@@ -100,7 +100,7 @@ TEST(Aggregated, BackLobeFollowsEq10And11) {
 }
 
 // Shaded inside by a path tracer (render/integrator.cpp): R^, TT^, D^ are the fibre's behind k = the
-// light's crossings (attenuation E[a_F^k] over a Poisson count, Eq. 9's spread with n - 1 = k), and B^
+// light's crossings (attenuation E[a_F^k] over a Poisson count, Huang 2025 Eq. 9's spread with n - 1 = k), and B^
 // is A_1+ over the hair_count - 1 strands behind alone (A_1 + A_3 are on the traced paths).
 TEST(Aggregated, ShadedInsideTakesTheLightsCrossingsAndKeepsOnlyA1Plus) {
     const FiberRtdBcsdf fiber(brown());

@@ -87,7 +87,7 @@ TEST(CircularGaussian, TablesMatchDirectIntegration) {
     EXPECT_NEAR(h_integrals(eta, theta_d, false)[1], brute, 1e-7);
 }
 
-// Eq. 16-23 against the Marschner azimuthal functions: energy within the Taylor error, finite everywhere.
+// Xu 2011 Eq. 16-23 against the Marschner azimuthal functions: energy within the Taylor error, finite everywhere.
 TEST(CircularGaussian, FitsPreserveEnergyAcrossTheCaustic) {
     HairParams params;
     params.sigma_a = {0.0, 0.2, 0.6};
@@ -111,7 +111,7 @@ TEST(CircularGaussian, FitsPreserveEnergyAcrossTheCaustic) {
         }
     }
     RecordProperty("worst_energy_relative", std::to_string(worst));
-    // TT peak is N_TT(pi) (Eq. 16).
+    // TT peak is N_TT(pi) (Xu 2011 Eq. 16).
     const AzimuthalFit tt = fit_tt(marschner, tables(), 0.3, params.eta);
     EXPECT_NEAR(tt.eval(kPi).y, marschner.root_azimuthal(1, kPi, 0.3, params.eta).y, 1e-9);
     // Continuous across eta' = 2 (Sec. 4.2.4's blend).

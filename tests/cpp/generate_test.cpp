@@ -191,7 +191,7 @@ TEST(Generate, StylingHasNoSeamBetweenBundles) {
 }
 
 // Sec. 3.6.2: as the vertex LoD L varies, positions and tangents vary continuously. Between L and
-// L + dL, gamma (Eq. 12) changes by dL / (lambda L ln 2), so a strand, read as a polyline over its
+// L + dL, gamma (Bhokare 2024 Eq. 12) changes by dL / (lambda L ln 2), so a strand, read as a polyline over its
 // parameter, moves by at most that times the model's bounding-box diagonal and its unit tangent
 // directions by at most twice that; a level switch without morphing would jump by a sizeable
 // fraction of a segment.
@@ -243,7 +243,7 @@ TEST(Generate, StrandLodKeepsMaterial) {
     const StrandSet full = generate_strands(mesh, options);
     options.strand_lod = 0.25f;
     const StrandSet quarter = generate_strands(mesh, options);
-    // Eq. 8: about a quarter of the strands (plus at most one per bundle), each 4x as thick.
+    // Bhokare 2024 Eq. 8: about a quarter of the strands (plus at most one per bundle), each 4x as thick.
     EXPECT_GE(quarter.curve_count(), 1000u);
     EXPECT_LE(quarter.curve_count(), 1000u + 16u);
     EXPECT_FLOAT_EQ(quarter.radius[0], 4.0f * full.radius[0]);

@@ -142,7 +142,7 @@ TEST(Marschner, ReciprocalWhereEnergyIsConservedAndEccentric) {
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(forward[c], backward[c], 1e-9 * std::max(1.0, forward[c]));
     }
     EXPECT_GT(checked, 1500);
-    // Eq. 24: a = 1 leaves eta unchanged; a != 1 swings eta* with phi_h around it.
+    // Xu 2011 Eq. 24: a = 1 leaves eta unchanged; a != 1 swings eta* with phi_h around it.
     params.eccentricity = 1.0;
     EXPECT_NEAR(MarschnerBcsdf(params).eccentric_eta(0.7), params.eta, 1e-14);
     EXPECT_LT(bcsdf.eccentric_eta(0.0), params.eta);

@@ -38,7 +38,7 @@ TEST(PrincipledHair, MelaninConcentration) {
     const HairParams p = params_from_principled_hair(in);
     const glm::dvec3 expected = sigma_a_from_melanin(0.75 * std::log(2.0), 0.25 * std::log(2.0));
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(p.sigma_a[c], expected[c], 1e-12);
-    // A coloured tint adds its Eq. 9 absorption.
+    // A coloured tint adds its Chiang 2016 Eq. 9 absorption.
     in.tint = {1.0, 0.5, 0.5};
     const HairParams tinted = params_from_principled_hair(in);
     EXPECT_NEAR(tinted.sigma_a.x, expected.x, 1e-12);

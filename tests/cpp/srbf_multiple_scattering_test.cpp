@@ -65,7 +65,7 @@ TEST(SrbfMultipleScattering, BackscatterTableInterpolatesAndAverages) {
     }
 }
 
-// The fast path (Eq. 27-31) against the brute-force integral of the same model (exact Marschner fibre,
+// The fast path (Xu 2011 Eq. 27-31) against the brute-force integral of the same model (exact Marschner fibre,
 // exact SRBF) for a narrow, a wide and a nearly uniform light (Xu bandwidths 0.3, 2, 50), several views
 // incl. grazing ones; errors relative to the reference total (floored at 1e-3 lambda^2, the light's power scale).
 TEST(SrbfMultipleScattering, MatchesBruteForce) {

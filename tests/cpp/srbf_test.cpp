@@ -46,7 +46,7 @@ TEST(Srbf, LinearQuadratureIsExactForLinearFunctionsAndConvergesForSmoothOnes) {
     }
 }
 
-// The R lobe's polynomial (Eq. 13) reproduces Marschner's N_R.
+// The R lobe's polynomial (Xu 2011 Eq. 13) reproduces Marschner's N_R.
 TEST(Srbf, RCoefficientsReproduceNR) {
     HairParams params;
     const MarschnerBcsdf marschner(params);
@@ -65,7 +65,7 @@ TEST(Srbf, RCoefficientsReproduceNR) {
     EXPECT_LT(worst, 2e-3);
 }
 
-// Eq. 2 / 11 against brute force: the integral of G_j S cos(theta_i) dw_i of the exact Marschner model.
+// Xu 2011 Eq. 2 / 11 against brute force: the integral of G_j S cos(theta_i) dw_i of the exact Marschner model.
 // With m = 4 the worst case is about 20% (relative, floor 1e-3) on the dimmest configurations; the
 // error comes from the linear quadrature, the Gaussian stand-in for g^c(theta_i) and the fits.
 TEST(Srbf, SingleScatteringMatchesBruteForce) {

@@ -48,7 +48,7 @@ TEST(StylingFrames, DirectionsAreSharedAndUnit) {
     }
 }
 
-// Eq. 1-3 on a skewed layer: the area-weighted mean of the corner maps, computed by hand.
+// Bhokare 2024 Eq. 1-3 on a skewed layer: the area-weighted mean of the corner maps, computed by hand.
 TEST(StylingFrames, AverageAreaWeightedCornerMaps) {
     HairMesh mesh = test::grid_hair_mesh(1, 1, 2, false, 0.0f);
     mesh.positions[mesh.vertex_count + 3] += glm::vec3(0.5f, 0, 0);  // layer 1, vertex (1, 1)

@@ -26,7 +26,7 @@ TEST(Tangents, StraightLineTangentsFollowTheLine) {
     for (const glm::vec3& t : tangents) EXPECT_LT(glm::distance(t, glm::vec3(1, 2, 2) / 3.0f), 1e-6f);
 }
 
-// Eq. 5 and 6: the end tangent makes the same angle with the end segment as its neighbour, on the
+// Bhokare 2024 Eq. 5 and 6: the end tangent makes the same angle with the end segment as its neighbour, on the
 // other side.
 TEST(Tangents, EndTangentsMirrorTheirNeighbours) {
     const std::vector<glm::vec3> points = arc(9);

@@ -47,8 +47,8 @@ TEST_F(ViewSelectionTest, StaticCameraConvergesToTheInitialSelection) {
     ViewSelection view(*asset_, asset_->rest_geometry());
     const Camera far = camera_at(40.0f), near = camera_at(2.5f);
     EXPECT_TRUE(view.update(far, 2.0f));  // the first update selects from scratch
-    // Jumping close: the first frame there already has the levels (Eq. 16 run until stable), which
-    // one Eq. 16 step a frame reached only after several frames of coarser hair.
+    // Jumping close: the first frame there already has the levels (Huang 2025 Eq. 16 run until stable), which
+    // one Huang 2025 Eq. 16 step a frame reached only after several frames of coarser hair.
     const Selection initial = select_initial(*asset_, view.geometry(), near, 2.0f);
     Selection one_step = view.selection();
     select_deferred_in_place(*asset_, view.geometry(), near, 2.0f, one_step);

@@ -68,9 +68,9 @@ def test_xu_tables_match_their_integrals(tmp_path):
     assert sorted(tables) == ["xu_cosine", "xu_h_trt", "xu_h_tt"]
     cosine = tables["xu_cosine"]
     assert [a["name"] for a in cosine["axes"]] == ["phi", "lambda"] and cosine["axes"][1]["scale"] == "log"
-    assert "Eq. 14" in cosine["equation"] and "Eq. 19" in tables["xu_h_tt"]["equation"]
+    assert "Eq. 14" in cosine["equation"] and "Eq. 19" in tables["xu_h_tt"]["equation"]  # Xu 2011
     values = _read_exr(tmp_path / "lut" / cosine["file"], cosine["channels"])
-    # C_k(lambda, phi) = integral over one period of g^c(x; 0, lambda) |cos((phi - x) / 2)|^k (Eq. 14),
+    # C_k(lambda, phi) = integral over one period of g^c(x; 0, lambda) |cos((phi - x) / 2)|^k (Xu 2011 Eq. 14),
     # by a 20001-node trapezoid rule, at nodes and between nodes (log-bilinear lookup).
     x = np.linspace(-np.pi, np.pi, 20001)
     rng = np.random.default_rng(5)
@@ -84,7 +84,7 @@ def test_xu_tables_match_their_integrals(tmp_path):
     h_tt = tables["xu_h_tt"]
     assert [a["name"] for a in h_tt["axes"]] == ["theta_d", "eta"] and h_tt["axes"][1]["range"] == [1.0, 10.0]
     values = _read_exr(tmp_path / "lut" / h_tt["file"], h_tt["channels"])
-    # Eq. 19 at the node theta_d = 0, eta = 10 ** (40/127): integral over h of (1 - F)^2 h^k, F the
+    # Xu 2011 Eq. 19 at the node theta_d = 0, eta = 10 ** (40/127): integral over h of (1 - F)^2 h^k, F the
     # unpolarised Fresnel reflectance at incidence cos = sqrt(1 - h^2).
     eta = 10.0 ** (40 / 127)
     h = np.linspace(-1.0, 1.0, 200001)

@@ -11,7 +11,7 @@ from hairlod import bcsdf
 BROWN = {"sigma_a": [0.2, 0.4, 0.9]}
 TABLE_SAMPLES = 33
 # Fast path against brute force: the circular Gaussian fits of N_TT / N_TRT (single scattering alone is
-# within 25%, tests/cpp/srbf_test.cpp), the separable SRBF of Eq. 11 and the m = 4 quadrature; measured
+# within 25%, tests/cpp/srbf_test.cpp), the separable SRBF of Xu 2011 Eq. 11 and the m = 4 quadrature; measured
 # worst cases: global 16%, local 2% of the total (tests/cpp/srbf_multiple_scattering_test.cpp, bench bcsdf).
 GLOBAL_TOLERANCE, LOCAL_TOLERANCE = 0.2, 0.05
 
@@ -32,7 +32,7 @@ def normal_cdf(x):
 
 
 def brute_force(params, centre, lam, wo_list, t_f, variance, d_f=0.7, d_b=0.7, n_theta=96, n_phi=192):
-    """Eq. 3-5 on a theta x phi midpoint grid: L_f from the exact SRBF, then the outgoing integral."""
+    """Xu 2011 Eq. 3-5 on a theta x phi midpoint grid: L_f from the exact SRBF, then the outgoing integral."""
     h_t, h_p = math.pi / n_theta, 2.0 * math.pi / n_phi
     theta = -0.5 * math.pi + (np.arange(n_theta) + 0.5) * h_t
     phi = -math.pi + (np.arange(n_phi) + 0.5) * h_p

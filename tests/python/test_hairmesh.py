@@ -82,7 +82,7 @@ def test_every_strand_has_power_of_two_plus_one_vertices(lod):
 def test_strand_lod_thickens_fewer_strands():
     full = hairlod.generate_strands(grid_mesh(), count=1200, vertices=5, radius=0.01)
     half = hairlod.generate_strands(grid_mesh(), count=1200, vertices=5, radius=0.01, lod=(0.5, 1.0))
-    assert 600 <= len(half) <= 606  # Eq. 8: ceil(L (N + delta)) per bundle, 6 bundles
+    assert 600 <= len(half) <= 606  # Bhokare 2024 Eq. 8: ceil(L (N + delta)) per bundle, 6 bundles
     assert half.radius[0] == pytest.approx(2 * full.radius[0])
 
 

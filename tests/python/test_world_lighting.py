@@ -118,7 +118,7 @@ def test_srbf_table_holds_the_cpp_srbf_response_at_its_nodes():
         expected = bcsdf.srbf_single_scattering(params, light, wo)[0]
         np.testing.assert_allclose(tables.response[j * samples + o, p, :3], expected, rtol=1e-5)
     # The last row: a uniform unit world, close to the white furnace of the same fibre (Xu's
-    # factorisation of G, Eq. 11, drifts at grazing views; mid angles agree within 3%).
+    # factorisation of G, Xu 2011 Eq. 11, drifts at grazing views; mid angles agree within 3%).
     middle = samples // 2
     furnace = bcsdf.white_furnace("marschner_cg", params, wo=(np.sin(theta[middle]), np.cos(theta[middle]), 0.0),
                                   tolerance=1e-4)

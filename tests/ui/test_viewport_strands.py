@@ -4,7 +4,7 @@ scripts/run_ui_tests.sh).
 Builds a hair mesh on the upper half of a sphere, frames it, and screenshots the window with the
 hair mesh's Viewport Strands off and on: the strands must change a good share of the viewport's
 pixels, only inside the viewport, in the hair colours (red above blue). Zooming out must lower the
-level of detail (Eq. 7) and draw fewer strands; with a near and a far view open, the near one sets
+level of detail (Bhokare 2024 Eq. 7) and draw fewer strands; with a near and a far view open, the near one sets
 the level and redraws regenerate nothing. Screenshots go to $HAIRLOD_UI_OUT (default
 <repo>/out/ui). Exits 0 on success, 1 on failure.
 """
@@ -90,7 +90,7 @@ def steps():
     check(np.median(strand_pixels[:, 0] - strand_pixels[:, 2]) > 0.02,
           "changed pixels have the hair ramp's colour (red above blue)")
 
-    # Zooming out: the hair mesh spans fewer pixels, so Eq. 7 lowers the level and fewer strands are drawn.
+    # Zooming out: the hair mesh spans fewer pixels, so Bhokare 2024 Eq. 7 lowers the level and fewer strands are drawn.
     space.region_3d.view_distance *= 12.0
     area.tag_redraw()
     yield REDRAW_DELAY

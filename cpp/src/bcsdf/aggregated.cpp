@@ -139,7 +139,7 @@ AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples, double
     tbb::parallel_for(0, samples, [&](int k) {
         const double theta_d = -0.5 * kPi + kPi * k / (samples - 1);
         table.samples[k] = dual_scattering(fiber, theta_d, backscatter_density, tolerance);
-        // Eq. 9's sigma_f^2: the forward-scattered energy's variance of phi around pi.
+        // Huang 2025 Eq. 9's sigma_f^2: the forward-scattered energy's variance of phi around pi.
         const glm::dvec3 wo = fiber_frame_direction(theta_d, 0.0);
         const glm::dvec3 moment = integrate_directions(
             [&](const glm::dvec3& wi) {
@@ -173,10 +173,10 @@ glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f)
 glm::dvec3 AggregatedBcsdf::shadowing_masking(double phi, const glm::dvec3& a_f, double density) {
     if (std::abs(phi) >= 0.5 * kPi) return glm::dvec3(1.0);
     const double open = 1.0 - density;
-    const double p_m = open * kMultipleShadowing;                                  // Eq. 13
-    const double p_s = std::clamp(open * (1.0 - std::cos(phi)), 0.0, 1.0 - p_m);  // Eq. 12
-    const double p_n = 1.0 - p_m - p_s;                                            // Eq. 14
-    return p_s * a_f + glm::dvec3(p_n);                                            // Eq. 15
+    const double p_m = open * kMultipleShadowing;                                  // Huang 2025 Eq. 13
+    const double p_s = std::clamp(open * (1.0 - std::cos(phi)), 0.0, 1.0 - p_m);  // Huang 2025 Eq. 12
+    const double p_n = 1.0 - p_m - p_s;                                            // Huang 2025 Eq. 14
+    return p_s * a_f + glm::dvec3(p_n);                                            // Huang 2025 Eq. 15
 }
 
 LobeValues AggregatedBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
@@ -195,7 +195,7 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
     const DualScatteringSample hair = table_->sample(angles.theta_d);
     const double crossed = cluster.shaded_inside ? cluster.light_crossings : cluster.hair_count - 1.0;
 
-    // Eq. 7 and 9: R^, TT^, D^ after n - 1 forward scatterings (variances in theta_h, x4 in theta_i).
+    // Huang 2025 Eq. 7 and 9: R^, TT^, D^ after n - 1 forward scatterings (variances in theta_h, x4 in theta_i).
     RtdSpread spread;
     spread.attenuation = cluster.shaded_inside ? glm::exp(-crossed * (1.0 - glm::min(hair.a_f, glm::dvec3(1.0))))
                                                : glm::pow(hair.a_f, glm::dvec3(crossed));
@@ -206,7 +206,7 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
     LobeValues out = fiber_.eval_lobes(wi, wo, spread);
     out.count = 4;
 
-    // Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with
+    // Huang 2025 Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with
     // A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) = d_1+ a_B a_F (1 - a_F^(2n)) / (1 - a_F^2).
     if (std::abs(angles.phi) < 0.5 * kPi) {
         // Shaded inside, the series runs over the strands behind the shaded one (hair_count - 1 of them,

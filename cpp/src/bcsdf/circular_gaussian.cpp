@@ -219,7 +219,7 @@ glm::dvec3 azimuthal_energy(const MarschnerBcsdf& marschner, const Table2d& h_ta
     return 0.5 * (taylor[0] * h[0] + taylor[1] * h[1] + taylor[2] * h[2]);
 }
 
-// A lobe of energy `energy` and peak `peak` (Eq. 17): lambda from the exact integral of g^c.
+// A lobe of energy `energy` and peak `peak` (Xu 2011 Eq. 17): lambda from the exact integral of g^c.
 CircularGaussianLobe energy_preserving_lobe(const glm::dvec3& energy, const glm::dvec3& peak, double mu) {
     CircularGaussianLobe lobe;
     lobe.mu = mu;
@@ -234,7 +234,7 @@ CircularGaussianLobe energy_preserving_lobe(const glm::dvec3& energy, const glm:
 }  // namespace
 
 AzimuthalFit fit_tt(const MarschnerBcsdf& marschner, const CircularGaussianTables& tables, double theta_d, double eta) {
-    // Eq. 16-17: b_tt = N_TT(pi), lambda_tt preserves the energy of Eq. 19.
+    // Xu 2011 Eq. 16-17: b_tt = N_TT(pi), lambda_tt preserves the energy of Eq. 19.
     AzimuthalFit fit;
     fit.count = 1;
     fit.lobes[0] = energy_preserving_lobe(azimuthal_energy(marschner, tables.h_tt, theta_d, eta, 1),
@@ -250,8 +250,8 @@ AzimuthalFit fit_trt(const MarschnerBcsdf& marschner, const CircularGaussianTabl
     const double i_c = circular_gaussian_integral(w_c);
     AzimuthalFit fit;
     if (eta_prime < 2.0) {
-        // Eq. 20-21: caustic lobes of width w_c at +-phi*, phi* = phi(h*), h* = sqrt((4 - eta'^2) / 3), and
-        // a residue lobe of bandwidth phi* at 0; b_1 preserves the energy (Eq. 23).
+        // Xu 2011 Eq. 20-21: caustic lobes of width w_c at +-phi*, phi* = phi(h*), h* = sqrt((4 - eta'^2) / 3), and
+        // a residue lobe of bandwidth phi* at 0; b_1 preserves the energy (Xu 2011 Eq. 23).
         const double h_star = std::sqrt((4.0 - eta_prime * eta_prime) / 3.0);
         const double phi_star =
             std::abs(wrap_angle(4.0 * std::asin(h_star / eta_prime) - 2.0 * std::asin(h_star) + 2.0 * kPi));

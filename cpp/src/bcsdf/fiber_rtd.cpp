@@ -64,16 +64,16 @@ LobeValues FiberRtdBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo,
     const double inv_cos = 1.0 / std::max(di.cos_theta, kMinCos);
     LobeValues out;
     out.count = 3;
-    // Eq. 8, R: M = G(beta_R, theta_h), N = 1 / (2 pi).
+    // Huang 2025 Eq. 8, R: M = G(beta_R, theta_h), N = 1 / (2 pi).
     const double m_r = tilted_deon_longitudinal(di.sin_theta, di.cos_theta, dout.sin_theta, dout.cos_theta,
                                                 lobes_[0].shift, lobes_[0].variance + spread.longitudinal_variance);
     out.value[0] = (m_r * inv_cos / (2.0 * kPi)) * (spread.attenuation * a[0]);
-    // Eq. 8, TT: M = G(beta_TT^M, theta_h), N = G(beta_TT^N, phi - pi).
+    // Huang 2025 Eq. 8, TT: M = G(beta_TT^M, theta_h), N = G(beta_TT^N, phi - pi).
     const double m_tt = tilted_deon_longitudinal(di.sin_theta, di.cos_theta, dout.sin_theta, dout.cos_theta,
                                                  lobes_[1].shift, lobes_[1].variance + spread.longitudinal_variance);
     const double n_tt = wrapped_gaussian(angles.phi - kPi, azimuthal_variance_ + spread.azimuthal_variance);
     out.value[1] = (m_tt * n_tt * inv_cos) * (spread.attenuation * a[1]);
-    // Eq. 8, D: uniform over the sphere.
+    // Huang 2025 Eq. 8, D: uniform over the sphere.
     out.value[2] = (1.0 / (kPi * kPi)) * (spread.attenuation * a[2]);
     return out;
 }

@@ -37,7 +37,7 @@ void HairParams::validate() const {
     require(coat >= 0.0 && coat <= 1.0, "coat", coat, "must be in [0, 1]");
     // Xu et al. 2011, Eq. 24: eta*_1,2 = 2 (eta - 1) a^(+-2) - eta + 2 stays > 1 iff a^2 and 1/a^2 exceed 1/2.
     require(eccentricity > std::numbers::sqrt2 / 2.0 && eccentricity < std::numbers::sqrt2, "eccentricity",
-            eccentricity, "must be in (1/sqrt(2), sqrt(2)) so that eta* of Eq. 24 stays > 1");
+            eccentricity, "must be in (1/sqrt(2), sqrt(2)) so that eta* of Eq. 24 stays > 1");  // Xu 2011 Eq. 24
     require(std::isfinite(weight_r) && weight_r >= 0.0, "weight_r", weight_r, "must be finite and >= 0");
     require(std::isfinite(weight_tt) && weight_tt >= 0.0, "weight_tt", weight_tt, "must be finite and >= 0");
     require(std::isfinite(weight_trt) && weight_trt >= 0.0, "weight_trt", weight_trt, "must be finite and >= 0");

@@ -94,7 +94,7 @@ MarschnerBcsdf::MarschnerBcsdf(const HairParams& params, const MarschnerCaustic&
         throw Error("caustic_max_window must be in (0, 2], got " + std::to_string(caustic_.max_window));
 
     // Integral of N_p over phi = 1/2 integral of A_p over h (Xu et al. 2011, Eq. 9), the largest over
-    // the indices Eq. 24 sweeps, so that the furnace below bounds the eccentric fibre too.
+    // the indices Xu 2011 Eq. 24 sweeps, so that the furnace below bounds the eccentric fibre too.
     const std::array<double, 3> weight{params_.weight_r, params_.weight_tt, params_.weight_trt};
     std::vector<std::array<glm::dvec3, 3>> lobe_energy(kLobeEnergySamples);
     for (int k = 0; k < kLobeEnergySamples; ++k) {

@@ -120,7 +120,7 @@ glm::dvec3 CircularGaussianMarschner::azimuthal(int p, double phi, double theta_
             double power = 1.0;
             for (int k = 0; k < 7; ++k, power *= x) sum += c[k] * power;
         } else {
-            // Eq. 14 by table lookup; outside the table's lambda' range the nearest column is rescaled by
+            // Xu 2011 Eq. 14 by table lookup; outside the table's lambda' range the nearest column is rescaled by
             // the lobe integral (exact in the narrow limit, where C_k -> integral |cos^k(phi/2)|).
             const Table2d& table = tables_->cosine;
             const double clamped = std::clamp(lambda_prime, table.begin0, table.end0);
@@ -166,7 +166,7 @@ glm::dvec3 CircularGaussianMarschner::single_scattering(const SrbfLight& light, 
     const double delta_phi = wrap_angle(dout.phi - dj.phi);
     const HairParams& params = marschner_.params();
     const std::array<double, 3> weight{params.weight_r, params.weight_tt, params.weight_trt};
-    // Eq. 25-26 approximated: eta* at the light's centre, phi_h = (phi_o + phi_j) / 2.
+    // Xu 2011 Eq. 25-26 approximated: eta* at the light's centre, phi_h = (phi_o + phi_j) / 2.
     const double eta_trt = marschner_.eccentric_eta(0.5 * (dout.phi + dj.phi));
     const auto lobes = marschner_.lobe_shapes();
     glm::dvec3 sum(0.0);
@@ -185,7 +185,7 @@ glm::dvec3 CircularGaussianMarschner::single_scattering(const SrbfLight& light, 
             const double theta_d = 0.5 * (dout.theta - theta_i);
             const double cos_i = std::cos(theta_i);
             const double cos_d = std::max(std::cos(theta_d), kMinCos);
-            // Eq. 11: the azimuthal SRBF bandwidth lambda' = lambda / sqrt(cos(theta_i) cos(theta_j)).
+            // Xu 2011 Eq. 11: the azimuthal SRBF bandwidth lambda' = lambda / sqrt(cos(theta_i) cos(theta_j)).
             const double lambda_prime = lambda / std::sqrt(std::max(cos_i * std::cos(dj.theta), 1e-12));
             values[s] = (cos_i * cos_i / (cos_d * cos_d)) *
                         azimuthal(p, delta_phi, theta_d, p == 2 ? eta_trt : params.eta, lambda_prime);

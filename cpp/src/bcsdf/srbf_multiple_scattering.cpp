@@ -69,7 +69,7 @@ double wrapped_arc_mass(double mu, double s, double a, double b) {
     return mass;
 }
 
-// The periodic triangle max(0, pi - |x|) (Eq. 30's overlap of the two half-circle boxes) convolved
+// The periodic triangle max(0, pi - |x|) (Xu 2011 Eq. 30's overlap of the two half-circle boxes) convolved
 // with the unit wrapped normal of deviation s: each ramp max(0, y) becomes y Phi(y / s) + s phi(y / s).
 double wrapped_triangle(double x, double s) {
     const auto ramp = [s](double y) {
@@ -92,7 +92,7 @@ GaussianProduct gaussian_product(double a, double va, double b, double vb) {
     return {gaussian(a - b, sum), (a * vb + b * va) / sum, va * vb / sum};
 }
 
-// Eq. 11: the azimuthal SRBF bandwidth lambda' = lambda / sqrt(cos(theta_i) cos(theta_j)).
+// Xu 2011 Eq. 11: the azimuthal SRBF bandwidth lambda' = lambda / sqrt(cos(theta_i) cos(theta_j)).
 double azimuthal_bandwidth(double lambda, double cos_theta_i, double cos_theta_j) {
     return lambda / std::sqrt(std::max(cos_theta_i * cos_theta_j, 1e-12));
 }
@@ -207,15 +207,15 @@ SrbfMultipleScattering::SrbfMultipleScattering(const CircularGaussianMarschner& 
 glm::dvec3 SrbfMultipleScattering::global_azimuthal(int p, double delta_phi, double theta_d, double eta,
                                                     double lambda_prime) const {
     if (p == 0) {
-        // N_R is no circular Gaussian: Gauss-Legendre over the window of Eq. 12's convolution (Eq. 14).
+        // N_R is no circular Gaussian: Gauss-Legendre over the window of Xu 2011 Eq. 12's convolution (Eq. 14).
         const GaussLegendre& rule = gauss_legendre();
         glm::dvec3 sum(0.0);
         for (int g = 0; g < kLegendreNodes; ++g)
             sum += rule.w[g] * fibre_.azimuthal(0, delta_phi - 0.5 * kPi * rule.x[g], theta_d, eta, lambda_prime);
         return 0.5 * sum;  // (1/pi) (pi/2) sum of w_g f(u_g)
     }
-    // Eq. 16 / 20: lobes b g^c(phi; mu, lambda_t); their convolution with g^c(.; 0, lambda') has mass
-    // b I(lambda_t) I(lambda') and, read as wrapped normals, the sum of the two variances; Eq. 28 is its
+    // Xu 2011 Eq. 16 / 20: lobes b g^c(phi; mu, lambda_t); their convolution with g^c(.; 0, lambda') has mass
+    // b I(lambda_t) I(lambda') and, read as wrapped normals, the sum of the two variances; Xu 2011 Eq. 28 is its
     // mass on the half circle |phi - delta_phi| < pi/2, over pi.
     const MarschnerBcsdf& marschner = fibre_.marschner();
     const AzimuthalFit fit = p == 1 ? fit_tt(marschner, fibre_.tables(), theta_d, eta)
@@ -241,7 +241,7 @@ MultipleScatteringRadiance SrbfMultipleScattering::eval(const SrbfLight& light, 
     check_light(light);
     check_forward(forward);
     MultipleScatteringRadiance out;
-    const glm::dvec3 weight_j = d_f_ * forward.transmittance * light.coefficient;  // Eq. 3: d_f T_f L_j
+    const glm::dvec3 weight_j = d_f_ * forward.transmittance * light.coefficient;  // Xu 2011 Eq. 3: d_f T_f L_j
     if (!(glm::dot(weight_j, weight_j) > 0.0)) return out;
 
     const FiberDirection dout = fiber_direction(wo);
@@ -249,18 +249,18 @@ MultipleScatteringRadiance SrbfMultipleScattering::eval(const SrbfLight& light, 
     const double lambda = light.lambda;
     const double delta_phi = wrap_angle(dout.phi - dj.phi);
     const double cos_j = dj.cos_theta;
-    // Eq. 5 and 11: in theta the light is sqrt(pi) lambda N(theta; theta_j, lambda^2 / 2) (g^c ~ g, Sec. 4.2),
+    // Xu 2011 Eq. 5 and 11: in theta the light is sqrt(pi) lambda N(theta; theta_j, lambda^2 / 2) (g^c ~ g, Sec. 4.2),
     // and the forward spread widens it to variance lambda^2 / 2 + sigma_f-bar^2.
     const double spread_scale = std::sqrt(kPi) * lambda;
     const double spread_variance = 0.5 * lambda * lambda + forward.variance;
     const int m = fibre_.quadrature_order();
     const HairParams& params = fibre_.marschner().params();
     const std::array<double, 3> lobe_weight{params.weight_r, params.weight_tt, params.weight_trt};
-    // Eq. 25-26 approximated as in single scattering: eta* at phi_h = (phi_o + phi_j) / 2.
+    // Xu 2011 Eq. 25-26 approximated as in single scattering: eta* at phi_h = (phi_o + phi_j) / 2.
     const double eta_trt = fibre_.marschner().eccentric_eta(0.5 * (dout.phi + dj.phi));
     const auto lobes = fibre_.marschner().lobe_shapes();
 
-    // Sec. 4.3.1, Eq. 27: the spread times M_t is one Gaussian in theta_i; the rest, cos^2(theta_i) /
+    // Sec. 4.3.1, Xu 2011 Eq. 27: the spread times M_t is one Gaussian in theta_i; the rest, cos^2(theta_i) /
     // cos^2(theta_d) N_t^G, by the linear quadrature of Sec. 4.2.2.
     glm::dvec3 global(0.0);
     for (int p = 0; p < 3; ++p) {
@@ -275,9 +275,9 @@ MultipleScatteringRadiance SrbfMultipleScattering::eval(const SrbfLight& light, 
     }
     out.global = weight_j * global / glm::max(fibre_.marschner().energy(dout.theta), glm::dvec3(1.0));
 
-    // Sec. 4.3.2, Eq. 29-31: Delta_b and sigma_b averaged over theta_i in theta_j -+ sigma_f (Eq. 31,
+    // Sec. 4.3.2, Xu 2011 Eq. 29-31: Delta_b and sigma_b averaged over theta_i in theta_j -+ sigma_f (Eq. 31,
     // sigma_f the spread's bandwidth) so that the backscatter lobe is one Gaussian; A_b cos^2(theta_i) /
-    // cos^2(theta_d) by linear quadrature; the azimuthal factor is Eq. 30's triangle (pi - |phi_o - phi_j|)
+    // cos^2(theta_d) by linear quadrature; the azimuthal factor is Xu 2011 Eq. 30's triangle (pi - |phi_o - phi_j|)
     // / pi^2 convolved with the light's g^c(.; 0, lambda').
     const double sigma_f = std::sqrt(2.0 * spread_variance);
     const BackscatterTable::Terms averaged =
@@ -326,7 +326,7 @@ std::vector<MultipleScatteringRadiance> srbf_multiple_scattering_reference(
         for (int k = 0; k < nt; ++k)
             for (int l = 0; l < np; ++l)
                 srbf_grid[size_t(k) * np + l] = srbf(fiber_frame_direction(theta[k], phi[l]), lights[j].direction, lights[j].lambda);
-        // Eq. 5's s_f: the light arriving from phi_d lands on |phi_i - phi_d| <= pi/2 (ends count half).
+        // Xu 2011 Eq. 5's s_f: the light arriving from phi_d lands on |phi_i - phi_d| <= pi/2 (ends count half).
         const int half = np / 4;
         for (int k = 0; k < nt; ++k)
             for (int l = 0; l < np; ++l) {

@@ -27,7 +27,7 @@ constexpr uint64_t kStrandLodKey = 0x6c6f64;
 
 // A bundle's interpolated layer data at one root: control points of the strand curve and the
 // styling frame and w on every layer (hair-meshes-realtime.txt Sec. 2.2 and 3.4). The frame is made
-// unit on each layer (w_axis by Eq. 4) and interpolated linearly between layers without
+// unit on each layer (w_axis by Bhokare 2024 Eq. 4) and interpolated linearly between layers without
 // renormalising, as the paper's trilinear u- and v-texture lookups do; the per-vertex square roots
 // would double the cost of styling.
 struct LayerSamples {
@@ -61,7 +61,7 @@ struct LayerSamples {
             }
             u[layer] = unit_or_zero(u[layer]);
             v[layer] = unit_or_zero(v[layer]);
-            w_axis[layer] = unit_or_zero(glm::cross(u[layer], v[layer]));  // Eq. 4
+            w_axis[layer] = unit_or_zero(glm::cross(u[layer], v[layer]));  // Bhokare 2024 Eq. 4
         }
     }
 };
@@ -167,7 +167,7 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
     if (frames.u.size() != mesh.positions.size() || frames.corner_uv.size() != mesh.corner_count())
         throw Error("styling frames do not belong to this hair mesh");
 
-    // Strand LoD (Eq. 8) per bundle, then the strand -> (bundle, local index) table.
+    // Strand LoD (Bhokare 2024 Eq. 8) per bundle, then the strand -> (bundle, local index) table.
     const std::vector<int64_t> full_counts = bundle_strand_counts(mesh, options.count);
     const size_t faces = mesh.face_count();
     std::vector<int64_t> lod_counts(faces);
@@ -189,7 +189,7 @@ void generate_strands(const HairMesh& mesh, const StylingFrames& frames, const R
             strand_local.push_back(static_cast<int32_t>(j));
         }
 
-    // Vertex LoD (Eq. 9, 10, 12): every strand gets 2^e + 1 vertices.
+    // Vertex LoD (Bhokare 2024 Eq. 9, 10, 12): every strand gets 2^e + 1 vertices.
     const VertexLod lod = vertex_lod(options.vertices - 1, options.vertex_lod, options.lod_transition);
     const size_t segments = size_t{1} << lod.exponent, points_per_strand = segments + 1;
     const size_t strand_count = strand_bundle.size();

@@ -48,9 +48,10 @@ VertexLod vertex_lod(int max_segments, float level, float transition) {
     // log2(L n s) in double: E + log2(L), exact for L = 1.
     const double x = std::bit_width(static_cast<unsigned>(max_segments)) - 1 + std::log2(static_cast<double>(level));
     VertexLod lod;
-    lod.exponent = std::max(0, static_cast<int>(std::ceil(x)));         // Eq. 9
-    const int next = std::max(0, static_cast<int>(std::ceil(x - transition)));  // Eq. 10
-    if (lod.exponent > next) lod.gamma = static_cast<float>(std::clamp(1.0 - (x - next) / transition, 0.0, 1.0));  // Eq. 12
+    lod.exponent = std::max(0, static_cast<int>(std::ceil(x)));         // Bhokare 2024 Eq. 9
+    const int next = std::max(0, static_cast<int>(std::ceil(x - transition)));  // Bhokare 2024 Eq. 10
+    // Bhokare 2024 Eq. 12
+    if (lod.exponent > next) lod.gamma = static_cast<float>(std::clamp(1.0 - (x - next) / transition, 0.0, 1.0));
     return lod;
 }
 
@@ -61,7 +62,7 @@ void morph_vertex_lod(std::span<glm::vec3> points, std::span<glm::vec3> tangents
     // Not renormalised: linear interpolation of the morphed tangents along the strand then matches
     // the coarser level exactly at gamma = 1 (renderers normalise per fragment anyway).
     for (size_t k = 0; k < points.size(); ++k) tangents[k] = (1.0f - gamma) * tangents[k] + gamma * coarse[k];
-    for (size_t k = 1; k + 1 < points.size(); k += 2)  // Eq. 11
+    for (size_t k = 1; k + 1 < points.size(); k += 2)  // Bhokare 2024 Eq. 11
         points[k] = (1.0f - gamma) * points[k] + gamma * 0.5f * (points[k - 1] + points[k + 1]);
 }
 

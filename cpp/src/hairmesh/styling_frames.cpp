@@ -22,20 +22,20 @@ struct DirectionSum {
     bool usable() const {
         const double lu = glm::length(u), lv = glm::length(v);
         if (!(lu > kCancellation * u_scale && lv > kCancellation * v_scale)) return false;
-        // u and v must span a plane for Eq. 4 to define w.
+        // u and v must span a plane for Bhokare 2024 Eq. 4 to define w.
         return glm::length(glm::cross(u / lu, v / lv)) > kCancellation;
     }
 };
 
-// Adds the Eq. 3 directions of one corner triangle (p0 the vertex, p1 next, p2 previous),
-// weighted by its texture-space area A_i (Eq. 1).
+// Adds the Bhokare 2024 Eq. 3 directions of one corner triangle (p0 the vertex, p1 next, p2 previous),
+// weighted by its texture-space area A_i (Bhokare 2024 Eq. 1).
 void add_corner(DirectionSum& sum, const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2,
                 const glm::dvec2& uv0, const glm::dvec2& uv1, const glm::dvec2& uv2) {
-    // Eq. 2: T_i = [uv1 - uv0, uv2 - uv0] (columns).
+    // Bhokare 2024 Eq. 2: T_i = [uv1 - uv0, uv2 - uv0] (columns).
     const glm::dvec2 c1 = uv1 - uv0, c2 = uv2 - uv0;
     const double det = c1.x * c2.y - c2.x * c1.y;
     if (!(std::abs(det) > kFlatUv * glm::length(c1) * glm::length(c2))) return;
-    // Eq. 3: [u_i v_i] = [p1 - p0, p2 - p0] T_i^-1, with T_i^-1 = [[c2.y, -c2.x], [-c1.y, c1.x]] / det.
+    // Bhokare 2024 Eq. 3: [u_i v_i] = [p1 - p0, p2 - p0] T_i^-1, with T_i^-1 = [[c2.y, -c2.x], [-c1.y, c1.x]] / det.
     const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
     const glm::dvec3 u_i = (e1 * c2.y - e2 * c1.y) / det;
     const glm::dvec3 v_i = (e2 * c1.x - e1 * c2.x) / det;
@@ -48,7 +48,7 @@ void add_corner(DirectionSum& sum, const glm::dvec3& p0, const glm::dvec3& p1, c
 
 // A frame from object space alone for a root vertex whose uv gives none (a pole where the uv
 // directions around it cancel, or uv triangles that all collapse): u the world axis least aligned
-// with the normal n, made tangent, and v = n x u, so that w = u x v = n (Eq. 4) points out of the scalp.
+// with the normal n, made tangent, and v = n x u, so that w = u x v = n (Bhokare 2024 Eq. 4) points out of the scalp.
 void object_space_frame(const glm::dvec3& normal, glm::vec3& u, glm::vec3& v) {
     const glm::dvec3 n = glm::normalize(normal);
     const glm::dvec3 a = std::abs(n.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);

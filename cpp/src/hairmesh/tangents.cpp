@@ -11,14 +11,14 @@ namespace hairlod {
 
 namespace {
 
-// Eq. 5 / 6: reflect the neighbour tangent t about the end segment direction q.
+// Bhokare 2024 Eq. 5 / 6: reflect the neighbour tangent t about the end segment direction q.
 glm::vec3 mirrored_end(const glm::vec3& q, const glm::vec3& t) {
     if (q == glm::vec3(0.0f)) return t;
     if (t == glm::vec3(0.0f)) return q;
     return unit_or_zero(2.0f * q * glm::dot(t, q) - t);
 }
 
-// The end tangents of Eq. 5 and 6 (or, for a single segment, its direction at both ends) at indices
+// The end tangents of Bhokare 2024 Eq. 5 and 6 (or, for a single segment, its direction at both ends) at indices
 // 0 and last, from the interior tangents at stride and last - stride.
 void end_tangents(const glm::vec3& q_first, const glm::vec3& q_last, std::span<glm::vec3> tangents, size_t last,
                   size_t stride) {

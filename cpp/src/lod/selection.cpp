@@ -169,7 +169,7 @@ void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry
         uint8_t* levels = selection.level.data() + c * segments;
         for (size_t s = 0; s < segments; ++s) {
             int level = std::min<int>(levels[s], context.finest);
-            // Eq. 16: w_cur > eps -> finer; w_cur- (one level coarser) <= eps -> coarser. Widths grow
+            // Huang 2025 Eq. 16: w_cur > eps -> finer; w_cur- (one level coarser) <= eps -> coarser. Widths grow
             // with coarseness, so the steps go one way and stop at the coarsest level that fits.
             int direction = 0;
             if (level < context.finest && context.segment_width(c, level, s) > width_px) direction = 1;

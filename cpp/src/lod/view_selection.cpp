@@ -40,7 +40,7 @@ bool ViewSelection::update(const Camera& camera, float width_px) {
         return true;
     }
     const std::vector<uint8_t> level = selection_.level, visible = selection_.visible;
-    // Eq. 16 run until it changes nothing: continuous motion moves a segment one level, as one step
+    // Huang 2025 Eq. 16 run until it changes nothing: continuous motion moves a segment one level, as one step
     // would, and a view that jumped shows its levels on its first frame instead of coarse ones
     // refining over several.
     select_deferred_in_place(*asset_, geometry_, camera, width_px, selection_, DeferredSteps::until_stable);

@@ -108,7 +108,7 @@ public:
         v.self_shadowed = hit.kind == CurveKind::Thick && method_ != Method::LodNoShadowing;
         if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
-            // The first strand the ray met inside the hair, and the strands behind it (Eq. 10's A_1+).
+            // The first strand the ray met inside the hair, and the strands behind it (Huang 2025 Eq. 10's A_1+).
             v.hair_count = 1.0 + hit.strands_behind;
         }
         return v;
@@ -122,9 +122,9 @@ public:
     // hit. Two strips of width 2 r from one point at an in-plane angle phi overlap over an area of
     // (2 r)^2 / (2 sin phi), so the light meets mu r / sin(phi) fewer strands (mu: strands met per
     // unit in-plane length), at most the part of its path inside the corridor; none when it arrives
-    // from beyond the hit (cos phi <= 0). This is the shadowing that Eq. 12-15 of
+    // from beyond the hit (cos phi <= 0). This is the shadowing that Huang 2025 Eq. 12-15 of
     // hair-lod-aggregated-bcsdf.txt estimate for a renderer shading the hair's surface (S grows with
-    // phi and falls with rho), so S is 1 here (rho = 1 in Eq. 15: open fraction 0).
+    // phi and falls with rho), so S is 1 here (rho = 1 in Huang 2025 Eq. 15: open fraction 0).
     double light_crossings(const Vertex& v, const HairScene& scene, const SurfaceHit& hit, const glm::dvec3& wi_world) const {
         if (!v.self_shadowed) return 0.0;
         const HairPassage passage = scene.own_hair_passage(hit, glm::vec3(wi_world));

@@ -1,7 +1,7 @@
 """Real-time LoD preview of hair in the 3D viewport (hair-lod-aggregated-bcsdf.txt Sec. 5.2).
 
 For every object with an LoD asset attached (``attach``), a POST_VIEW draw handler selects levels for
-each viewport's camera with the C++ selection (the initial selection, then Eq. 16 from the previous
+each viewport's camera with the C++ selection (the initial selection, then Huang 2025 Eq. 16 from the previous
 levels run until stable, kept per view: a smooth camera move changes a level by one between frames, a
 jump gets its levels on its first frame) and draws camera-facing strips for the selected thick hairs and lines for the
 selected strands. Vertex and index buffers are built once per asset: each level is cut into blocks

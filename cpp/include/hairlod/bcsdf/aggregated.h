@@ -4,7 +4,7 @@
 //   f = S(phi, theta_d) * sum over p in {R^, TT^, D^, B^} of A_p M_p(theta_h) N_p(phi).
 //
 // Conventions (see FiberRtdBcsdf): theta_d is Marschner's half difference (theta_o - theta_i) / 2,
-// which the paper's tables are functions of; variances of Eq. 9 are in theta_h, so they enter the
+// which the paper's tables are functions of; variances of Huang 2025 Eq. 9 are in theta_h, so they enter the
 // unit-area-in-theta_i lobes multiplied by 4. The per-hair terms a_F, a_B, the forward azimuthal
 // variance sigma_f^2, A_1, A_3, Delta_b and sigma_b are tabulated over theta_d from the single fibre by
 // numerical integration (dual_scattering.h) when the model is built.
@@ -19,7 +19,7 @@
 
 namespace hairlod::bcsdf {
 
-// Paper constants: d_1+ of Eq. 10 and c_m of Eq. 13.
+// Paper constants: d_1+ of Huang 2025 Eq. 10 and c_m of Eq. 13.
 inline constexpr double kSideScatterWeight = 0.6;
 inline constexpr double kMultipleShadowing = 0.2;
 
@@ -35,9 +35,9 @@ struct ClusterState {
     // A path tracer that shades the first strand its ray meets inside the thick hair and traces light
     // between hairs (render/integrator.cpp) knows how many of the hair's strands the light crossed to
     // reach it: `light_crossings`, a Poisson mean k. Sec. 4 takes n from the ray that carries the
-    // incident radiance; with k known, R^, TT^ and D^ have the attenuation of Eq. 7 averaged over the
-    // Poisson count, E[a_F^k] = exp(-k (1 - a_F)), and the spread of Eq. 9 with n - 1 = k; hair_count
-    // then counts the shaded strand and the strands behind it, and Eq. 10's A_1+ series runs over the
+    // incident radiance; with k known, R^, TT^ and D^ have the attenuation of Huang 2025 Eq. 7 averaged over the
+    // Poisson count, E[a_F^k] = exp(-k (1 - a_F)), and the spread of Huang 2025 Eq. 9 with n - 1 = k; hair_count
+    // then counts the shaded strand and the strands behind it, and Huang 2025 Eq. 10's A_1+ series runs over the
     // hair_count - 1 strands behind (none behind, no A_1+); B^ keeps only A_1+ (the backscatter of the
     // hairs around, A_1 + A_3, is on the traced paths).
     bool shaded_inside = false;
@@ -71,7 +71,7 @@ double hair_hit_probability(double density, double ray_length, double hair_total
 // path add up.
 double expected_hairs_met(double density, double ray_length, double hair_total, double major_axis, double minor_axis);
 
-// Eq. 10: A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) in closed form (n need not be an integer).
+// Huang 2025 Eq. 10: A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) in closed form (n need not be an integer).
 glm::dvec3 side_scatter_series(const glm::dvec3& a_f, const glm::dvec3& a_b, double hair_count);
 
 // The energy budget of B^ seen from an inclination with per-hair terms `seen`:
@@ -81,7 +81,7 @@ glm::dvec3 back_lobe_budget(const DualScatteringSample& seen, double hair_count)
 // The per-hair terms of the single fibre over theta_d in [-pi/2, pi/2] (uniform samples).
 struct AggregatedTable {
     std::vector<DualScatteringSample> samples;
-    std::vector<glm::dvec3> forward_azimuthal_variance;  // sigma_f^2 of Eq. 9, around phi = pi
+    std::vector<glm::dvec3> forward_azimuthal_variance;  // sigma_f^2 of Huang 2025 Eq. 9, around phi = pi
     // Linear interpolation at theta_d.
     DualScatteringSample sample(double theta_d) const;
     glm::dvec3 azimuthal_variance(double theta_d) const;
@@ -97,18 +97,18 @@ public:
     AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
                     std::shared_ptr<const AggregatedTable> table = nullptr);
 
-    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Eq. 15; B^'s
+    // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Huang 2025 Eq. 15; B^'s
     // attenuation is capped by the energy budget 1 - a_F^(n-1) (a_f + a_b) at theta_o, so the lossless model's
     // white furnace stays <= 1 + 1e-3 for every n >= 1 and rho.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
     // The same at another cluster state (a renderer's n and rho per hit): equal to the model built with
-    // `cluster`, without building one (the state enters only Eq. 7, 9, 10 and 12-15). Throws Error unless
+    // `cluster`, without building one (the state enters only Huang 2025 Eq. 7, 9, 10 and 12-15). Throws Error unless
     // hair_count >= 1 and density is in (0, 1].
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "aggregated"; }
 
-    // Eq. 12-15 for |phi| < pi/2 (1 otherwise); the probabilities are clamped to [0, 1].
+    // Huang 2025 Eq. 12-15 for |phi| < pi/2 (1 otherwise); the probabilities are clamped to [0, 1].
     glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f) const;
     static glm::dvec3 shadowing_masking(double phi, const glm::dvec3& a_f, double density);
     const std::shared_ptr<const AggregatedTable>& table() const { return table_; }

@@ -1,7 +1,7 @@
 #pragma once
 // Baking the lookup tables the viewport shader needs to evaluate the aggregated BCSDF
 // (hair-lod-aggregated-bcsdf.txt, Eq. 1 and 6-15) with a few texture fetches. The longitudinal and
-// azimuthal lobes M_p, N_p are closed forms (Eq. 8; M_p in the rough-cone form of fiber_rtd.h) and are
+// azimuthal lobes M_p, N_p are closed forms (Huang 2025 Eq. 8; M_p in the rough-cone form of fiber_rtd.h) and are
 // evaluated in the shader; only the terms without a closed form are baked: the fibre's lobe
 // attenuations A_R, A_TT, A_D over theta_o, the dual-scattering terms over theta_d, and the aggregated
 // attenuations over (theta_d, n) for n up to the largest hair count in use.
@@ -51,7 +51,7 @@ std::vector<BakedTable> bake_aggregated(const HairParams& params, const BakeOpti
 struct CircularGaussianTables;
 
 // Xu et al. 2011's global tables (Sec. 5) as BakedTables: C_k (Eq. 14, k = 0..6) over (phi, lambda'),
-// H_k^TT (Eq. 19) and H_k^TRT (Eq. 23), k = 0, 2, 4, over (theta_d, eta'); lambda' and eta' log-uniform.
+// H_k^TT (Xu 2011 Eq. 19) and H_k^TRT (Eq. 23), k = 0, 2, 4, over (theta_d, eta'); lambda' and eta' log-uniform.
 std::vector<BakedTable> bake_circular_gaussian(const CircularGaussianTables& tables);
 
 }  // namespace hairlod::bcsdf

@@ -1,7 +1,7 @@
 #pragma once
 // Circular Gaussians and the 1D representation of Marschner's azimuthal functions (Xu et al. 2011,
 // circular-gaussian-hair-env-lighting.txt, Sec. 4.2 and 5): g^c, its exact integrals, the N_TT and
-// N_TRT fits of Eq. 16-23, the precomputed tables C_k (Eq. 14) and H_k^TT, H_k^TRT (Eq. 19, 23).
+// N_TRT fits of Xu 2011 Eq. 16-23, the precomputed tables C_k (Eq. 14) and H_k^TT, H_k^TRT (Eq. 19, 23).
 #include <array>
 #include <memory>
 #include <vector>
@@ -38,7 +38,7 @@ struct AzimuthalFit {
     std::array<CircularGaussianLobe, 3> lobes{};
     int count = 0;
     glm::dvec3 eval(double phi) const;
-    // Integral of g^c(x; 0, lambda_j') N_t(phi - x) over x (Eq. 12), in closed form.
+    // Integral of g^c(x; 0, lambda_j') N_t(phi - x) over x (Xu 2011 Eq. 12), in closed form.
     glm::dvec3 convolve(double phi, double lambda_j) const;
 };
 
@@ -58,7 +58,7 @@ struct Table2d {
 
 // Xu et al. 2011, Sec. 5: the global tables, computed once (in parallel) at the given resolutions.
 struct CircularGaussianTables {
-    // C_k(lambda', phi), k = 0..6 (channels), lambda' log-uniform in [1e-3, 10], phi in [0, pi] (Eq. 14).
+    // C_k(lambda', phi), k = 0..6 (channels), lambda' log-uniform in [1e-3, 10], phi in [0, pi] (Xu 2011 Eq. 14).
     Table2d cosine;
     // H_k^TT and H_k^TRT, k = 0, 2, 4 (channels), over eta log-uniform in [1, 10] and theta_d in [0, pi/2].
     Table2d h_tt, h_trt;
@@ -71,10 +71,10 @@ std::shared_ptr<const CircularGaussianTables> default_circular_gaussian_tables()
 
 // Xu et al. 2011, Eq. 14 integrand's definition, by adaptive quadrature (the tables' ground truth).
 double cosine_gaussian_integral(int k, double lambda, double phi);
-// Eq. 19 and 23: H_k^TT = integral of (1 - F)^2 h^k dh, H_k^TRT = integral of (1 - F)^2 F h^k dh.
+// Xu 2011 Eq. 19 and 23: H_k^TT = integral of (1 - F)^2 h^k dh, H_k^TRT = integral of (1 - F)^2 F h^k dh.
 std::array<double, 3> h_integrals(double eta, double theta_d, bool trt);
 
-// Eq. 16-17 (TT) and Eq. 20-23 (TRT, three lobes below eta' = 2, one above, blended over
+// Xu 2011 Eq. 16-17 (TT) and Eq. 20-23 (TRT, three lobes below eta' = 2, one above, blended over
 // [2, 2 + Delta eta'] as in the paper) for `marschner` at theta_d with index eta (eta* for TRT).
 AzimuthalFit fit_tt(const MarschnerBcsdf& marschner, const CircularGaussianTables& tables, double theta_d, double eta);
 AzimuthalFit fit_trt(const MarschnerBcsdf& marschner, const CircularGaussianTables& tables, double theta_d,

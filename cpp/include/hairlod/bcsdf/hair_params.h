@@ -21,7 +21,7 @@ struct HairParams {
     double weight_trt = 1.0;                          // TRT and every higher-order lobe (TRRT+, D)
 
     // Throws hairlod::Error naming the first invalid parameter (eta <= 1, negative or NaN absorption,
-    // beta outside (0, 1], coat outside [0, 1], eccentricity that makes Eq. 24's eta* <= 1, ...).
+    // beta outside (0, 1], coat outside [0, 1], eccentricity that makes Xu 2011 Eq. 24's eta* <= 1, ...).
     void validate() const;
 };
 
@@ -42,7 +42,7 @@ struct LongitudinalLobe {
 };
 
 // Chiang et al. 2016 Sec. 4 / Cycles: R {-alpha, v_R}, TT {alpha/2, v/4}, TRT {2 alpha, 4 v},
-// TRRT+ {0, 4 v}, with v = Eq. 7 of beta_m and v_R = Eq. 7 of primary_roughness().
+// TRRT+ {0, 4 v}, with v = Chiang 2016 Eq. 7 of beta_m and v_R = Eq. 7 of primary_roughness().
 std::array<LongitudinalLobe, 4> chiang_lobes(const HairParams& params);
 
 // Marschner et al. 2003, Table 1 (realtime-pbr-hair-thesis.txt Table 2.2) with Marschner's tilt

@@ -1,6 +1,6 @@
 #pragma once
-// Marschner et al. 2003 as written in circular-gaussian-hair-env-lighting.txt Sec. 4.1 (Xu et al.
-// 2011, Eq. 6-10 and 24): S_t = M_t(theta_h) N_t(eta', theta_d, phi) / cos^2(theta_d), t in R, TT, TRT.
+// Marschner et al. 2003 as written in circular-gaussian-hair-env-lighting.txt Sec. 4.1
+// (Xu et al. 2011, Eq. 6-10 and 24): S_t = M_t(theta_h) N_t(eta', theta_d, phi) / cos^2(theta_d), t in R, TT, TRT.
 //
 // Decision (energy): as written, the lossless fibre returns more than it receives where
 // cos^2(theta_i) / cos^2(theta_d) exceeds 1 over a lobe: 1.12 at theta_o = -1.5 with alpha = 2 deg,
@@ -42,17 +42,17 @@ public:
     std::string_view name() const override { return "marschner"; }
 
     // Xu et al. 2011, Eq. 9-10: N_p(phi) at relative azimuth phi and difference angle theta_d, with
-    // index eta (TRT uses eta*(phi_h) of Eq. 24 through eval_lobes); RGB.
+    // index eta (TRT uses eta*(phi_h) of Xu 2011 Eq. 24 through eval_lobes); RGB.
     glm::dvec3 azimuthal(int p, double phi, double theta_d, double eta) const;
     // Xu et al. 2011, Eq. 9 summed over the roots of the cubic, without the caustic treatment (infinite
-    // at a TRT caustic): what the circular Gaussian fits sample (Eq. 16, 21).
+    // at a TRT caustic): what the circular Gaussian fits sample (Xu 2011 Eq. 16, 21).
     glm::dvec3 root_azimuthal(int p, double phi, double theta_d, double eta) const;
     // Xu et al. 2011, Eq. 10: A_p at offset h.
     glm::dvec3 attenuation(int p, double h, double theta_d, double eta) const;
     // The white furnace of the model as written (before the division by max(1, E)), RGB, interpolated
     // from the table built at construction (log-spaced towards the poles).
     glm::dvec3 energy(double theta_o) const;
-    // Eq. 24: eta*(phi_h) for the TRT lobe.
+    // Xu 2011 Eq. 24: eta*(phi_h) for the TRT lobe.
     double eccentric_eta(double phi_h) const;
     const HairParams& params() const { return params_; }
     const MarschnerCaustic& caustic() const { return caustic_; }

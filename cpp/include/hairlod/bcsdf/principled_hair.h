@@ -25,8 +25,8 @@ struct PrincipledHairInputs {
 };
 
 // Melanin mode maps the [0, 1] slider to a concentration -log(max(1 - melanin, 1e-4)), splits it by
-// redness into eumelanin and pheomelanin, and adds the absorption of `tint` (Eq. 9 of Chiang et al.
-// 2016 with radial roughness). Random Color and Random Roughness are per-strand noise and ignored.
+// redness into eumelanin and pheomelanin, and adds the absorption of `tint` (Chiang 2016 Eq. 9
+// with radial roughness). Random Color and Random Roughness are per-strand noise and ignored.
 // Roughnesses are clamped to [1e-3, 1] as Cycles does. The result is validated.
 HairParams params_from_principled_hair(const PrincipledHairInputs& inputs);
 

@@ -44,23 +44,23 @@ public:
     std::array<double, 7> r_coefficients(double theta_d) const;
 
     // S of the representation per lobe (R, TT, TRT): Marschner's M_t / cos^2(theta_d) (divided by
-    // max(1, E(theta_o)) like the model) with N_R of Eq. 13 and the N_TT, N_TRT fits of Eq. 16-23.
+    // max(1, E(theta_o)) like the model) with N_R of Xu 2011 Eq. 13 and the N_TT, N_TRT fits of Eq. 16-23.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
     std::span<const LongitudinalLobe> lobe_shapes() const override { return marschner_.lobe_shapes(); }
     std::string_view name() const override { return "marschner_cg"; }
 
-    // Eq. 11-14: integral of G_j(w_i) S(w_i, w_o) cos(theta_i) dw_i (times L_j), with g^c(theta_i) ~ the
+    // Xu 2011 Eq. 11-14: integral of G_j(w_i) S(w_i, w_o) cos(theta_i) dw_i (times L_j), with g^c(theta_i) ~ the
     // Gaussian exp(-(theta_i - theta_j)^2 / lambda^2) folded into M_t and the rest by linear quadrature.
     glm::dvec3 single_scattering(const SrbfLight& light, const glm::dvec3& wo) const;
 
-    // Eq. 2: the sum of single_scattering over `lights` at each of `views` (in parallel over views).
+    // Xu 2011 Eq. 2: the sum of single_scattering over `lights` at each of `views` (in parallel over views).
     std::vector<glm::dvec3> single_scattering(std::span<const SrbfLight> lights, std::span<const glm::dvec3> views) const;
 
     const MarschnerBcsdf& marschner() const { return marschner_; }
     const CircularGaussianTables& tables() const { return *tables_; }
     int quadrature_order() const { return m_; }
 
-    // The azimuthal part of lobe p convolved with g^c(.; 0, lambda_prime) (Eq. 12), or N_p itself
+    // The azimuthal part of lobe p convolved with g^c(.; 0, lambda_prime) (Xu 2011 Eq. 12), or N_p itself
     // when lambda_prime = 0.
     glm::dvec3 azimuthal(int p, double phi, double theta_d, double eta, double lambda_prime) const;
 

@@ -19,9 +19,9 @@ struct GenerateOptions {
     int vertices = 17;     // vertices per strand at full vertex LoD: 2^E + 1, E in [0, 12]
     std::vector<StylingOperation> styling;
     uint64_t seed = 0;
-    float strand_lod = 1.0f;      // L of Eq. 8, in (0, 1]
-    float vertex_lod = 1.0f;      // L of Eq. 9, in (0, 1]
-    float lod_transition = 0.5f;  // lambda of Eq. 10, in (0, 1]
+    float strand_lod = 1.0f;      // L of Bhokare 2024 Eq. 8, in (0, 1]
+    float vertex_lod = 1.0f;      // L of Bhokare 2024 Eq. 9, in (0, 1]
+    float lod_transition = 0.5f;  // lambda of Bhokare 2024 Eq. 10, in (0, 1]
     float radius = 0.0f;          // strand radius at full LoD, object units
 };
 

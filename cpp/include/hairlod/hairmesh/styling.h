@@ -64,7 +64,7 @@ class StrandVertices {
 public:
     enum Component {
         X, Y, Z,     // position
-        UX, UY, UZ,  // styling frame u, v, w (Eq. 1, 4): unit on the layers, interpolated between them
+        UX, UY, UZ,  // styling frame u, v, w (Bhokare 2024 Eq. 1, 4): unit on the layers, interpolated between them
         VX, VY, VZ,
         WX, WY, WZ,
         CX, CY, CZ,   // the bundle's centre curve at the same curve parameter

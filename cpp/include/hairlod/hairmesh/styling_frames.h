@@ -13,7 +13,7 @@ namespace hairlod {
 
 struct StylingFrames {
     std::vector<glm::vec2> corner_uv;  // the mesh's uv, or default_root_uv when it has none
-    std::vector<glm::vec3> u, v;       // unit directions per position (layer-major), Eq. 1
+    std::vector<glm::vec3> u, v;       // unit directions per position (layer-major), Bhokare 2024 Eq. 1
     std::vector<float> w;              // the mesh's w, or path length from the root layer
 };
 
@@ -21,7 +21,7 @@ struct StylingFrames {
 // in object units; used when the mesh carries no uv (give uv for closed or strongly curved scalps).
 std::vector<glm::vec2> default_root_uv(const HairMesh& mesh);
 
-// Eq. 1-3 per layer: u, v of a vertex are the texture-area-weighted means of the linear maps of
+// Bhokare 2024 Eq. 1-3 per layer: u, v of a vertex are the texture-area-weighted means of the linear maps of
 // the corner triangles around it (the vertex and its two face edges, Fig. 5), normalised; corner
 // triangles that are flat in uv are skipped. Where they cancel or a layer collapses, the vertex
 // keeps the directions of the layer below. A root-layer vertex without usable directions (a pole

@@ -15,7 +15,7 @@ inline glm::vec3 unit_or_zero(const glm::vec3& d) {
 }
 
 // Unit tangents of a polyline of at least 2 points: central differences p_{k+1} - p_{k-1} inside;
-// the end tangents mirror their neighbour's tangent about the end segment (Eq. 5 and 6), so the
+// the end tangents mirror their neighbour's tangent about the end segment (Bhokare 2024 Eq. 5 and 6), so the
 // ends shade consistently when vertex LoD changes the vertex count. With 2 points both tangents are
 // the segment direction. Where the strand has no length a tangent is the zero vector.
 void strand_tangents(std::span<const glm::vec3> points, std::span<glm::vec3> tangents);

@@ -1,6 +1,6 @@
 #pragma once
 // Screen-width LoD selection per L0 cluster and segment (hair-lod-aggregated-bcsdf.txt Sec. 5.1
-// step 5 and Sec. 5.2): the initial selection and the deferred per-frame rule of Eq. 16.
+// step 5 and Sec. 5.2): the initial selection and the deferred per-frame rule of Huang 2025 Eq. 16.
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -38,7 +38,7 @@ struct Selection {
     std::vector<DrawRange> draws;
 };
 
-// The screen-width threshold eps_w (Sec. 5.1 step 5, Eq. 16) in pixels: a cluster draws the coarsest
+// The screen-width threshold eps_w (Sec. 5.1 step 5, Huang 2025 Eq. 16) in pixels: a cluster draws the coarsest
 // level whose hairs are at most this wide on screen. Every tool's default (CLI, Python API, Blender
 // panels) is this one, read through hairlod._core.
 inline constexpr float kDefaultWidthPx = 2.0f;
@@ -76,21 +76,21 @@ private:
 // ThickHairGeometry::widest, a segment's width the larger of its two control points'.
 Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px);
 
-// How far select_deferred_in_place moves a segment: one Eq. 16 step (one level), or steps until
-// Eq. 16 changes nothing (the level a view that jumped needs, on its first frame).
+// How far select_deferred_in_place moves a segment: one Huang 2025 Eq. 16 step (one level), or steps until
+// Huang 2025 Eq. 16 changes nothing (the level a view that jumped needs, on its first frame).
 enum class DeferredSteps { one, until_stable };
 
-// Eq. 16 per cluster and segment from the current levels in `selection`, updated in place (no
+// Huang 2025 Eq. 16 per cluster and segment from the current levels in `selection`, updated in place (no
 // allocation once its draw list has grown to size): finer when the current level is too wide,
 // coarser when one coarser level fits, else unchanged. Culled clusters keep their level.
 void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
                               Selection& selection, DeferredSteps steps = DeferredSteps::one);
 
-// Eq. 16 from `previous`, returning the next selection.
+// Huang 2025 Eq. 16 from `previous`, returning the next selection.
 Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
                           const Selection& previous);
 
-// For benchmarks: the median seconds of one Eq. 16 step (select_deferred_in_place) over `frames`
+// For benchmarks: the median seconds of one Huang 2025 Eq. 16 step (select_deferred_in_place) over `frames`
 // steps from the initial selection, at a fixed camera (skinning excluded). frames >= 1.
 double median_deferred_step_seconds(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera,
                                     float width_px, int frames);

@@ -1,7 +1,7 @@
 #pragma once
 // Per-view LoD state for interactive drawing (hair-lod-aggregated-bcsdf.txt Sec. 5.2): the rest (or
 // one skinned) geometry, the current Selection, and the index lists a renderer draws from it.
-// The first update makes the initial selection (Sec. 5.1 step 5); later updates run Eq. 16 from the
+// The first update makes the initial selection (Sec. 5.1 step 5); later updates run Huang 2025 Eq. 16 from the
 // previous one until it changes nothing: a camera moving smoothly changes a level by one between
 // frames, and one that jumps gets its levels at once (no frames of coarse hair first). Index lists
 // refer to vertex buffers laid out item-major with n_c control points per item:
@@ -27,7 +27,7 @@ public:
     // `asset` must outlive this object; `geometry` is its rest or skinned geometry.
     ViewSelection(const LodAsset& asset, LodGeometry geometry);
 
-    // Selects for `camera`: the initial selection on the first call (or after reset), else Eq. 16
+    // Selects for `camera`: the initial selection on the first call (or after reset), else Huang 2025 Eq. 16
     // from the current levels until stable. Returns whether any level, visibility or the draw list
     // changed.
     bool update(const Camera& camera, float width_px);

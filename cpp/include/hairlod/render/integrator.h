@@ -7,7 +7,7 @@
 //   LodAggregated  LoD geometry path traced with the aggregated BCSDF of Sec. 4, strands of the
 //                  selection with Chiang. A thick hair is shaded at the first member strand its ray
 //                  meets inside (HairScene::intersect), with n from the strands the light crossed in
-//                  the hair to reach it (its self-shadowing, in place of Eq. 12-15's S) and B^ from
+//                  the hair to reach it (its self-shadowing, in place of Huang 2025 Eq. 12-15's S) and B^ from
 //                  the strands behind it (bcsdf::ClusterState::shaded_inside);
 //   LodSingle      the same geometry and self-shadowing with the single-fibre Chiang BCSDF;
 //   LodNoShadowing LodAggregated without the thick hair shadowing itself (ablation).

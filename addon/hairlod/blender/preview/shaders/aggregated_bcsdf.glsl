@@ -1,5 +1,5 @@
 /* The aggregated BCSDF of a thick hair (hair-lod-aggregated-bcsdf.txt, Huang et al. 2025, Eq. 6-15)
- * over the R, TT, D fibre of Eq. 1, as cpp/src/bcsdf/aggregated.cpp and fiber_rtd.cpp evaluate it,
+ * over the R, TT, D fibre of Huang 2025 Eq. 1, as cpp/src/bcsdf/aggregated.cpp and fiber_rtd.cpp evaluate it,
  * reading the baked tables (cpp/src/bcsdf/bake.cpp) instead of integrating:
  *   fiber_lut:       rows A_R, A_TT, A_D over theta_o in [0, pi/2]
  *   dual_lut:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2 over theta_d in [-pi/2, pi/2]
@@ -11,8 +11,8 @@
  * TT shift, TT variance); vec2 lut_constants (TT azimuthal variance, n_max). */
 
 #define HAIRLOD_PI 3.14159265358979
-#define HAIRLOD_SIDE_SCATTER 0.6  /* d_1+ of Eq. 10 */
-#define HAIRLOD_MULTIPLE_SHADOWING 0.2  /* c_m of Eq. 13 */
+#define HAIRLOD_SIDE_SCATTER 0.6  /* d_1+ of Huang 2025 Eq. 10 */
+#define HAIRLOD_MULTIPLE_SHADOWING 0.2  /* c_m of Huang 2025 Eq. 13 */
 
 /* Row `row` of a table whose x axis spans [lo, hi] with texel centres on the nodes. */
 vec3 lut_row(sampler2D lut, int row, float x, float lo, float hi)
@@ -92,8 +92,8 @@ float wrapped_gaussian(float x, float variance)
   return sum / (2.0 * HAIRLOD_PI);
 }
 
-/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Eq. 6-15; n = 1 and rho = 1 is the
- * single fibre of Eq. 1 with every hair behind it). Returns RGB. */
+/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15; n = 1 and rho = 1 is the
+ * single fibre of Huang 2025 Eq. 1 with every hair behind it). Returns RGB. */
 vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
 {
   float sin_i = clamp(dot(wi, t), -1.0, 1.0), sin_o = clamp(dot(wo, t), -1.0, 1.0);
@@ -109,7 +109,7 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
   vec3 a_f = lut_row(dual_lut, 0, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
   vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
   float crossed = n - 1.0;
-  /* Eq. 7 and 9: n - 1 forward scatterings attenuate and widen R^, TT^, D^. */
+  /* Huang 2025 Eq. 7 and 9: n - 1 forward scatterings attenuate and widen R^, TT^, D^. */
   vec3 attenuation = aggregated_lookup(0, theta_d, n);
   float sigma_f2_mean = (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
   float longitudinal_spread = 4.0 * crossed * sigma_f2_mean;
@@ -130,7 +130,7 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
 
   vec3 shadowing = vec3(1.0);
   if (phi < 0.5 * HAIRLOD_PI) {
-    /* Eq. 10-11: B^ = A_1+ + A_1 + A_3, capped by the budget 1 - a_F^(n-1) (a_f + a_b) at theta_o. */
+    /* Huang 2025 Eq. 10-11: B^ = A_1+ + A_1 + A_3, capped by the budget 1 - a_F^(n-1) (a_f + a_b) at theta_o. */
     vec3 a_1_plus = aggregated_lookup(1, theta_d, n);
     vec3 budget = aggregated_lookup(2, theta_o, n);
     vec3 a_1 = lut_row(dual_lut, 2, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
@@ -143,7 +143,7 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
       m_b[c] = hairlod_gaussian(theta_i + theta_o - 2.0 * delta_b[c], max(4.0 * sigma_b[c] * sigma_b[c], 1e-12));
     }
     value += a_b * m_b / HAIRLOD_PI;
-    /* Eq. 12-15: shadowing-masking towards the front. */
+    /* Huang 2025 Eq. 12-15: shadowing-masking towards the front. */
     float open = 1.0 - rho;
     float p_m = open * HAIRLOD_MULTIPLE_SHADOWING;
     float p_s = clamp(open * (1.0 - cos_phi), 0.0, 1.0 - p_m);

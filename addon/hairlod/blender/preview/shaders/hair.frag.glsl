@@ -8,12 +8,13 @@
  * as the lights (hair_world_transmittance, averaged over 14 directions): as SRBF lights
  * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
  * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
- * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Eq. 7). shading_mode 1: the level's colour, darkened towards the silhouette.
+ * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7).
+ * shading_mode 1: the level's colour, darkened towards the silhouette.
  * The scene-linear radiance goes through the scene's view transform (view_transform.glsl). */
 
 void main()
 {
-  /* Only the segments Eq. 16 selected at this batch's level: the selection texture holds the level
+  /* Only the segments Huang 2025 Eq. 16 selected at this batch's level: the selection texture holds the level
    * per segment (x) and L0 cluster (y), -1 for culled clusters. v_select_point runs from k to k + 1
    * along segment k. */
   int segment = clamp(int(floor(v_select_point)), 0, textureSize(selection_levels, 0).x - 1);
