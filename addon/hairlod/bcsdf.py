@@ -239,9 +239,9 @@ def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forwar
                              backscatter_density=_core.DEFAULT_BACKSCATTER_DENSITY, m=4, table_samples=33,
                              components=False, reference=False, theta_samples=256, phi_samples=512,
                              **marschner_inputs):
-    """Multiple scattering of the Marschner fibre under SRBF lights with dual scattering (Xu et al. 2011,
-    Eq. 3-5 and Sec. 4.3, Eq. 27-31; Zinke et al. 2008): for each view direction, sum_j d_f T_f,j L_j *
-    integral of L_f,j(wi) (S + d_b S_back)(wi, wo) cos(theta_i) dw_i, float64 [M, 3].
+    """Multiple scattering of the Marschner fibre under SRBF lights with dual scattering
+    (Xu et al. 2011, Eq. 3-5 and Sec. 4.3, Eq. 27-31; Zinke et al. 2008): for each view direction,
+    sum_j d_f T_f,j L_j * integral of L_f,j(wi) (S + d_b S_back)(wi, wo) cos(theta_i) dw_i, float64 [M, 3].
 
     ``lights`` as in srbf_single_scattering. The forward-scattering state of each light's shadow path:
     ``forward_attenuation`` T_f in [0, 1] (scalar, RGB [3] or per light [N, 3]) and ``forward_variance``
