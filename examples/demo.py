@@ -28,7 +28,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
 
 import hairlod  # noqa: E402
-from hairlod import bcsdf, hairmesh, io, lod, quality  # noqa: E402
+from hairlod import bcsdf, bcsdf_bake, hair_params, hairmesh, io, lod, quality  # noqa: E402
 from hairlod.camera import look_at, perspective  # noqa: E402
 from hairlod.cli import strand_summary  # noqa: E402
 
@@ -105,7 +105,7 @@ def select_views(asset, strands):
 
 def bake_tables(asset):
     crossed, densest = bcsdf.lod_hair_count_range(asset)
-    manifest, seconds = timed(bcsdf.bake, bcsdf.as_params(None), OUT / "bcsdf", max_hair_count=crossed)
+    manifest, seconds = timed(bcsdf_bake.bake, hair_params.as_params(None), OUT / "bcsdf", max_hair_count=crossed)
     size = sum(table["bytes"] for table in manifest["tables"])
     print(f"5. BCSDF tables for n up to {crossed:.1f} (densest cluster: {densest} strands) baked in "
           f"{seconds:.2f} s: {len(manifest['tables'])} tables, {size / 1024:.0f} KB in {(OUT / 'bcsdf').relative_to(REPO)}")

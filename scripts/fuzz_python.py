@@ -9,7 +9,7 @@ Targets and the call each input goes through:
     hairmesh  hairlod.hairmesh.read(file)
     manifest  hairlod.lod.load(folder) on an LoD folder of bob.hair whose manifest.json is the input
     cameras   hairlod.lod.read_cameras(file)
-    params    hairlod.bcsdf.as_params(hairlod.cli._read_params(file))
+    params    hairlod.hair_params.as_params(hairlod.cli._read_params(file))
     unpack    hairlod.lod.unpack(bytes), from mutations of hairlod.lod.pack(asset)
 
 Every reader promises ValueError for any bad input (params may also raise cli.UsageError, the
@@ -275,7 +275,7 @@ def _build_seeds(target, workdir, connection):
     """Child: sends the seeds of `target`; the manifest and unpack seeds come from the LoD folder it
     leaves in workdir/lod (the manifest target's inputs replace its manifest.json)."""
     sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
-    from hairlod import bcsdf, lod
+    from hairlod import hair_params, lod
 
     def text(value):
         return json.dumps(value).encode()
@@ -287,7 +287,7 @@ def _build_seeds(target, workdir, connection):
     elif target == "cameras":
         seeds = [text(cameras_seed()), text(cameras_seed()[:1])]
     elif target == "params":
-        seeds = [text({}), text(bcsdf.params_to_dict(None)), text({"beta_m": 0.2, "sigma_a": [0.1, 0.2, 0.3]})]
+        seeds = [text({}), text(hair_params.params_to_dict(None)), text({"beta_m": 0.2, "sigma_a": [0.1, 0.2, 0.3]})]
     else:
         folder = os.path.join(workdir, "lod")
         environment = dict(os.environ, PYTHONPATH=os.path.join(REPO_ROOT, "addon"))
@@ -306,7 +306,7 @@ def _build_seeds(target, workdir, connection):
 def _target_call(target, workdir):
     """(call(data), the exceptions that are the reader's promised rejections) for `target`."""
     sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
-    from hairlod import bcsdf, cli, hairmesh, lod
+    from hairlod import cli, hair_params, hairmesh, lod
 
     if target == "unpack":
         return lod.unpack, ValueError
@@ -317,7 +317,7 @@ def _target_call(target, workdir):
     else:
         path = os.path.join(tempfile.mkdtemp(dir=workdir), "input" + EXTENSIONS[target])
         read = {"hairmesh": hairmesh.read, "cameras": lod.read_cameras,
-                "params": lambda file: bcsdf.as_params(cli._read_params(file))}[target]
+                "params": lambda file: hair_params.as_params(cli._read_params(file))}[target]
 
     def call(data):
         with open(path, "wb") as stream:

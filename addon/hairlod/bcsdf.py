@@ -1,9 +1,10 @@
-"""Hair BCSDFs: fibre parameters, single-fibre models, white furnace and dual scattering.
+"""Hair BCSDFs: single-fibre models, the aggregated BCSDF, white furnace, dual scattering and SRBF
+lighting (the fibre parameters: hair_params.py; the baked tables: bcsdf_bake.py).
 
 Directions are in the fibre frame with the tangent along +x (sin(theta) = x), as in pbrt. A value S
 follows docs/ARCHITECTURE.md ("BCSDF measure"): L_o = integral of L_i S cos(theta_i) dw_i, so a lossless energy-conserving fibre
 has a white furnace of 1. Every function taking parameters accepts a ``HairParams`` or a dict of its
-fields.
+fields (hair_params.as_params).
 
 Models: ``"chiang"`` (d'Eon 2011 / Chiang 2016, as in Cycles; far field, or near field with ``h``),
 ``"marschner"`` (Marschner 2003 as in Xu et al. 2011 Sec. 4.1), ``"fiber_rtd"`` (the R, TT, D fibre of
@@ -11,15 +12,11 @@ Huang et al. 2025 Eq. 1), ``"realtime"`` (Karis / Tafuri approximations, thesis 
 ``"aggregated"`` (the thick-hair BCSDF of Huang et al. 2025, Eq. 6-15).
 """
 
-import math
-
 import numpy as np
 
 from . import _core
+from .hair_params import as_params, as_rgb
 
-HairParams = _core.HairParams
-
-FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
 MODELS = ("chiang", "marschner", "marschner_cg", "fiber_rtd", "realtime", "aggregated")
 
 # Inputs each model takes besides the directions (see evaluate()).
@@ -31,91 +28,6 @@ _MODEL_INPUTS = {
     "realtime": {"tt"},
     "aggregated": {"hair_count", "density"},
 }
-
-# Principled Hair BSDF sockets (snake case) and their Cycles 3.4 defaults.
-_PRINCIPLED_DEFAULTS = {
-    "parametrization": "COLOR",
-    "color": (0.017513, 0.005763, 0.002059),
-    "melanin": 0.8,
-    "melanin_redness": 1.0,
-    "tint": (1.0, 1.0, 1.0),
-    "absorption_coefficient": (0.245531, 0.52, 1.365),
-    "roughness": 0.3,
-    "radial_roughness": 0.3,
-    "coat": 0.0,
-    "ior": 1.55,
-    "offset": math.radians(2.0),
-}
-# Per-strand noise and the node's model switch: accepted, not part of a fibre's parameters.
-_PRINCIPLED_IGNORED = {"random_color", "random_roughness", "random", "model"}
-
-
-def params_to_dict(params):
-    """The fields of a HairParams as a plain dict (sigma_a as a list)."""
-    params = as_params(params)
-    return {name: list(params.sigma_a) if name == "sigma_a" else getattr(params, name) for name in FIELDS}
-
-
-def as_params(params=None):
-    """A validated HairParams from a HairParams, a dict of its fields, or None (the defaults)."""
-    if params is None:
-        result = HairParams()
-    elif isinstance(params, HairParams):
-        result = params
-    elif isinstance(params, dict):
-        unknown = sorted(set(params) - set(FIELDS))
-        if unknown:
-            raise ValueError(f"unknown hair parameter(s) {', '.join(unknown)}; expected {', '.join(FIELDS)}")
-        result = HairParams()
-        for name, value in params.items():
-            try:
-                setattr(result, name, _rgb(value, name) if name == "sigma_a" else float(value))
-            except (TypeError, ValueError) as error:
-                raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
-    else:
-        raise ValueError(f"params must be a HairParams or a dict, got {type(params).__name__}")
-    result.validate()
-    return result
-
-
-def _rgb(value, name):
-    array = np.asarray(value, dtype=np.float64).reshape(-1)
-    if array.size == 1:
-        array = np.repeat(array, 3)
-    if array.size != 3:
-        raise ValueError(f"{name} needs 1 or 3 values, got {array.size}")
-    return [float(v) for v in array]
-
-
-def from_principled_hair(**node_inputs):
-    """HairParams from the inputs of Blender's Principled Hair BSDF (Cycles 3.4, Chiang model).
-
-    Keywords are the node's sockets in snake case (``color``, ``melanin``, ``melanin_redness``, ``tint``,
-    ``absorption_coefficient``, ``roughness``, ``radial_roughness``, ``coat``, ``ior``, ``offset`` in
-    radians) and ``parametrization`` ('ABSORPTION', 'MELANIN' or 'COLOR', the node's enum). Missing
-    inputs take the node's defaults; ``random_color``, ``random_roughness`` and ``random`` are ignored.
-    """
-    unknown = sorted(set(node_inputs) - set(_PRINCIPLED_DEFAULTS) - _PRINCIPLED_IGNORED)
-    if unknown:
-        raise ValueError(f"unknown Principled Hair input(s) {', '.join(unknown)}")
-    if node_inputs.get("model", "CHIANG") != "CHIANG":
-        raise ValueError(f"model must be 'CHIANG' (the Cycles 3.4 model), got {node_inputs['model']!r}")
-    inputs = dict(_PRINCIPLED_DEFAULTS)
-    inputs.update({k: v for k, v in node_inputs.items() if k in _PRINCIPLED_DEFAULTS})
-    for name in ("color", "tint", "absorption_coefficient"):
-        inputs[name] = _rgb(inputs[name], name)[:3]
-    return _core.params_from_principled_hair(**inputs)
-
-
-def sigma_a_from_color(color, beta_n):
-    """Chiang et al. 2016, Eq. 9: absorption giving the reflectance colour for roughness beta_n."""
-    return np.array(_core.sigma_a_from_color(_rgb(color, "color"), float(beta_n)))
-
-
-def sigma_a_from_melanin(eumelanin, pheomelanin=0.0):
-    """Absorption of eumelanin and pheomelanin concentrations (Cycles' coefficients)."""
-    return np.array(_core.sigma_a_from_melanin(float(eumelanin), float(pheomelanin)))
-
 
 def cluster_density(hair_total, hair_radius, major_axis, minor_axis):
     """Huang et al. 2025, Sec. 4: area fraction rho of an elliptical cluster covered by its hairs."""
@@ -189,7 +101,7 @@ def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6, tt=
     (aggregated: n = 1, rho = 1).
     """
     _check_model(model)
-    wo = _rgb(wo, "wo")
+    wo = as_rgb(wo, "wo")
     return np.array(_core.bcsdf_white_furnace(model, as_params(params), wo, h=h, tolerance=float(tolerance), tt=tt))
 
 
@@ -271,119 +183,13 @@ def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forwar
     return (global_part, local_part) if components else global_part + local_part
 
 
-# theta_d nodes of the per-hair table the aggregated tables interpolate: the default set bakes in
-# about 0.5 s on 2 cores (129: 1.1 s); see bench bcsdf for the error against it.
-DEFAULT_TABLE_SAMPLES = 65
-
-
-def bake_bytes(theta_samples, hair_count_samples, table_samples, tables=("aggregated",)):
-    """Bytes bake() holds at its peak (tables as doubles in C++, float32 copies, EXR buffers), for
-    the memory budget."""
-    theta, count, per_hair = (max(int(v), 0) for v in (theta_samples, hair_count_samples, table_samples))
-    aggregated = (30 * theta + 9 * theta * count) * (8 + 4 + 4) + per_hair * 512 if "aggregated" in tables else 0
-    return aggregated + (64 << 20 if "xu" in tables else 0)
-
-
-BAKE_FORMAT = "hairlod-bcsdf-lut"  # the manifest "format" that marks a folder as tables hairlod baked
-BAKE_WHAT = "a BCSDF table folder"  # the kind in messages
-
-
-def bake(params, out_dir, theta_samples=64, hair_count_samples=64, max_hair_count=64.0,
-         table_samples=DEFAULT_TABLE_SAMPLES,
-         tables=("aggregated",), force=False, inputs=()):
-    """Bake lookup tables into ``out_dir``: one float32 OpenEXR per table and manifest.json.
-    ``tables`` names the sets: "aggregated" (the aggregated BCSDF's attenuation and dual-scattering
-    tables, sampled from a per-hair table of ``table_samples`` theta_d nodes) and "xu" (Xu et al.
-    2011's C_k, H_k^TT, H_k^TRT, global, about 0.3 s). The folder appears complete or not at all
-    (atomic_output.replace_folder); an existing folder is replaced only when it holds tables hairlod
-    baked, or with ``force``, and never when it holds one of ``inputs`` (paths this run reads, such
-    as the LoD folder the hair-count range came from). Returns the manifest (a dict).
-
-    Manifest: {"format": "hairlod-bcsdf-lut", "version": 1, "model": "aggregated", "params": {...},
-    "tables": [{"name", "file", "equation", "axes": [{"name", "range": [lo, hi], "samples",
-    "image_axis": "x" | "y", "scale": "log" only when nodes are log-uniform}], "resolution": [width, height], "channels": [...], "bytes"}]}. Texel
-    centres sit on the axis nodes (node k at lo + (hi - lo) k / (samples - 1)); look up with linear
-    interpolation after mapping the coordinate to (k + 0.5) / samples. EXR files store channels sorted
-    by name: read them by name.
-    """
-    import os
-
-    from . import atomic_output, memory_budget, strict_json
-
-    params = as_params(params)
-    if isinstance(tables, str):
-        tables = [tables]
-    tables = list(tables)
-    memory_budget.check(bake_bytes(theta_samples, hair_count_samples, table_samples, tables),
-                        f"baking {', '.join(tables)} tables of {theta_samples} x {hair_count_samples} samples, "
-                        f"per-hair table {table_samples} (theta_samples, hair_count_samples, table_samples)")
-    # Refused before the bake runs, so a refusal costs nothing.
-    atomic_output.check_folder_target(os.path.abspath(os.fspath(out_dir)), BAKE_FORMAT, force, inputs, BAKE_WHAT)
-    baked = _core.bcsdf_bake(params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),
-                             max_hair_count=float(max_hair_count), table_samples=int(table_samples), tables=tables)
-
-    def write(folder):
-        manifest = {"format": BAKE_FORMAT, "version": 1, "model": "aggregated", "params": params_to_dict(params),
-                    "tables": []}
-        for table in baked:
-            file_name = table["name"] + ".exr"
-            values = table["values"]
-            _core.write_exr(os.path.join(folder, file_name), values, table["channels"])
-            axes = [{"name": axis["name"], "range": list(axis["range"]), "samples": axis["samples"],
-                     "image_axis": "xy"[k], **({"scale": axis["scale"]} if "scale" in axis else {})}
-                    for k, axis in enumerate(table["axes"])]
-            manifest["tables"].append({"name": table["name"], "file": file_name, "equation": table["equation"],
-                                       "axes": axes, "resolution": [values.shape[1], values.shape[0]],
-                                       "channels": list(table["channels"]), "bytes": int(values.nbytes)})
-        text = strict_json.dumps(manifest, indent=2)
-        with open(os.path.join(folder, "manifest.json"), "w") as f:
-            f.write(text)
-        return manifest
-
-    return atomic_output.replace_folder(out_dir, BAKE_FORMAT, write, force=force, inputs=inputs, what=BAKE_WHAT)
-
-
-def lut_lookup(values, axes, coordinates):
-    """Linear (1D) or bilinear (2D) lookup of a baked table ``values`` [H, W, C] whose ``axes`` are the
-    manifest's; ``coordinates`` [K, len(axes)] in axis units, clamped to the ranges (log-scaled axes are
-    interpolated in log(value)). Returns [K, C]."""
-    values = np.asarray(values, dtype=np.float64)
-    coordinates = np.atleast_2d(np.asarray(coordinates, dtype=np.float64))
-    positions = []
-    for k, axis in enumerate(axes):
-        lo, hi = axis["range"]
-        c = coordinates[:, k]
-        if axis.get("scale") == "log":
-            lo, hi, c = np.log(lo), np.log(hi), np.log(np.maximum(c, 1e-300))
-        x = np.clip((c - lo) / (hi - lo), 0.0, 1.0) * (axis["samples"] - 1)
-        i = np.minimum(x.astype(np.int64), axis["samples"] - 2)
-        positions.append((i, (x - i)[:, None]))
-    (ix, tx) = positions[0]
-    (iy, ty) = positions[1] if len(axes) > 1 else (np.zeros_like(ix), np.zeros_like(tx))
-    iy1 = np.minimum(iy + 1, values.shape[0] - 1)
-    return ((1 - ty) * ((1 - tx) * values[iy, ix] + tx * values[iy, ix + 1]) +
-            ty * ((1 - tx) * values[iy1, ix] + tx * values[iy1, ix + 1]))
-
-
 __all__ = [
-    "BAKE_FORMAT",
-    "DEFAULT_TABLE_SAMPLES",
-    "FIELDS",
     "MODELS",
-    "HairParams",
-    "as_params",
-    "bake",
-    "bake_bytes",
     "cluster_density",
     "hairs_crossed",
     "lod_hair_count_range",
-    "lut_lookup",
     "dual_scattering",
     "evaluate",
-    "from_principled_hair",
-    "params_to_dict",
-    "sigma_a_from_color",
-    "sigma_a_from_melanin",
     "srbf_multiple_scattering",
     "srbf_single_scattering",
     "white_furnace",

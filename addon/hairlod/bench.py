@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from . import _core, bcsdf, memory_budget
+from . import _core, bcsdf, bcsdf_bake, hair_params, memory_budget
 
 def median_seconds(function, repeats=3):
     """Median wall time of `repeats` calls of `function()`, in seconds."""
@@ -88,17 +88,17 @@ def _lut_rows(resolutions, table_samples, repeats):
     direct = bcsdf.dual_scattering(BROWN, theta, model="fiber_rtd", tolerance=1e-6)
     reference = np.concatenate([direct["a_f"], direct["a_b"]], axis=1)
     rows = []
-    default_table = bcsdf.DEFAULT_TABLE_SAMPLES
+    default_table = bcsdf_bake.DEFAULT_TABLE_SAMPLES
     for resolution, per_hair in ([(r, default_table) for r in resolutions] +
                                  [(max(resolutions), t) for t in table_samples if t != default_table]):
-        tables = {t["name"]: t for t in _core.bcsdf_bake(bcsdf.as_params(BROWN), theta_samples=resolution,
+        tables = {t["name"]: t for t in _core.bcsdf_bake(hair_params.as_params(BROWN), theta_samples=resolution,
                                                           hair_count_samples=resolution, max_hair_count=64.0,
                                                           table_samples=per_hair)}
         table = tables["dual_scattering"]
         axes = [dict(a, range=list(a["range"])) for a in table["axes"]]
-        looked_up = bcsdf.lut_lookup(table["values"], axes, theta[:, None])[:, 0:6]
+        looked_up = bcsdf_bake.lut_lookup(table["values"], axes, theta[:, None])[:, 0:6]
         max_error, mean_error = _relative_error(looked_up, reference)
-        ns = _ns_per_item(lambda: bcsdf.lut_lookup(table["values"], axes, theta[:, None]), len(theta), repeats)
+        ns = _ns_per_item(lambda: bcsdf_bake.lut_lookup(table["values"], axes, theta[:, None]), len(theta), repeats)
         rows.append({"model": "aggregated", "tier": f"lut {resolution} (table {per_hair})", "ns_per_eval": ns,
                      "max_rel_error": max_error,
                      "mean_rel_error": mean_error, "energy_error": None,

@@ -329,22 +329,22 @@ def _principled_hair_from_blend(path, material):
 
 
 def command_bake(args):
-    from . import bcsdf
+    from . import bcsdf, bcsdf_bake, hair_params
 
     if args.from_blend and args.params:
         raise UsageError("--params and --from-blend are exclusive")
-    atomic_output.check_folder_target(args.out, bcsdf.BAKE_FORMAT, args.force, [args.lod, args.params, args.from_blend],
-                                      bcsdf.BAKE_WHAT)
+    atomic_output.check_folder_target(args.out, bcsdf_bake.BAKE_FORMAT, args.force, [args.lod, args.params, args.from_blend],
+                                      bcsdf_bake.BAKE_WHAT)
     if bool(args.from_blend) != bool(args.material):
         raise UsageError("--from-blend and --material go together")
     source = args.params or (f"{args.from_blend}:{args.material}" if args.from_blend else "params")
     try:
         if args.from_blend:
             node = _principled_hair_from_blend(args.from_blend, args.material)
-            params = bcsdf.from_principled_hair(**node)
+            params = hair_params.from_principled_hair(**node)
         else:
             node = None
-            params = bcsdf.as_params(_read_params(args.params))
+            params = hair_params.as_params(_read_params(args.params))
     except ValueError as error:
         raise UsageError(str(error) if source in str(error) else f"{source}: {error}")
     max_hair_count, densest = args.max_hair_count, None
@@ -365,7 +365,7 @@ def command_bake(args):
         if t not in ("aggregated", "xu"):
             raise UsageError(f"--tables: unknown table set '{t}' (aggregated, xu)")
     start = time.perf_counter()
-    manifest = bcsdf.bake(params, args.out, theta_samples=args.theta_samples,
+    manifest = bcsdf_bake.bake(params, args.out, theta_samples=args.theta_samples,
                           hair_count_samples=args.hair_count_samples, max_hair_count=max_hair_count,
                           table_samples=args.table_samples, tables=sets, force=args.force,
                           inputs=[args.lod, args.params, args.from_blend])
@@ -565,7 +565,7 @@ def build_parser():
                       help="largest hair count n the tables cover (default: from --lod, else 64)")
     bake.add_argument("--table-samples", type=_integer(3), default=65,
                       help="theta_d nodes of the per-hair table the aggregated tables interpolate (default 65, "
-                           "bcsdf.DEFAULT_TABLE_SAMPLES)")
+                           "bcsdf_bake.DEFAULT_TABLE_SAMPLES)")
     bake.add_argument("--tables", default="aggregated",
                       help="comma-separated table sets: aggregated, xu (Xu et al. 2011 C_k, H_k) (default aggregated)")
     bake.add_argument("--json", action="store_true", help="print one JSON object")

@@ -9,7 +9,7 @@ textures whose rows are the baked quantities, one RGB quantity per row, and a fe
                (Huang 2025 Eq. 7, 10)
 
 Every table comes straight from the C++ bake (cpp/src/bcsdf/bake.cpp), so the shader and
-``hairlod.bcsdf.bake`` read the same numbers.
+``hairlod.bcsdf_bake.bake`` read the same numbers.
 """
 
 from dataclasses import dataclass
@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
-from .bcsdf import DEFAULT_TABLE_SAMPLES, as_params
+from .bcsdf_bake import DEFAULT_TABLE_SAMPLES
+from .hair_params import as_params
 
 __all__ = ["ShaderTables", "SrbfTables", "shader_tables", "srbf_tables", "theta_nodes"]
 

@@ -13,7 +13,7 @@ import os
 import numpy as np
 
 from . import _core, atomic_output, memory_budget, png
-from .bcsdf import as_params
+from .hair_params import as_params
 from .camera import look_at, perspective
 
 __all__ = ["BLUR_BOX", "METHODS", "VIEWS", "blurred_psnr", "box_average", "coverage", "coverage_error",

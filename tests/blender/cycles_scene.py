@@ -5,7 +5,7 @@ blender -b --factory-startup --python tests/blender/cycles_scene.py -- SCENE.jso
 
 SCENE.json: {"addon": folder holding hairlod, "hair": hair file, "camera": {eye, target, up, fov_y,
 width, height}, "sun": {"direction": the way light travels, "irradiance"}, "world": grey radiance,
-"node": Principled Hair BSDF inputs in hairlod.bcsdf.from_principled_hair's names, "spp", "seed",
+"node": Principled Hair BSDF inputs in hairlod.hair_params.from_principled_hair's names, "spp", "seed",
 "max_bounces"}. Writes linear float RGB(A) OpenEXR.
 """
 

@@ -280,7 +280,7 @@ def test_preview_bake_and_export_use_one_hair(hair_object, tmp_path):
     # the panel's hair changes both; with a Principled Hair material, both use the material.
     import json
 
-    from hairlod import bcsdf
+    from hairlod import hair_params
     from hairlod.blender.preview.lod_preview import uses_material
     from hairlod.blender.principled_hair import new_hair_material, object_hair_params
 
@@ -291,14 +291,14 @@ def test_preview_bake_and_export_use_one_hair(hair_object, tmp_path):
         assert _export(tmp_path) == {'FINISHED'}
         return json.loads((tmp_path / "bcsdf" / "manifest.json").read_text())["params"]
 
-    assert baked() == bcsdf.params_to_dict(object_hair_params(hair_object))
+    assert baked() == hair_params.params_to_dict(object_hair_params(hair_object))
     settings.melanin = 0.9
     darker = baked()
-    assert darker == bcsdf.params_to_dict(object_hair_params(hair_object)) and darker["sigma_a"][0] > 0.5
+    assert darker == hair_params.params_to_dict(object_hair_params(hair_object)) and darker["sigma_a"][0] > 0.5
     hair_object.data.materials.append(new_hair_material("Blond", {"parametrization": 'MELANIN', "melanin": 0.1}))
     assert uses_material(hair_object, settings)
     blond = baked()
-    assert blond == bcsdf.params_to_dict(object_hair_params(hair_object)) and blond["sigma_a"][0] < darker["sigma_a"][0]
+    assert blond == hair_params.params_to_dict(object_hair_params(hair_object)) and blond["sigma_a"][0] < darker["sigma_a"][0]
 
 
 @pytest.mark.parametrize("foreign", ["lod", "bcsdf"])

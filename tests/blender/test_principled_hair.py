@@ -5,7 +5,7 @@ import math
 import bpy
 import pytest
 
-from hairlod import bcsdf
+from hairlod import hair_params
 from hairlod.blender.principled_hair import params_from_material, principled_hair_inputs
 
 
@@ -30,7 +30,7 @@ def test_params_from_material_follow_the_node(hair_material):
     inputs = principled_hair_inputs(hair_material)
     assert inputs["parametrization"] == "ABSORPTION"
     assert inputs["absorption_coefficient"] == pytest.approx([0.3, 0.6, 1.4])
-    params = bcsdf.params_to_dict(params_from_material(hair_material))
+    params = hair_params.params_to_dict(params_from_material(hair_material))
     assert params["sigma_a"] == pytest.approx([0.3, 0.6, 1.4])
     assert params["eta"] == pytest.approx(1.5) and params["alpha"] == pytest.approx(math.radians(-2.0))
     assert params["beta_m"] == pytest.approx(0.35) and params["beta_n"] == pytest.approx(0.5)

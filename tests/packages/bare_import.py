@@ -35,7 +35,7 @@ def main(archive, kind, hair_file):
         import numpy as np
 
         import hairlod
-        from hairlod import bcsdf, lod
+        from hairlod import bcsdf, bcsdf_bake, hair_params, lod
 
         core = os.path.realpath(hairlod._core.__file__)
         assert core.startswith(os.path.realpath(folder)), core
@@ -43,7 +43,7 @@ def main(archive, kind, hair_file):
         asset = lod.build_lod(strands, levels=4, control_points=8, seed=1)
         bake_dir = os.path.join(folder, "bake")
         crossed, _ = bcsdf.lod_hair_count_range(asset)
-        bcsdf.bake(bcsdf.as_params(), bake_dir,
+        bcsdf_bake.bake(hair_params.as_params(), bake_dir,
                    theta_samples=16, hair_count_samples=8, max_hair_count=max(crossed, 1.0 + 1e-6))
         baked = sorted(os.listdir(bake_dir))
         assert any(name.endswith(".exr") for name in baked), baked

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from hairlod import bcsdf
+from hairlod import bcsdf, bcsdf_bake, hair_params
 
 
 def random_directions(n, seed):
@@ -14,14 +14,14 @@ def random_directions(n, seed):
 
 
 def test_params_accept_object_or_dict_and_round_trip():
-    params = bcsdf.as_params({"eta": 1.6, "sigma_a": [0.1, 0.2, 0.3], "beta_m": 0.25})
-    assert isinstance(params, bcsdf.HairParams)
-    fields = bcsdf.params_to_dict(params)
+    params = hair_params.as_params({"eta": 1.6, "sigma_a": [0.1, 0.2, 0.3], "beta_m": 0.25})
+    assert isinstance(params, hair_params.HairParams)
+    fields = hair_params.params_to_dict(params)
     assert fields["eta"] == 1.6 and fields["sigma_a"] == pytest.approx([0.1, 0.2, 0.3])
-    assert set(fields) == set(bcsdf.FIELDS)
-    again = bcsdf.as_params(fields)
-    assert bcsdf.params_to_dict(again) == fields
-    assert bcsdf.as_params(params) is params
+    assert set(fields) == set(hair_params.FIELDS)
+    again = hair_params.as_params(fields)
+    assert hair_params.params_to_dict(again) == fields
+    assert hair_params.as_params(params) is params
 
 
 @pytest.mark.parametrize(
@@ -31,7 +31,7 @@ def test_params_accept_object_or_dict_and_round_trip():
 )
 def test_bad_parameters_name_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
-        bcsdf.as_params({field: value})
+        hair_params.as_params({field: value})
     wi, wo = random_directions(4, 0)
     with pytest.raises(ValueError, match=field):
         bcsdf.evaluate("chiang", {field: value}, wi, wo)
@@ -40,7 +40,7 @@ def test_bad_parameters_name_the_parameter(field, value):
 def test_unknown_fields_models_and_inputs_are_rejected():
     wi, wo = random_directions(4, 0)
     with pytest.raises(ValueError, match="roughness"):
-        bcsdf.as_params({"roughness": 0.3})
+        hair_params.as_params({"roughness": 0.3})
     with pytest.raises(ValueError, match="kajiya"):
         bcsdf.evaluate("kajiya", {}, wi, wo)
     with pytest.raises(ValueError, match="tt"):
@@ -52,23 +52,23 @@ def test_unknown_fields_models_and_inputs_are_rejected():
 
 
 def test_principled_hair_modes():
-    absorption = bcsdf.from_principled_hair(parametrization="ABSORPTION", absorption_coefficient=(0.1, 0.2, 0.3),
+    absorption = hair_params.from_principled_hair(parametrization="ABSORPTION", absorption_coefficient=(0.1, 0.2, 0.3),
                                             roughness=0.4, radial_roughness=0.5, coat=0.2, ior=1.5, offset=0.05)
     assert list(absorption.sigma_a) == pytest.approx([0.1, 0.2, 0.3])
     assert (absorption.beta_m, absorption.beta_n, absorption.coat, absorption.eta, absorption.alpha) == pytest.approx(
         (0.4, 0.5, 0.2, 1.5, 0.05))
-    melanin = bcsdf.from_principled_hair(parametrization="MELANIN", melanin=0.5, melanin_redness=0.0)
-    assert list(melanin.sigma_a) == pytest.approx(list(bcsdf.sigma_a_from_melanin(math.log(2.0))))
-    color = bcsdf.from_principled_hair(color=(0.5, 0.4, 0.3), radial_roughness=0.6, random_color=0.3)
-    assert list(color.sigma_a) == pytest.approx(list(bcsdf.sigma_a_from_color((0.5, 0.4, 0.3), 0.6)))
-    default = bcsdf.from_principled_hair()
+    melanin = hair_params.from_principled_hair(parametrization="MELANIN", melanin=0.5, melanin_redness=0.0)
+    assert list(melanin.sigma_a) == pytest.approx(list(hair_params.sigma_a_from_melanin(math.log(2.0))))
+    color = hair_params.from_principled_hair(color=(0.5, 0.4, 0.3), radial_roughness=0.6, random_color=0.3)
+    assert list(color.sigma_a) == pytest.approx(list(hair_params.sigma_a_from_color((0.5, 0.4, 0.3), 0.6)))
+    default = hair_params.from_principled_hair()
     assert default.alpha == pytest.approx(math.radians(2.0))
     with pytest.raises(ValueError, match="parametrization"):
-        bcsdf.from_principled_hair(parametrization="Direct")
+        hair_params.from_principled_hair(parametrization="Direct")
     with pytest.raises(ValueError, match="wavelength"):
-        bcsdf.from_principled_hair(wavelength=3)
+        hair_params.from_principled_hair(wavelength=3)
     with pytest.raises(ValueError, match="CHIANG"):
-        bcsdf.from_principled_hair(model="HUANG")
+        hair_params.from_principled_hair(model="HUANG")
 
 
 @pytest.mark.parametrize("model", bcsdf.MODELS)
@@ -172,7 +172,7 @@ def test_bake_writes_tables_that_match_direct_evaluation(tmp_path):
 
     params = {"sigma_a": [0.2, 0.5, 1.2]}
     out = tmp_path / "lut"
-    manifest = bcsdf.bake(params, out, theta_samples=64, hair_count_samples=64, max_hair_count=20.0)
+    manifest = bcsdf_bake.bake(params, out, theta_samples=64, hair_count_samples=64, max_hair_count=20.0)
     assert json.loads((out / "manifest.json").read_text()) == manifest
     assert sorted(p.name for p in out.iterdir()) == sorted([t["file"] for t in manifest["tables"]] + ["manifest.json"])
     tables = {t["name"]: t for t in manifest["tables"]}
@@ -186,7 +186,7 @@ def test_bake_writes_tables_that_match_direct_evaluation(tmp_path):
     rng = np.random.default_rng(7)
     theta = rng.uniform(-1.5, 1.5, 40)
     n = rng.uniform(1.0, 20.0, 40)
-    looked_up = bcsdf.lut_lookup(values, aggregated["axes"], np.stack([theta, n], axis=1))
+    looked_up = bcsdf_bake.lut_lookup(values, aggregated["axes"], np.stack([theta, n], axis=1))
     direct = bcsdf.dual_scattering(params, theta, model="fiber_rtd", tolerance=1e-6)
     a_f, a_b = direct["a_f"], direct["a_b"]
     k = n[:, None]
@@ -198,7 +198,7 @@ def test_bake_writes_tables_that_match_direct_evaluation(tmp_path):
     # The table's own nodes are exact at n = 1: a_F^0 = 1.
     np.testing.assert_allclose(values[0, :, 0:3], 1.0, rtol=0, atol=1e-6)
     # Replacing an existing folder is atomic and leaves no staging folders behind.
-    bcsdf.bake(params, out, theta_samples=8, hair_count_samples=4, max_hair_count=2.0)
+    bcsdf_bake.bake(params, out, theta_samples=8, hair_count_samples=4, max_hair_count=2.0)
     assert json.loads((out / "manifest.json").read_text())["tables"][0]["resolution"] == [8, 1]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["lut"]
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hairlod
-from hairlod import bcsdf, lod
+from hairlod import bcsdf, bcsdf_bake, hair_params, lod
 from hairlod.bench import synthetic_hair
 
 ENV = {**os.environ, "PYTHONPATH": "addon"}
@@ -63,7 +63,7 @@ def test_lod_folder_sets_the_hair_count_range(tmp_path):
 
 
 def test_xu_tables_match_their_integrals(tmp_path):
-    manifest = bcsdf.bake({}, tmp_path / "lut", tables=["xu"])
+    manifest = bcsdf_bake.bake({}, tmp_path / "lut", tables=["xu"])
     tables = {t["name"]: t for t in manifest["tables"]}
     assert sorted(tables) == ["xu_cosine", "xu_h_trt", "xu_h_tt"]
     cosine = tables["xu_cosine"]
@@ -75,7 +75,7 @@ def test_xu_tables_match_their_integrals(tmp_path):
     x = np.linspace(-np.pi, np.pi, 20001)
     rng = np.random.default_rng(5)
     points = np.column_stack([rng.uniform(0, np.pi, 30), np.exp(rng.uniform(np.log(0.05), np.log(10.0), 30))])
-    looked_up = bcsdf.lut_lookup(values, cosine["axes"], points)
+    looked_up = bcsdf_bake.lut_lookup(values, cosine["axes"], points)
     for (phi, lam), row in zip(points, looked_up):
         g = np.exp(2.0 * (np.cos(x) - 1.0) / lam ** 2)
         c = np.abs(np.cos(0.5 * (phi - x)))
@@ -95,7 +95,7 @@ def test_xu_tables_match_their_integrals(tmp_path):
     f = 0.5 * (r_s ** 2 + r_p ** 2)
     expected = [trapezoid((1 - f) ** 2 * h ** k, h) for k in (0, 2, 4)]
     np.testing.assert_allclose(values[40, 0], expected, rtol=1e-4)
-    assert bcsdf.bake({}, tmp_path / "both", tables=["aggregated", "xu"])["tables"][3]["name"] == "xu_cosine"
+    assert bcsdf_bake.bake({}, tmp_path / "both", tables=["aggregated", "xu"])["tables"][3]["name"] == "xu_cosine"
     run = _bake("--tables", "aggregated,nope", "--out", str(tmp_path / "o"))
     assert run.returncode == 2 and "nope" in run.stderr and not (tmp_path / "o").exists()
 
@@ -141,7 +141,7 @@ def test_bake_from_blend_reads_the_principled_hair_node(hair_blend, tmp_path):
     assert node["parametrization"] == "MELANIN"
     assert node["melanin"] == pytest.approx(0.6) and node["melanin_redness"] == pytest.approx(0.3)
     assert node["tint"] == pytest.approx([0.9, 0.8, 0.7]) and node["offset"] == pytest.approx(np.radians(3.0))
-    expected = bcsdf.params_to_dict(bcsdf.from_principled_hair(
+    expected = hair_params.params_to_dict(hair_params.from_principled_hair(
         parametrization="MELANIN", melanin=0.6, melanin_redness=0.3, tint=(0.9, 0.8, 0.7), roughness=0.25,
         radial_roughness=0.4, coat=0.1, ior=1.6, offset=np.radians(3.0)))
     manifest = json.loads((tmp_path / "lut" / "manifest.json").read_text())

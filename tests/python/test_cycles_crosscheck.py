@@ -1,6 +1,6 @@
 """Cross-check of the reference path tracer against Cycles (issue 6, item 3): the same full-geometry
 scene (a few hundred strands, 32 x 32, one sun and a grey world, the Principled Hair BSDF in Chiang
-mode, parameters converted by hairlod.bcsdf.from_principled_hair, the camera of hairlod.camera.look_at)
+mode, parameters converted by hairlod.hair_params.from_principled_hair, the camera of hairlod.camera.look_at)
 rendered by Cycles headless (tests/blender/cycles_scene.py) and by our 'pt' at the same sample count.
 Target: PSNR >= 30 dB. Needs Blender (the `blender` fixture of conftest.py)."""
 
@@ -12,7 +12,7 @@ import pytest
 
 from conftest import REPO
 
-from hairlod import Strands, bcsdf, bench, io, render
+from hairlod import Strands, bench, hair_params, io, render
 
 SPP, WIDTH, WORLD = 128, 32, 0.15
 
@@ -54,7 +54,7 @@ def test_pt_matches_cycles(material, tmp_path, blender):
     lights = render.default_lights(camera)
     lights["environment"] = np.full(3, WORLD, np.float32)
     cycles = cycles_render(blender, tmp_path, hair_path, camera, lights, node)
-    ours = render.render(hair, "pt", camera=camera, width=WIDTH, spp=SPP, params=bcsdf.from_principled_hair(**node),
+    ours = render.render(hair, "pt", camera=camera, width=WIDTH, spp=SPP, params=hair_params.from_principled_hair(**node),
                          lights=lights, seed=1)["image"]
     hair_pixels = np.abs(cycles - WORLD).max(axis=-1) > 0.005
     psnr = render.psnr(ours, cycles)

@@ -478,7 +478,7 @@ def test_a_failed_write_leaves_an_existing_output_file(data, tmp_path):
 
 
 def test_the_python_api_refuses_a_foreign_folder(data, tmp_path):
-    from hairlod import bcsdf, lod
+    from hairlod import bcsdf_bake, lod
 
     asset = lod.load(data.lod)
     foreign = tmp_path / "foreign"
@@ -490,7 +490,7 @@ def test_the_python_api_refuses_a_foreign_folder(data, tmp_path):
         with pytest.raises(ValueError, match="notes.txt|foreign"):
             lod.save(asset, target)
         with pytest.raises(ValueError, match="notes.txt|foreign"):
-            bcsdf.bake(None, target, theta_samples=4, hair_count_samples=4, table_samples=5)
+            bcsdf_bake.bake(None, target, theta_samples=4, hair_count_samples=4, table_samples=5)
     with pytest.raises(ValueError, match="would replace the input"):
         lod.save(asset, foreign, force=True, inputs=[foreign / "notes.txt"])
     assert snapshot(tmp_path) == before

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hairlod import _core
-from hairlod.bcsdf import as_params
+from hairlod.hair_params import as_params
 
 # rho = 100 * 0.005^2 / (0.4 * 0.2) = 0.031: the density of real clusters (the generated and the
 # artist-made hair: median rho 0.015-0.02, the real mohawk 1e-3) and a mean free path of 0.21 in the

@@ -35,12 +35,12 @@ def build_lod(obj, context=None, guides=None, levels=None, control_points=None, 
 
 def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=64):
     """Writes the LoD asset packed into `obj` to `directory`: <directory>/lod (lod.save: manifest,
-    arrays, one .hair of thick hairs per level) and, with `bake`, <directory>/bcsdf (bcsdf.bake:
+    arrays, one .hair of thick hairs per level) and, with `bake`, <directory>/bcsdf (bcsdf_bake.bake:
     OpenEXR tables + manifest) for the hair the LoD preview shows (principled_hair.object_hair_params:
     the object's Principled Hair BSDF, else the preview panel's hair), with
     hair counts up to the asset's largest crossing count. Each folder appears complete or not at all.
     Returns a summary dict (paths, counts, the material used)."""
-    from .. import atomic_output, bcsdf, lod
+    from .. import atomic_output, bcsdf, bcsdf_bake, lod
     from .packed_asset import packed_asset
 
     asset = packed_asset(obj)
@@ -51,7 +51,7 @@ def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=6
     # Both folders are checked before either is written, so a refusal leaves the export folder as it was.
     atomic_output.check_folder_target(lod_dir, lod.FORMAT_KIND, what=lod.WHAT)
     if bake:
-        atomic_output.check_folder_target(bake_dir, bcsdf.BAKE_FORMAT, what=bcsdf.BAKE_WHAT)
+        atomic_output.check_folder_target(bake_dir, bcsdf_bake.BAKE_FORMAT, what=bcsdf_bake.BAKE_WHAT)
     lod.save(asset, lod_dir, extra={"source_object": obj.name})
     summary = {"object": obj.name, "strands": asset.strand_count, "levels": [len(l.n_total) for l in asset.levels],
                "lod": lod_dir}
@@ -61,7 +61,7 @@ def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=6
         # The hair the preview shows: the material's when the preview uses it, else the panel's.
         from_material = obj.hairlod_lod_preview.use_material and material_params(obj) is not None
         crossed, _ = bcsdf.lod_hair_count_range(asset)
-        bcsdf.bake(object_hair_params(obj), bake_dir, theta_samples=theta_samples,
+        bcsdf_bake.bake(object_hair_params(obj), bake_dir, theta_samples=theta_samples,
                    hair_count_samples=hair_count_samples, max_hair_count=max(crossed, 1.0 + 1e-6))
         summary.update(bcsdf=bake_dir, material="Principled Hair BSDF" if from_material else "LoD preview panel",
                        max_hair_count=crossed)

@@ -30,7 +30,7 @@ def principled_hair_node(material):
 
 def principled_hair_inputs(material):
     """The node's parametrization (and model, Blender 4.0+) and every enabled input socket's value,
-    in the snake-case names of ``hairlod.bcsdf.from_principled_hair`` (colours as RGB, Offset in
+    in the snake-case names of ``hairlod.hair_params.from_principled_hair`` (colours as RGB, Offset in
     radians). Linked sockets (textures) contribute their unlinked default value."""
     node = principled_hair_node(material)
     inputs = {"parametrization": node.parametrization}
@@ -75,7 +75,7 @@ def new_hair_material(name, inputs):
 
 def params_from_material(material):
     """hairlod HairParams of the material's Principled Hair BSDF (Cycles' Chiang model)."""
-    from ..bcsdf import from_principled_hair
+    from ..hair_params import from_principled_hair
 
     return from_principled_hair(**principled_hair_inputs(material))
 
@@ -97,7 +97,7 @@ def object_hair_params(obj):
     """The hair `obj`'s LoD is previewed, baked and exported with, one for all three: the Principled Hair
     BSDF of its material when the LoD preview's Material is on and it has one, else the preview panel's
     melanin, redness and roughness (their defaults when the object was never shown in the panel)."""
-    from ..bcsdf import from_principled_hair
+    from ..hair_params import from_principled_hair
 
     settings = obj.hairlod_lod_preview
     if settings.use_material:

@@ -263,13 +263,13 @@ class LodPreview:
     def bcsdf_textures(self, obj, settings):
         """The BCSDF tables for the hair's current parameters, baked again only when they change;
         n covers the asset's largest crossing count (tables cover only the range in use)."""
-        from ... import bcsdf, preview_luts
+        from ... import bcsdf, hair_params, preview_luts
         from . import bcsdf_textures
 
         params = object_hair_params(obj)
         if self.max_hair_count is None:
             self.max_hair_count = max(2.0, bcsdf.lod_hair_count_range(self.asset)[0])
-        key = (repr(bcsdf.params_to_dict(params)), self.max_hair_count)
+        key = (repr(hair_params.params_to_dict(params)), self.max_hair_count)
         if self.textures is None or self.textures_key != key:
             tables = preview_luts.shader_tables(params, max_hair_count=self.max_hair_count)
             self.textures = bcsdf_textures.BcsdfTextures(tables)
@@ -281,12 +281,12 @@ class LodPreview:
         response table when the world is one world_srbf reads and World Lighting is SRBF, else the
         ambient path. Fitted and tabulated again only when the world or the hair's parameters change;
         `self.world_status` says which path is in use and why."""
-        from ... import bcsdf, preview_luts
+        from ... import hair_params, preview_luts
         from . import world_srbf
 
         world = bpy.context.scene.world
         params = object_hair_params(obj)
-        key = (settings.world_lighting, world_srbf.world_key(world), repr(bcsdf.params_to_dict(params)))
+        key = (settings.world_lighting, world_srbf.world_key(world), repr(hair_params.params_to_dict(params)))
         if self.world is None or self.world[0] != key:
             lights, reason = (None, "World is Ambient") if settings.world_lighting == 'AMBIENT' else \
                 world_srbf.world_lights(world)

@@ -1,0 +1,101 @@
+"""Hair fibre parameters: HairParams (the C++ struct), its validation from dicts, and the mapping from
+Blender's Principled Hair BSDF (Chiang mode) and its colour parametrizations."""
+
+import math
+
+import numpy as np
+
+from . import _core
+
+HairParams = _core.HairParams
+
+FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
+
+# Principled Hair BSDF sockets (snake case) and their Cycles 3.4 defaults.
+_PRINCIPLED_DEFAULTS = {
+    "parametrization": "COLOR",
+    "color": (0.017513, 0.005763, 0.002059),
+    "melanin": 0.8,
+    "melanin_redness": 1.0,
+    "tint": (1.0, 1.0, 1.0),
+    "absorption_coefficient": (0.245531, 0.52, 1.365),
+    "roughness": 0.3,
+    "radial_roughness": 0.3,
+    "coat": 0.0,
+    "ior": 1.55,
+    "offset": math.radians(2.0),
+}
+# Per-strand noise and the node's model switch: accepted, not part of a fibre's parameters.
+_PRINCIPLED_IGNORED = {"random_color", "random_roughness", "random", "model"}
+
+
+def params_to_dict(params):
+    """The fields of a HairParams as a plain dict (sigma_a as a list)."""
+    params = as_params(params)
+    return {name: list(params.sigma_a) if name == "sigma_a" else getattr(params, name) for name in FIELDS}
+
+
+def as_params(params=None):
+    """A validated HairParams from a HairParams, a dict of its fields, or None (the defaults)."""
+    if params is None:
+        result = HairParams()
+    elif isinstance(params, HairParams):
+        result = params
+    elif isinstance(params, dict):
+        unknown = sorted(set(params) - set(FIELDS))
+        if unknown:
+            raise ValueError(f"unknown hair parameter(s) {', '.join(unknown)}; expected {', '.join(FIELDS)}")
+        result = HairParams()
+        for name, value in params.items():
+            try:
+                setattr(result, name, as_rgb(value, name) if name == "sigma_a" else float(value))
+            except (TypeError, ValueError) as error:
+                raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
+    else:
+        raise ValueError(f"params must be a HairParams or a dict, got {type(params).__name__}")
+    result.validate()
+    return result
+
+
+def as_rgb(value, name):
+    """3 floats (RGB) from a scalar or 3 values; raises ValueError naming `name` otherwise."""
+    array = np.asarray(value, dtype=np.float64).reshape(-1)
+    if array.size == 1:
+        array = np.repeat(array, 3)
+    if array.size != 3:
+        raise ValueError(f"{name} needs 1 or 3 values, got {array.size}")
+    return [float(v) for v in array]
+
+
+def from_principled_hair(**node_inputs):
+    """HairParams from the inputs of Blender's Principled Hair BSDF (Cycles 3.4, Chiang model).
+
+    Keywords are the node's sockets in snake case (``color``, ``melanin``, ``melanin_redness``, ``tint``,
+    ``absorption_coefficient``, ``roughness``, ``radial_roughness``, ``coat``, ``ior``, ``offset`` in
+    radians) and ``parametrization`` ('ABSORPTION', 'MELANIN' or 'COLOR', the node's enum). Missing
+    inputs take the node's defaults; ``random_color``, ``random_roughness`` and ``random`` are ignored.
+    """
+    unknown = sorted(set(node_inputs) - set(_PRINCIPLED_DEFAULTS) - _PRINCIPLED_IGNORED)
+    if unknown:
+        raise ValueError(f"unknown Principled Hair input(s) {', '.join(unknown)}")
+    if node_inputs.get("model", "CHIANG") != "CHIANG":
+        raise ValueError(f"model must be 'CHIANG' (the Cycles 3.4 model), got {node_inputs['model']!r}")
+    inputs = dict(_PRINCIPLED_DEFAULTS)
+    inputs.update({k: v for k, v in node_inputs.items() if k in _PRINCIPLED_DEFAULTS})
+    for name in ("color", "tint", "absorption_coefficient"):
+        inputs[name] = as_rgb(inputs[name], name)[:3]
+    return _core.params_from_principled_hair(**inputs)
+
+
+def sigma_a_from_color(color, beta_n):
+    """Chiang et al. 2016, Eq. 9: absorption giving the reflectance colour for roughness beta_n."""
+    return np.array(_core.sigma_a_from_color(as_rgb(color, "color"), float(beta_n)))
+
+
+def sigma_a_from_melanin(eumelanin, pheomelanin=0.0):
+    """Absorption of eumelanin and pheomelanin concentrations (Cycles' coefficients)."""
+    return np.array(_core.sigma_a_from_melanin(float(eumelanin), float(pheomelanin)))
+
+
+__all__ = ["FIELDS", "HairParams", "as_params", "as_rgb", "from_principled_hair", "params_to_dict", "sigma_a_from_color",
+           "sigma_a_from_melanin"]
