@@ -10,8 +10,6 @@ import subprocess
 import sys
 import textwrap
 
-import pytest
-
 from conftest import REPO
 
 DECOY = """
@@ -36,8 +34,7 @@ RENDER = textwrap.dedent("""
 
 def test_render_ignores_a_global_decoy_embree(tmp_path):
     compiler = shutil.which("cc") or shutil.which("gcc")
-    if compiler is None:
-        pytest.skip("no C compiler to build the decoy library")
+    assert compiler is not None, "a C compiler builds the decoy library (build-essential, make bootstrap)"
     source = tmp_path / "decoy.c"
     source.write_text(DECOY)
     decoy = tmp_path / "libdecoy.so"
