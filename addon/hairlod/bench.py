@@ -382,3 +382,125 @@ def bench_lod(strands=100_000, points=32, guides=None, levels=6, control_points=
         "levels": lod.level_report(asset),
         "area_ratios": asset.area_ratios,
     }
+
+
+def _turn(points, angle, centre=(0.0, 0.0, 0.5)):
+    """Points [..., 3] turned by `angle` about the vertical axis through `centre` (a head turning)."""
+    c, s = np.cos(angle), np.sin(angle)
+    p = np.asarray(points, np.float64) - centre
+    return (np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1], p[..., 2]], axis=-1) + centre).astype(np.float32)
+
+
+def _bend(points, angle, pivot_height=1.0):
+    """Points [..., 3] bent about the x axis by an angle growing from 0 at `pivot_height` to `angle`
+    one unit below it (a neck bending: every strand rotates differently along its length)."""
+    p = np.asarray(points, np.float64)
+    a = angle * np.clip(pivot_height - p[..., 2], 0.0, None)
+    c, s = np.cos(a), np.sin(a)
+    return np.stack([p[..., 0], c * p[..., 1] - s * p[..., 2], s * p[..., 1] + c * p[..., 2]], axis=-1).astype(np.float32)
+
+
+def _following_error(skinned, truth, strand_radius, size):
+    """Distances between skinned and truly deformed points: mean, 99th percentile and max, in strand
+    radii and as fractions of the hair's size."""
+    distance = np.linalg.norm(np.asarray(skinned, np.float64) - np.asarray(truth, np.float64), axis=-1).ravel()
+    stats = {"mean": float(distance.mean()), "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}
+    return {**{f"{k}_radii": v / strand_radius for k, v in stats.items()},
+            **{f"{k}_of_size": v / size for k, v in stats.items()}}
+
+
+def _skinned_coverage(asset, geometry):
+    """Per thick level: the fraction of member control points inside their skinned ellipse, each
+    point projected onto the plane of the ellipse's skinned axes (least squares on the two axes)."""
+    points = geometry["strands"].points.reshape(asset.strand_count, asset.control_points, 3).astype(np.float64)
+    coverage = []
+    for level, skinned in zip(asset.levels, geometry["levels"]):
+        hair = level.membership
+        offset = points - skinned["centres"][hair]
+        a, b = skinned["major"][hair].astype(np.float64), skinned["minor"][hair].astype(np.float64)
+        # Solve offset ~ x a + y b in the least-squares sense (a, b need not stay orthogonal).
+        aa, bb, ab = (a * a).sum(-1), (b * b).sum(-1), (a * b).sum(-1)
+        da, db = (offset * a).sum(-1), (offset * b).sum(-1)
+        det = np.maximum(aa * bb - ab * ab, 1e-300)
+        x, y = (bb * da - ab * db) / det, (aa * db - ab * da) / det
+        coverage.append(float(np.mean(x * x + y * y <= 1.0 + 1e-5)))
+    return coverage
+
+
+def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_points=16, frames=30, seed=7):
+    """Following animated hair (Sec. 5.1 step 4): per frame, the GPU path's work (FrameSkinning:
+    the maps and the selection geometry, the maps' copy for upload, Huang 2025 Eq. 16 on the moved
+    geometry) against a static frame's selection in the same run, and the CPU skin of every strand and
+    thick hair (export, rendering). Accuracy: the skinned strands against every strand moved by the
+    same rigid turn and by a non-rigid bend, and the thick hairs' coverage after the bend. No
+    assertions: a benchmark, not a test."""
+    from . import lod
+    from .camera import look_at, perspective
+
+    memory_budget.check(int(strands) * int(points) * 3 * 8 * 8 +
+                        lod.build_bytes(strands, int(strands) * int(points), control_points),
+                        f"bench skinning with {strands} strands of {points} points (--strands, --points)")
+    hair = synthetic_hair(strands, points, seed)
+    asset = lod.build_lod(hair, guides=guides, levels=levels, control_points=control_points)
+    rest_guides = asset.rest_guides
+    view = look_at((6.0, 0.0, 0.0), (0.0, 0.0, -0.5)).astype(np.float32)
+    projection = perspective(np.radians(40), 16 / 9, 0.05, 100).astype(np.float32)
+    viewport = (1920.0, 1080.0)
+
+    skinning = asset.frame_skinning()
+    moving = asset.view_selection(skinning=skinning)
+    static = asset.view_selection(skinning=asset.frame_skinning())
+    moving.update(view, projection, viewport)
+    static.update(view, projection, viewport)
+    times = {"skin_maps": [], "maps_copy": [], "select_moved": [], "select_static": []}
+    for frame in range(frames):
+        guides = _turn(_bend(rest_guides, 0.4 * frame / frames), 0.8 * frame / frames)
+        start = time.perf_counter()
+        skinning.update(guides)
+        skinned = time.perf_counter()
+        maps = np.ascontiguousarray(skinning.maps).ravel()
+        copied = time.perf_counter()
+        moving.set_geometry(skinning)
+        moving.update(view, projection, viewport)
+        selected = time.perf_counter()
+        static.update(view, projection, viewport)
+        done = time.perf_counter()
+        for name, seconds in zip(times, (skinned - start, copied - skinned, selected - copied, done - selected)):
+            times[name].append(seconds)
+    per_frame_ms = {name: 1e3 * float(np.median(values)) for name, values in times.items()}
+    bent_guides = _bend(rest_guides, 0.4)
+    cpu_skin_ms = 1e3 * median_seconds(lambda: asset.skin(bent_guides), repeats=5)
+
+    rest = asset.skin(rest_guides)["strands"].points.reshape(-1, control_points, 3)
+    size = float(np.linalg.norm(rest.reshape(-1, 3).max(0) - rest.reshape(-1, 3).min(0)))
+    radius = float(np.median(hair.radius))
+    turn_angle, bend_angle = np.radians(30.0), 0.4
+    turned = asset.skin(_turn(rest_guides, turn_angle))
+    bent = asset.skin(bent_guides)
+    # The GPU path: the maps applied to the rest pose, as skinning.glsl does.
+    skinning.update(bent_guides)
+    maps = skinning.maps.astype(np.float64)[asset.levels[0].membership]  # [strands, n_c, 3, 4]
+    gpu_points = np.einsum("sknj,skj->skn", maps[..., :3], rest.astype(np.float64)) + maps[..., 3]
+    bent_points = bent["strands"].points.reshape(-1, control_points, 3)
+    return {
+        "component": "skinning",
+        "strands": strands,
+        "control_points": control_points,
+        "guides": asset.guide_count,
+        "clusters": asset.cluster_count,
+        "built_levels": len(asset.levels) + 1,
+        "thick_hairs": int(sum(len(level.n_total) for level in asset.levels)),
+        "frames": frames,
+        "per_frame_ms": per_frame_ms,
+        "gpu_path_ms": per_frame_ms["skin_maps"] + per_frame_ms["maps_copy"],
+        "cpu_skin_ms": cpu_skin_ms,
+        "maps_bytes": int(skinning.maps.nbytes),
+        "hair_size": size,
+        "strand_radius": radius,
+        "rigid_turn_30deg": _following_error(turned["strands"].points.reshape(-1, control_points, 3),
+                                             _turn(rest, turn_angle), radius, size),
+        "bend": _following_error(bent_points, _bend(rest, bend_angle), radius, size),
+        "gpu_path_vs_cpu_skin_max_of_size": float(np.abs(gpu_points - bent_points).max()) / size,
+        "coverage_rest": [level.coverage for level in asset.levels],
+        "coverage_bent": _skinned_coverage(asset, bent),
+    }

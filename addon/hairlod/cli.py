@@ -428,6 +428,15 @@ def _bench_lod(args):
     return 0
 
 
+def _bench_skinning(args):
+    from . import bench
+
+    result = bench.bench_skinning(strands=args.strands, points=args.points, guides=args.guides, levels=args.levels,
+                                  control_points=args.control_points, frames=args.frames)
+    print(strict_json.dumps(result, indent=None if args.json else 1))
+    return 0
+
+
 def _bench_generate(args):
     from . import bench
 
@@ -489,7 +498,7 @@ def _bench_quality(args):
 
 
 def command_bench(args):
-    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "generate": _bench_generate,
+    return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "skinning": _bench_skinning, "generate": _bench_generate,
             "quality": _bench_quality}[args.component](args)
 
 
@@ -588,24 +597,24 @@ def build_parser():
     rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
-    bench.add_argument("component", choices=["bcsdf", "lod", "generate", "quality"], help="what to benchmark")
+    bench.add_argument("component", choices=["bcsdf", "lod", "skinning", "generate", "quality"], help="what to benchmark")
     bench.add_argument("input", type=_path, nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.add_argument("--repeats", type=_integer(1), default=5, help="bcsdf: timing repeats (median; default 5)")
     bench.add_argument("--plot", type=_path, metavar="FILE.png", help="bcsdf, generate, quality: also write a plot")
-    bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, generate: strands (default 100000)")
+    bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, skinning, generate: strands (default 100000)")
     bench.add_argument("--vertices", type=_integer(2), default=33, help="generate: vertices per strand (default 33)")
-    bench.add_argument("--points", type=_integer(2), default=32, help="lod: points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, quality: guides (default: one per 128 "
+    bench.add_argument("--points", type=_integer(2), default=32, help="lod, skinning: points per synthetic strand (default 32)")
+    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, skinning, quality: guides (default: one per 128 "
                        "strands, 16 to 256)")
     bench.add_argument("--levels", type=_integer(MIN_LEVELS, MAX_LEVELS), default=LOD_DEFAULTS["levels"],
-                       help=f"lod: levels including the strands (default {LOD_DEFAULTS['levels']})")
+                       help=f"lod, skinning: levels including the strands (default {LOD_DEFAULTS['levels']})")
     bench.add_argument("--control-points", type=_integer(MIN_CONTROL_POINTS, MAX_CONTROL_POINTS),
                        default=LOD_DEFAULTS["control_points"],
-                       help=f"lod: control points (default {LOD_DEFAULTS['control_points']})")
+                       help=f"lod, skinning: control points (default {LOD_DEFAULTS['control_points']})")
     bench.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
                        help=f"lod, quality: LoD width threshold eps_w in pixels (default {DEFAULT_WIDTH_PX:g})")
-    bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera (default 200)")
+    bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera; skinning: animation frames (default 200)")
     bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides)")
     bench.add_argument("--spp", type=_integer(1), default=256, help="quality: samples per pixel of the methods (default 256)")
     bench.add_argument("--reference-spp", type=_integer(1), default=1024,

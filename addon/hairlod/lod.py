@@ -109,11 +109,26 @@ class LodAsset:
         return self._core.select(guides, np.asarray(view, dtype=np.float32), np.asarray(projection, dtype=np.float32),
                                  tuple(float(v) for v in viewport_size), float(width_px), previous)
 
-    def view_selection(self, guides=None):
+    def view_selection(self, guides=None, skinning=None):
         """Per-view selection state for drawing (initial selection, then one Huang 2025 Eq. 16 step per
-        update), on the rest pose or the skinned guides [G, n_c, 3]."""
+        update), on the rest pose, the skinned guides [G, n_c, 3], or the current frame of a
+        FrameSkinning of this asset (which skins no strand; ``selection.set_geometry(skinning)``
+        follows its later frames)."""
+        if skinning is not None:
+            return _core.ViewSelection(skinning)
         guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
         return _core.ViewSelection(self._core, guides)
+
+    def frame_skinning(self):
+        """Per-frame skinning for drawing on the GPU (Sec. 5.1 step 4): ``update(guides)`` computes
+        the affine map of every L0 cluster and control point (``maps`` [clusters, n_c, 3, 4], deformed
+        = maps[..., :3] @ rest + maps[..., 3]) and what selection reads, in O(clusters n_c)."""
+        return _core.FrameSkinning(self._core)
+
+    def resample_guides(self, guide_curves):
+        """Guides [G, n_c, 3] from ``guide_curves`` (Strands: the guide strands, in the order of
+        guide_strands, as they are now), resampled as build_lod resamples them."""
+        return self._core.resample_guides(guide_curves)
 
 
 def strand_bytes(strands):

@@ -68,6 +68,22 @@ def strands_volume(strands):
                    float(np.mean(strands.radius, dtype=np.float64)))
 
 
+def moved_volume(rest_volume, rest_box, box):
+    """The HairVolume of hair that moved or deformed, from its rest volume and a box bounding it at
+    rest and now ((lower, upper) pairs, e.g. of the skinned clusters' spheres): the ellipsoid moves
+    with the box's centre and scales with its extents, and the extinction scales inversely with the
+    volume (the same strands, spread wider). Exact for a translation; a rotation is seen through the
+    axis-aligned box."""
+    rest_lower, rest_upper = (np.asarray(v, np.float64) for v in rest_box)
+    lower, upper = (np.asarray(v, np.float64) for v in box)
+    rest_extent, extent = rest_upper - rest_lower, upper - lower
+    scale = np.where(rest_extent > 0.0, extent / np.where(rest_extent > 0.0, rest_extent, 1.0), 1.0)
+    scale = np.maximum(scale, MIN_AXIS_SHARE)  # a box collapsed to a plane keeps a finite extinction
+    centre = np.asarray(rest_volume.centre, np.float64) + 0.5 * ((lower + upper) - (rest_lower + rest_upper))
+    return HairVolume(centre=centre, semi_axes=np.asarray(rest_volume.semi_axes, np.float64) * scale,
+                      extinction=rest_volume.extinction / float(np.prod(scale)))
+
+
 def _volume(lower, upper, length, mean_radius):
     """The ellipsoid of the box [lower, upper] and the extinction 2 r L / V of strands of total length
     L and mean radius r in it."""

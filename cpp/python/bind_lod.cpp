@@ -12,6 +12,7 @@
 #include "hairlod/core/error.h"
 #include "hairlod/lod/lod_asset.h"
 #include "hairlod/lod/selection.h"
+#include "hairlod/lod/skinning.h"
 #include "hairlod/lod/view_selection.h"
 
 namespace py = pybind11;
@@ -272,6 +273,14 @@ void bind_lod(py::module_& m) {
             }
             return geometry_dict(a, std::move(geometry));
         }, py::arg("deformed_guides"), "Skinned strands and thick hairs for guides [G, n_c, 3].")
+        .def("resample_guides", [](const LodAsset& a, const StrandSet& curves) {
+            std::vector<glm::vec3> points;
+            {
+                py::gil_scoped_release release;
+                points = resample_guides(a, curves);
+            }
+            return to_numpy<float>(points, {as_size(a.guide_count()), static_cast<py::ssize_t>(a.control_points), 3});
+        }, py::arg("guide_curves"), "The guides [G, n_c, 3] from the guide strands as they are now, resampled as build_lod does.")
         .def("time_selection", [](const LodAsset& a, const FloatArray& view, const FloatArray& projection,
                                   std::pair<float, float> viewport, float width_px, int frames) {
             const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
@@ -291,6 +300,34 @@ void bind_lod(py::module_& m) {
            py::arg("previous") = py::none(),
            "Initial selection (Sec. 5.1 step 5), or Huang 2025 Eq. 16 from `previous`, for guides [G, n_c, 3].");
 
+    py::class_<FrameSkinning>(m, "FrameSkinning",
+                              "Per-frame skinning for GPU renderers: the affine map of each L0 cluster and control point, "
+                              "and the geometry LoD selection reads (Sec. 5.1 step 4).")
+        .def(py::init([](const LodAsset& a) {
+                 py::gil_scoped_release release;
+                 return FrameSkinning(a);
+             }),
+             py::arg("asset"), py::keep_alive<1, 2>())
+        .def("update", [](FrameSkinning& s, const FloatArray& guides) {
+            const std::vector<glm::vec3> points = guides_from(guides, s.asset());
+            py::gil_scoped_release release;
+            s.update(points);
+        }, py::arg("deformed_guides"), "Skins to guides [G, n_c, 3]; raises ValueError on bad guides (keeping the last frame).")
+        .def_property_readonly("maps", [](const FrameSkinning& s) {
+            const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);
+            return to_numpy<float>(s.maps(), {clusters, nc, 3, 4});
+        }, "float32 [clusters, n_c, 3, 4]: rows of the affine maps, deformed = rows[:, :3] @ rest + rows[:, 3].")
+        .def("selection_geometry", [](const FrameSkinning& s) {
+            const LodGeometry& g = s.selection_geometry();
+            const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);
+            py::list widest;
+            for (const ThickHairGeometry& level : g.levels) widest.append(to_numpy<float>(level.widest, {clusters, nc, 4}));
+            py::dict d;
+            d["cluster_bounds"] = to_numpy<float>(g.cluster_bounds, {clusters, 4});
+            d["widest"] = widest;
+            return d;
+        }, "{'cluster_bounds': [clusters, 4] spheres, 'widest': per thick level [clusters, n_c, 4] (centre, diameter)}.");
+
     py::class_<ViewSelection>(m, "ViewSelection",
                               "Per-view LoD state: the initial selection, then one Huang 2025 Eq. 16 step per update, "
                               "and the index lists to draw it (vertex buffers item-major, strands in hierarchy order).")
@@ -300,6 +337,8 @@ void bind_lod(py::module_& m) {
                  return ViewSelection(a, a.skin(points));
              }),
              py::arg("asset"), py::arg("guides"), py::keep_alive<1, 2>())
+        .def(py::init([](const FrameSkinning& s) { return ViewSelection(s.asset(), s.selection_geometry()); }),
+             py::arg("skinning"), py::keep_alive<1, 2>(), "Selects on the current frame of `skinning` (no strand is skinned).")
         .def("update", [](ViewSelection& v, const FloatArray& view, const FloatArray& projection,
                           std::pair<float, float> viewport, float width_px) {
             const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
@@ -308,6 +347,8 @@ void bind_lod(py::module_& m) {
         }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx,
            "Selects for the camera; True when the selection changed.")
         .def("reset", &ViewSelection::reset, "The next update starts from the initial selection.")
+        .def("set_geometry", [](ViewSelection& v, const FrameSkinning& s) { v.set_geometry(s.selection_geometry()); },
+             py::arg("skinning"), "Selects on the skinned guides of `skinning` from now on (the next update runs Huang 2025 Eq. 16).")
         .def_property_readonly("level_count", &ViewSelection::level_count)
         .def_property_readonly("selection", [](const ViewSelection& v) { return v.selection(); })
         .def("geometry", [](const ViewSelection& v, const LodAsset& a) { return geometry_dict(a, v.geometry()); },

@@ -76,6 +76,29 @@ def curves_to_strands(obj, evaluated=True, depsgraph=None) -> Strands:
     return strands
 
 
+def evaluated_curve_subset(obj, curve_indices, depsgraph, expected_curves=None) -> Strands:
+    """Strands of the curves ``curve_indices`` (in that order) of the hair Curves object ``obj`` as
+    ``depsgraph`` evaluates it, positions only (radius 0): what following an animation reads each
+    frame. Raises ValueError when the evaluated curves are not ``expected_curves`` many (the
+    topology changed since the indices were taken) or an index is out of range."""
+    curves = obj.evaluated_get(depsgraph).data
+    curve_count = len(curves.curves)
+    if expected_curves is not None and curve_count != expected_curves:
+        raise ValueError(f"'{obj.name}' has {curve_count} curves now, {expected_curves} when the LoD was built")
+    indices = np.asarray(curve_indices, dtype=np.int64)
+    if indices.size and (indices.min() < 0 or indices.max() >= curve_count):
+        raise ValueError(f"'{obj.name}' has {curve_count} curves, a curve index asks for {int(indices.max())}")
+    offsets = np.empty(curve_count + 1, np.int32)
+    curves.curve_offset_data.foreach_get("value", offsets)
+    points = np.empty((len(curves.points), 3), np.float32)
+    curves.attributes["position"].data.foreach_get("vector", points.ravel())
+    counts = (offsets[indices + 1] - offsets[indices]).astype(np.int64)
+    subset_offsets = np.concatenate([[0], np.cumsum(counts)])
+    # Point i of the subset is point i - subset_offsets[c] + offsets[indices[c]] of its curve c.
+    gather = np.repeat(offsets[indices] - subset_offsets[:-1], counts) + np.arange(subset_offsets[-1])
+    return Strands(points[gather], subset_offsets, None)
+
+
 def strands_to_curves(strands: Strands, name, collection=None):
     """A new hair Curves object named ``name`` holding ``strands``, linked to ``collection``
     (the context's collection when None). Curves are Catmull-Rom; Strands attributes become

@@ -91,4 +91,16 @@ CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<cons
     return section;
 }
 
+float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners) {
+    glm::vec3 on_plane[4];
+    for (int i = 0; i < 4; ++i) {
+        const glm::vec3 offset = corners[i] - centre;
+        on_plane[i] = offset - glm::dot(offset, tangent) * tangent;
+    }
+    float widest = 0.0f;
+    for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) widest = std::max(widest, glm::distance(on_plane[i], on_plane[j]));
+    return widest;
+}
+
 }  // namespace hairlod

@@ -124,4 +124,12 @@ glm::mat3 frame_map(const GuideFrame& rest, const GuideFrame& deformed) {
     return glm::mat3(glm::dmat3(deformed.axes) * glm::inverse(rest_axes));
 }
 
+GuideSet guide_set(const std::array<int32_t, 3>& guides, const glm::vec3* guide_points, int control_points) {
+    GuideSet set;
+    set.control_points = control_points;
+    for (int32_t g : guides)
+        if (g >= 0) set.curves[set.count++] = guide_points + static_cast<size_t>(g) * control_points;
+    return set;
+}
+
 }  // namespace hairlod

@@ -113,14 +113,6 @@ std::vector<std::array<int32_t, 3>> nearest_guide_sets(const FeatureRows& rows, 
     return sets;
 }
 
-GuideSet guide_set(const std::array<int32_t, 3>& guides, const glm::vec3* guide_points, int control_points) {
-    GuideSet set;
-    set.control_points = control_points;
-    for (int32_t g : guides)
-        if (g >= 0) set.curves[set.count++] = guide_points + static_cast<size_t>(g) * control_points;
-    return set;
-}
-
 std::vector<glm::vec3> unit_tangents(const StrandSet& resampled, int control_points) {
     std::vector<glm::vec3> tangents(resampled.points.size());
     const auto nc = static_cast<size_t>(control_points);
@@ -336,20 +328,6 @@ void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sec
     }
     level.coverage = static_cast<double>(covered_total) / static_cast<double>(asset.strand_count() * nc);
     level.mean_area = area_total / static_cast<double>(hairs * nc);
-}
-
-// Largest distance between the corners projected onto the plane through `centre` normal to
-// `tangent` (Sec. 5.2 "Hair width calculation", in world units).
-float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners) {
-    glm::vec3 on_plane[4];
-    for (int i = 0; i < 4; ++i) {
-        const glm::vec3 offset = corners[i] - centre;
-        on_plane[i] = offset - glm::dot(offset, tangent) * tangent;
-    }
-    float widest = 0.0f;
-    for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) widest = std::max(widest, glm::distance(on_plane[i], on_plane[j]));
-    return widest;
 }
 
 void check_options(const LodOptions& options) {
@@ -654,94 +632,6 @@ void LodAsset::validate() const {
         for (const glm::u16vec2& code : level.radii)
             require(finite_radius(code.x) && finite_radius(code.y), name + "radii holds a radius that is not finite");
     }
-}
-
-LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
-    const auto nc = static_cast<size_t>(control_points);
-    if (deformed_guides.size() != rest_guides.size())
-        throw Error("skin: expected " + std::to_string(guide_count()) + " guides x " + std::to_string(nc) +
-                    " points, got " + std::to_string(deformed_guides.size()) + " points");
-    for (const glm::vec3& p : deformed_guides)
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            throw Error("skin: deformed guides contain NaN or infinite coordinates");
-
-    const size_t clusters = cluster_count(), strands = strand_count();
-    // Per L0 cluster and control point: the deformed frame, and the linear map taking rest
-    // vectors (cross-section axes) to deformed ones.
-    std::vector<GuideFrame> frames(clusters * nc);
-    std::vector<glm::mat3> vector_maps(clusters * nc);
-    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
-        const GuideSet deformed = guide_set(cluster_guides[c], deformed_guides.data(), control_points);
-        const GuideSet rest = guide_set(cluster_guides[c], rest_guides.data(), control_points);
-        for (size_t k = 0; k < nc; ++k) {
-            const FrameKind kind = frame_kinds[c * nc + k];
-            frames[c * nc + k] = guide_frame(kind, deformed, static_cast<int>(k));
-            vector_maps[c * nc + k] = frame_map(guide_frame(kind, rest, static_cast<int>(k)), frames[c * nc + k]);
-        }
-    });
-
-    LodGeometry geometry;
-    StrandSet& out = geometry.strands;
-    out.points.resize(strands * nc);
-    out.radius.resize(strands * nc);
-    out.offsets.resize(strands + 1);
-    for (size_t s = 0; s <= strands; ++s) out.offsets[s] = static_cast<int64_t>(s * nc);
-    geometry.cluster_bounds.resize(clusters);
-    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
-        glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
-        float widest = 0.0f;
-        const auto [first, end] = cluster_strands(c);
-        for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
-            const auto s = static_cast<size_t>(strand_order[i]);
-            for (size_t k = 0; k < nc; ++k) {
-                const glm::vec3 p = frames[c * nc + k].origin + vector_maps[c * nc + k] * offset_boxes[c * nc + k].decode(strand_offset[i * nc + k]);
-                const float radius = decode_half(strand_radius[i * nc + k], radius_exponent);
-                out.points[s * nc + k] = p;
-                out.radius[s * nc + k] = radius;
-                lower = glm::min(lower, p);
-                upper = glm::max(upper, p);
-                widest = std::max(widest, radius);
-            }
-        }
-        geometry.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest);
-    });
-
-    for (size_t l = 0; l < thick_levels.size(); ++l) {
-        const ThickHairLevel& level = thick_levels[l];
-        ThickHairGeometry& g = geometry.levels.emplace_back();
-        const size_t count = level.hair_count() * nc;
-        g.centre.resize(count);
-        g.tangent.resize(count);
-        g.major.resize(count);
-        g.minor.resize(count);
-        g.corners.resize(count);
-        g.widest.resize(clusters * nc);
-        tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
-            for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
-                const size_t first = static_cast<size_t>(h) * nc;
-                for (size_t k = 0; k < nc; ++k) {
-                    const size_t at = first + k;
-                    const RestSection rest = section(l, static_cast<size_t>(h), k);
-                    g.centre[at] = frames[c * nc + k].origin + vector_maps[c * nc + k] * rest.centre_offset;
-                    g.major[at] = vector_maps[c * nc + k] * (rest.major_axis * rest.radii.x);
-                    g.minor[at] = vector_maps[c * nc + k] * (rest.minor_axis * rest.radii.y);
-                    // The axis ends skinned like the centre: linear skinning moves centre + axis
-                    // to the skinned centre plus the mapped axis.
-                    g.corners[at] = {g.centre[at] + g.major[at], g.centre[at] - g.major[at], g.centre[at] + g.minor[at],
-                                     g.centre[at] - g.minor[at]};
-                }
-                for (size_t k = 0; k < nc; ++k) {
-                    const glm::vec3 step = g.centre[first + std::min(k + 1, nc - 1)] - g.centre[first + (k == 0 ? 0 : k - 1)];
-                    const float length = glm::length(step);
-                    g.tangent[first + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
-                    const float diameter = corner_diameter(g.centre[first + k], g.tangent[first + k], g.corners[first + k]);
-                    glm::vec4& widest = g.widest[c * nc + k];
-                    if (h == level.cluster_first[c] || diameter > widest.w) widest = glm::vec4(g.centre[first + k], diameter);
-                }
-            }
-        });
-    }
-    return geometry;
 }
 
 LodAsset LodAsset::with_levels(std::span<const size_t> kept) const {

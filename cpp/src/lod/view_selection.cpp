@@ -28,9 +28,16 @@ void append_draw_indices(const Selection& selection, int level, int control_poin
     }
 }
 
-ViewSelection::ViewSelection(const LodAsset& asset, LodGeometry geometry) : asset_(&asset), geometry_(std::move(geometry)) {
-    if (geometry_.levels.size() != asset.thick_levels.size() || geometry_.cluster_bounds.size() != asset.cluster_count())
-        throw Error("view selection: geometry does not belong to this asset");
+ViewSelection::ViewSelection(const LodAsset& asset, LodGeometry geometry) : asset_(&asset) {
+    set_geometry(std::move(geometry));
+}
+
+void ViewSelection::set_geometry(LodGeometry geometry) {
+    bool fits = geometry.levels.size() == asset_->thick_levels.size() && geometry.cluster_bounds.size() == asset_->cluster_count();
+    for (const ThickHairGeometry& level : geometry.levels)
+        fits = fits && level.widest.size() == asset_->cluster_count() * static_cast<size_t>(asset_->control_points);
+    if (!fits) throw Error("view selection: geometry does not belong to this asset");
+    geometry_ = std::move(geometry);
 }
 
 bool ViewSelection::update(const Camera& camera, float width_px) {

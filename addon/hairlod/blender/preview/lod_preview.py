@@ -46,6 +46,7 @@ BLOCK_SEGMENTS = 1 << 12
 # spread over many blocks (a far view's few finer clusters) draws no more than it selected.
 EXACT_SEGMENTS = 1 << 12
 SELECTION_SLOT = 6  # sampler slot of the selection texture (the BCSDF tables take 0-2)
+SKIN_SLOT = 8       # sampler slot of the skinning maps (skinning.glsl; view_transform takes 7)
 
 
 def level_colour(level, level_count):
@@ -109,13 +110,14 @@ def _create_shader(kind):
     info.push_constant('INT', "shading_mode")
     info.push_constant('INT', "draw_level")
     info.sampler(SELECTION_SLOT, 'FLOAT_2D', "selection_levels")
+    info.sampler(SKIN_SLOT, 'FLOAT_2D', "skin_maps")
     bcsdf_textures.declare(info)
     view_transform.declare(info)
     for slot, (name, length) in enumerate(_attributes(kind)):
         info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
-    info.vertex_source(glsl_source("thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
+    info.vertex_source(glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     info.fragment_source(view_transform.GLSL_CONSTANTS + glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl",
                                                                      "self_shadow.glsl", "view_transform.glsl",
                                                                      "hair.frag.glsl"))
@@ -156,6 +158,15 @@ def _batch(kind, buffers, elements):
     return batch
 
 
+def skin_texture(maps):
+    """The skinning maps [clusters, n_c, 3, 4] (FrameSkinning.maps) as the RGBA32F texture
+    skinning.glsl reads: 3 n_c texels wide, one row per L0 cluster."""
+    clusters, control_points = maps.shape[:2]
+    data = np.ascontiguousarray(maps, dtype=np.float32).ravel()
+    return gpu.types.GPUTexture((3 * control_points, clusters), format='RGBA32F',
+                                data=gpu.types.Buffer('FLOAT', data.size, data))
+
+
 class LevelBlocks:
     """The static batches of one level: blocks of whole L0 clusters, all their segments."""
 
@@ -194,6 +205,15 @@ class LodPreview:
         self.textures_key = None
         self.world = None  # (key, WorldLights or None, reason, uniform block, response texture)
         self.packed = False
+        # Following the hair's deformation: the vertex buffers hold the rest pose, skinned on the GPU
+        # by the maps of `skinning` (uploaded as `skin_texture`) for the guides last read.
+        self.skinning = None
+        self.skin_texture = None
+        self.guides = None          # the guides drawn [G, n_c, 3]; None: the rest pose
+        self.pending_guides = None  # guides read by a handler, applied by the next draw
+        self.rest_volume = None     # (HairVolume of the rest strands, bounding box of the rest clusters)
+        self.follow_status = ""     # why the preview does not follow the hair, when it does not
+        self.follow_stats = {}
 
     @property
     def level_count(self):
@@ -219,10 +239,60 @@ class LodPreview:
         self.blocks.append(LevelBlocks("strand", buffers[-1], item_first, control_points))
         self.vertex_buffers = buffers
         self.hair_volume = self_shadow.strands_volume(strands)
+        self.skinning = self.asset.frame_skinning()
+        self.rest_volume = (self.hair_volume, _spheres_box(self.skinning.selection_geometry()["cluster_bounds"]))
+        self.skin_texture = skin_texture(self.skinning.maps)
+        if self.pending_guides is None and self.guides is not None:
+            self.pending_guides, self.guides = self.guides, None  # buffers rebuilt: skin them again
+
+    def read_guides(self, obj, depsgraph):
+        """Reads the guides of ``obj``'s evaluated hair (only the guide curves are gathered and
+        resampled) for the next draw to skin to; nothing when they have not moved. When the hair's
+        curves no longer match the asset, the preview stays at the last pose and says why."""
+        from ..curves import evaluated_curve_subset
+
+        if obj.type != 'CURVES':
+            self.follow_status = "Not following: the object is not hair Curves"
+            return False
+        start = time.perf_counter()
+        try:
+            curves = evaluated_curve_subset(obj, self.asset.guide_strands, depsgraph, self.asset.strand_count)
+            guides = self.asset.resample_guides(curves)
+        except ValueError as error:
+            self.follow_status = f"Not following the hair: {error}"
+            return False
+        self.follow_status = ""
+        self.follow_stats["read_ms"] = 1e3 * (time.perf_counter() - start)
+        current = self.pending_guides if self.pending_guides is not None else self.guides
+        if np.array_equal(guides, self.asset.rest_guides if current is None else current):
+            return False
+        self.pending_guides = guides
+        return True
+
+    def _apply_pending_guides(self):
+        """Skins to the guides a handler read: new maps, their texture, the views' selection
+        geometry and the self-shadowing volume. O(clusters n_c): no strand is touched on the CPU."""
+        guides, self.pending_guides = self.pending_guides, None
+        start = time.perf_counter()
+        try:
+            self.skinning.update(guides)
+        except ValueError as error:
+            self.follow_status = f"Not following the hair: {error}"
+            return
+        skinned = time.perf_counter()
+        self.skin_texture = skin_texture(self.skinning.maps)
+        uploaded = time.perf_counter()
+        for state in self.views.values():
+            state.selection.set_geometry(self.skinning)
+        geometry = self.skinning.selection_geometry()
+        rest_volume, rest_box = self.rest_volume
+        self.hair_volume = self_shadow.moved_volume(rest_volume, rest_box, _spheres_box(geometry["cluster_bounds"]))
+        self.guides = guides
+        self.follow_stats.update(skin_ms=1e3 * (skinned - start), upload_ms=1e3 * (uploaded - skinned))
 
     def view_state(self, key):
         if key not in self.views:
-            self.views[key] = ViewState(self.asset.view_selection(), self.level_count)
+            self.views[key] = ViewState(self.asset.view_selection(skinning=self.skinning), self.level_count)
         return self.views[key]
 
     def upload_selection(self, state):
@@ -318,6 +388,8 @@ class LodPreview:
         start = time.perf_counter()
         if self.vertex_buffers is None:
             self._build_vertex_buffers()
+        if self.pending_guides is not None:
+            self._apply_pending_guides()
         state = self.view_state(region_3d.as_pointer())
         model_view = region_3d.view_matrix @ obj.matrix_world
         projection = region_3d.window_matrix
@@ -354,6 +426,7 @@ class LodPreview:
             program.uniform_int("shading_mode", 0 if settings.overlay == 'SHADED' else 1)
             program.uniform_int("draw_level", level)
             program.uniform_sampler("selection_levels", state.texture)
+            program.uniform_sampler("skin_maps", self.skin_texture)
             if settings.overlay == 'SHADED':
                 textures.bind(program)
                 program.uniform_block("hair_world", world_block)
@@ -378,6 +451,12 @@ def _gpu_finish():
     deprecated in 4.x and gone in 5.x)."""
     framebuffer = gpu.state.active_framebuffer_get()
     return lambda: framebuffer.read_color(0, 0, 1, 1, 4, 0, 'UBYTE')
+
+
+def _spheres_box(spheres):
+    """(lower, upper) float64 of the box holding the spheres [n, 4] (centre, radius)."""
+    spheres = np.asarray(spheres, dtype=np.float64)
+    return (spheres[:, :3] - spheres[:, 3:]).min(axis=0), (spheres[:, :3] + spheres[:, 3:]).max(axis=0)
 
 
 def uses_material(obj, settings):
@@ -438,6 +517,8 @@ def attach(obj, asset, packed=False):
     preview = LodPreview(asset)
     preview.packed = packed
     _previews[obj.name] = preview
+    if obj.hairlod_lod_preview.enabled:
+        preview.read_guides(obj, bpy.context.evaluated_depsgraph_get())  # the current frame's pose
     replace_source_display(obj, obj.hairlod_lod_preview.enabled)
     _tag_viewports()
 
@@ -497,6 +578,34 @@ def _draw():
         preview.draw(obj, region, region_3d, settings)
 
 
+def _read_deformations(depsgraph, names=None):
+    """Reads the guides of every previewed object (or of those in ``names``) whose preview is on,
+    and redraws the viewports when one moved."""
+    moved = False
+    for name, preview in list(_previews.items()):
+        obj = bpy.data.objects.get(name)
+        if obj is None or (names is not None and name not in names) or not obj.hairlod_lod_preview.enabled:
+            continue
+        moved = preview.read_guides(obj, depsgraph) or moved
+    if moved:
+        _tag_viewports()
+
+
+@persistent
+def _on_frame_change(scene, depsgraph=None):
+    """Playback and scrubbing: the hair may have moved (armature, Geometry Nodes, a cache)."""
+    _read_deformations(depsgraph if depsgraph is not None else bpy.context.evaluated_depsgraph_get())
+
+
+@persistent
+def _on_depsgraph_update(scene, depsgraph):
+    """Edits (a modifier's input, a pose, sculpting): the objects whose geometry was updated."""
+    names = {update.id.original.name for update in depsgraph.updates
+             if isinstance(update.id, bpy.types.Object) and update.is_updated_geometry}
+    if names & _previews.keys():
+        _read_deformations(depsgraph, names)
+
+
 @persistent
 def _on_load(_):
     _previews.clear()
@@ -508,6 +617,12 @@ def _attach_after_register():
     return None
 
 
+# (the bpy.app.handlers list, handler) pairs the preview registers.
+_HANDLERS = ((lambda: bpy.app.handlers.load_post, _on_load),
+             (lambda: bpy.app.handlers.frame_change_post, _on_frame_change),
+             (lambda: bpy.app.handlers.depsgraph_update_post, _on_depsgraph_update))
+
+
 def register_handler():
     """Draws previews in every 3D viewport; nothing in background mode (no GPU, nothing to see)."""
     global _handle
@@ -515,16 +630,18 @@ def register_handler():
         return
     if _handle is None:
         _handle = bpy.types.SpaceView3D.draw_handler_add(_draw, (), 'WINDOW', 'POST_VIEW')
-    if _on_load not in bpy.app.handlers.load_post:
-        bpy.app.handlers.load_post.append(_on_load)
+    for handlers, handler in _HANDLERS:
+        if handler not in handlers():
+            handlers().append(handler)
     # bpy.data is not readable while add-ons register: look for packed assets just after.
     bpy.app.timers.register(_attach_after_register, first_interval=0.0)
 
 
 def unregister_handler():
     global _handle
-    if _on_load in bpy.app.handlers.load_post:
-        bpy.app.handlers.load_post.remove(_on_load)
+    for handlers, handler in _HANDLERS:
+        if handler in handlers():
+            handlers().remove(handler)
     if bpy.app.timers.is_registered(_attach_after_register):
         bpy.app.timers.unregister(_attach_after_register)
     if _handle is not None:

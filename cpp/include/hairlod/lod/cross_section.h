@@ -1,6 +1,7 @@
 #pragma once
 // Elliptical cross-section of a thick hair at one control-point index, fitted to the members'
 // control points (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 3).
+#include <array>
 #include <span>
 #include <vector>
 
@@ -34,5 +35,9 @@ double growth_to_cover(const CrossSection& section, std::span<const glm::vec3> p
 // `coverage` of the points inside. `scratch` is reused between calls.
 CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<const glm::vec3> tangents,
                                float strand_radius, float coverage, std::vector<float>& scratch);
+
+// Largest distance between the 4 corners (centre +- semi-axes) projected onto the plane through
+// `centre` normal to the unit `tangent` (Sec. 5.2 "Hair width calculation", in world units).
+float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners);
 
 }  // namespace hairlod

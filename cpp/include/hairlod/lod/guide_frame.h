@@ -5,6 +5,7 @@
 // unit normal), so local (a, b, h) means the barycentric weights (1 - a - b, a, b) plus an offset h
 // along the normal. Degenerate guide sets use an orthonormal frame at the guides' centroid. Either
 // way the frame moves with the guides, so rigid motions of the guides reproduce points exactly.
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -32,6 +33,9 @@ struct GuideFrame {
     glm::vec3 origin{0.0f};
     glm::mat3 axes{1.0f};  // point = origin + axes * local
 };
+
+// The set of the guides `guides` (indices, -1 padded) within guide_points ([guides * control_points]).
+GuideSet guide_set(const std::array<int32_t, 3>& guides, const glm::vec3* guide_points, int control_points);
 
 // The best-conditioned kind for the rest pose at control point k.
 FrameKind choose_frame_kind(const GuideSet& guides, int k);

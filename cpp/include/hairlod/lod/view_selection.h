@@ -32,6 +32,10 @@ public:
     // changed.
     bool update(const Camera& camera, float width_px);
     void reset() { started_ = false; }
+    // Replaces the geometry when the guides move (FrameSkinning::selection_geometry, or
+    // LodAsset::skin); the next update runs Huang 2025 Eq. 16 from the current levels, as for a moving camera.
+    // Throws Error when the geometry does not belong to the asset.
+    void set_geometry(LodGeometry geometry);
 
     const Selection& selection() const { return selection_; }
     const LodGeometry& geometry() const { return geometry_; }

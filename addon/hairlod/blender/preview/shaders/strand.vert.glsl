@@ -1,10 +1,12 @@
-/* A strand drawn as lines, one vertex per control point; object space in, world space out. */
+/* A strand drawn as lines, one vertex per control point; the rest pose in object space in, skinned
+ * to the current frame (skinning.glsl), world space out. */
 void main()
 {
-  vec3 world = (frame.model * vec4(position, 1.0)).xyz;
+  ivec2 cluster_point = ivec2(select_key + 0.5);
+  vec3 world = (frame.model * vec4(skin_point(cluster_point, position), 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
   v_position = world;
-  v_tangent = normalize(mat3(frame.model) * tangent);
+  v_tangent = normalize(mat3(frame.model) * (skin_linear(cluster_point) * tangent));
   v_to_camera = frame.camera.xyz - world * frame.camera.w;
   v_across = 0.0;
   v_ellipse = vec3(0.0);

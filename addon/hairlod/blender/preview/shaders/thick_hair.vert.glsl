@@ -1,14 +1,17 @@
 /* Camera-facing strip of a thick elliptical hair (hair-lod-aggregated-bcsdf.txt Sec. 5): vertices
  * 2k and 2k + 1 sit on either side of control point k. The strip spans the ellipse's silhouette seen
  * from the camera, so a switch between levels keeps the drawn width; at least half a pixel either
- * side so that thin hairs do not fall between pixels. Inputs are in object space, outputs in world
- * space (frame.model is the object's matrix). */
+ * side so that thin hairs do not fall between pixels. Inputs are the rest pose in object space,
+ * skinned to the current frame (skinning.glsl); outputs in world space (frame.model is the
+ * object's matrix). */
 void main()
 {
+  ivec2 cluster_point = ivec2(select_key + 0.5);
+  mat3 skin = skin_linear(cluster_point);
   mat3 linear = mat3(frame.model);
-  vec3 world = (frame.model * vec4(position, 1.0)).xyz;
-  vec3 t = normalize(linear * tangent);
-  vec3 major_w = linear * major, minor_w = linear * minor;
+  vec3 world = (frame.model * vec4(skin_point(cluster_point, position), 1.0)).xyz;
+  vec3 t = normalize(linear * (skin * tangent));
+  vec3 major_w = linear * (skin * major), minor_w = linear * (skin * minor);
   vec3 to_camera = frame.camera.xyz - world * frame.camera.w;
   vec3 side = cross(t, to_camera);
   float side_length = length(side);

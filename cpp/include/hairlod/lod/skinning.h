@@ -1,0 +1,87 @@
+#pragma once
+// Per-frame linear skinning of an LoD asset to deformed guides (hair-lod-aggregated-bcsdf.txt
+// Sec. 5.1 step 4 and Sec. 5.2: "only the guides are simulated", strands and thick hairs follow
+// through the weights). Every skinned point of L0 cluster c at control point k moves by one affine
+// map: p' = o'_ck + M_ck (p - o_ck), o the frame origins and M = deformed axes x rest axes^-1.
+// LodAsset::skin applies the maps to everything on the CPU (export, rendering); FrameSkinning
+// computes only the maps and what LoD selection reads, for a renderer that applies the maps to
+// rest-pose vertex buffers on the GPU: per frame it costs O(clusters x n_c), not O(points).
+#include <array>
+#include <span>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "hairlod/lod/guide_frame.h"
+#include "hairlod/lod/lod_asset.h"
+
+namespace hairlod {
+
+// The map of one L0 cluster at one control point: a rest point p (world, rest pose) skins to
+// origin + linear * (p - rest_origin); rest vectors (tangents, cross-section axes) to linear * v.
+struct ClusterMap {
+    glm::vec3 rest_origin{0.0f};
+    glm::vec3 origin{0.0f};
+    glm::mat3 linear{1.0f};
+};
+
+// The rest frames of every L0 cluster and control point [clusters * n_c] (what each map divides by).
+std::vector<GuideFrame> rest_frames(const LodAsset& asset);
+
+// The maps of every L0 cluster and control point [clusters * n_c] for `deformed_guides` ([guides *
+// n_c] points, the guides in the order of guide_strands), given the asset's rest_frames. Throws
+// Error when the guides have the wrong size or a coordinate that is not finite.
+std::vector<ClusterMap> cluster_maps(const LodAsset& asset, std::span<const GuideFrame> rest,
+                                     std::span<const glm::vec3> deformed_guides);
+
+// The guides' control points [guides * n_c] from `guide_curves`: the asset's guide strands, in the
+// order of guide_strands, as they are now (moved or deformed, any point count), resampled as
+// build_lod resamples them (arc length, LodOptions' default subdivisions). Under a rigid motion, or
+// a bend that keeps lengths, they are the moved rest_guides. Throws Error unless there is one curve
+// per guide.
+std::vector<glm::vec3> resample_guides(const LodAsset& asset, const StrandSet& guide_curves);
+
+// The affine map as 3 rows (M row r, translation r): p' = (dot(row_0, (p, 1)), dot(row_1, ...), ...),
+// what a shader reads as 3 RGBA texels.
+using AffineRows = std::array<glm::vec4, 3>;
+AffineRows affine_rows(const ClusterMap& map);
+
+class FrameSkinning {
+public:
+    // Caches the asset's rest frames and, per thick level, L0 cluster and control point, the rest
+    // cross-section of the cluster's widest hair there (the hair LoD selection measures). `asset`
+    // must outlive this object. Starts at the rest pose.
+    explicit FrameSkinning(const LodAsset& asset);
+
+    // Skins to `deformed_guides` (as cluster_maps). Throws Error on bad guides and keeps the
+    // previous frame.
+    void update(std::span<const glm::vec3> deformed_guides);
+
+    const LodAsset& asset() const { return *asset_; }
+    // [clusters * n_c] affine maps from rest to deformed positions.
+    const std::vector<AffineRows>& maps() const { return rows_; }
+
+    // What LoD selection reads (Selection's geometry): per thick level the skinned widest hair of
+    // each L0 cluster and control point, and per cluster a sphere holding its deformed strands.
+    // Strands and per-hair arrays are empty. The widest hair is the rest pose's: under a rigid
+    // motion it stays the widest; under a non-rigid one another hair of the cluster may grow wider.
+    // The sphere bounds the cluster's quantisation boxes mapped at every control point, so it holds
+    // every skinned strand point (plus the widest strand radius) under any deformation.
+    const LodGeometry& selection_geometry() const { return geometry_; }
+
+private:
+    struct WidestRest {
+        glm::vec3 before, centre, after;  // rest centres at control points k - 1, k, k + 1 (clamped)
+        glm::vec3 major, minor;           // rest semi-axis vectors at k
+    };
+    const LodAsset* asset_;
+    std::vector<GuideFrame> rest_;
+    std::vector<std::vector<WidestRest>> widest_rest_;  // per thick level [clusters * n_c]
+    std::vector<float> widest_strand_radius_;          // per cluster
+    std::vector<AffineRows> rows_;
+    LodGeometry geometry_;
+};
+
+}  // namespace hairlod

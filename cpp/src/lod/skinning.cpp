@@ -1,0 +1,230 @@
+#include "hairlod/lod/skinning.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "hairlod/core/error.h"
+#include "hairlod/curves/resample.h"
+#include "hairlod/lod/compact.h"
+#include "hairlod/lod/cross_section.h"
+
+namespace hairlod {
+
+namespace {
+
+glm::vec3 skin_point(const ClusterMap& map, const glm::vec3& rest_point) {
+    return map.origin + map.linear * (rest_point - map.rest_origin);
+}
+
+glm::vec3 unit_or_zero(const glm::vec3& v) {
+    const float length = glm::length(v);
+    return length > 0.0f ? v / length : glm::vec3(0.0f);
+}
+
+}  // namespace
+
+std::vector<GuideFrame> rest_frames(const LodAsset& asset) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    std::vector<GuideFrame> frames(asset.cluster_count() * nc);
+    tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
+        const GuideSet rest = guide_set(asset.cluster_guides[c], asset.rest_guides.data(), asset.control_points);
+        for (size_t k = 0; k < nc; ++k) frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], rest, static_cast<int>(k));
+    });
+    return frames;
+}
+
+std::vector<ClusterMap> cluster_maps(const LodAsset& asset, std::span<const GuideFrame> rest,
+                                     std::span<const glm::vec3> deformed_guides) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    if (deformed_guides.size() != asset.rest_guides.size())
+        throw Error("skin: expected " + std::to_string(asset.guide_count()) + " guides x " + std::to_string(nc) +
+                    " points, got " + std::to_string(deformed_guides.size()) + " points");
+    for (const glm::vec3& p : deformed_guides)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw Error("skin: deformed guides contain NaN or infinite coordinates");
+    if (rest.size() != asset.cluster_count() * nc) throw Error("skin: rest frames do not belong to this asset");
+
+    std::vector<ClusterMap> maps(rest.size());
+    tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
+        const GuideSet deformed = guide_set(asset.cluster_guides[c], deformed_guides.data(), asset.control_points);
+        for (size_t k = 0; k < nc; ++k) {
+            const size_t i = c * nc + k;
+            const GuideFrame frame = guide_frame(asset.frame_kinds[i], deformed, static_cast<int>(k));
+            maps[i] = ClusterMap{rest[i].origin, frame.origin, frame_map(rest[i], frame)};
+        }
+    });
+    return maps;
+}
+
+std::vector<glm::vec3> resample_guides(const LodAsset& asset, const StrandSet& guide_curves) {
+    if (guide_curves.curve_count() != asset.guide_count())
+        throw Error("resample_guides: expected " + std::to_string(asset.guide_count()) + " guide curves, got " +
+                    std::to_string(guide_curves.curve_count()));
+    StrandSet resampled = resample_strands(guide_curves, {.points_per_curve = asset.control_points,
+                                                          .subdivisions_per_segment = LodOptions{}.arc_length_subdivisions});
+    return std::move(resampled.points);
+}
+
+AffineRows affine_rows(const ClusterMap& map) {
+    // p' = linear p + (origin - linear rest_origin); glm matrices are column-major: linear[col][row].
+    const glm::vec3 translation = map.origin - map.linear * map.rest_origin;
+    AffineRows rows;
+    for (int r = 0; r < 3; ++r) rows[r] = glm::vec4(map.linear[0][r], map.linear[1][r], map.linear[2][r], translation[r]);
+    return rows;
+}
+
+FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset), rest_(rest_frames(asset)) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    const size_t clusters = asset.cluster_count();
+    // The widest hair of each cluster and control point at rest, as LodAsset::skin measures it.
+    for (size_t l = 0; l < asset.thick_levels.size(); ++l) {
+        const ThickHairLevel& level = asset.thick_levels[l];
+        std::vector<WidestRest>& widest = widest_rest_.emplace_back(clusters * nc);
+        tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+            std::vector<float> best(nc, -1.0f);
+            std::vector<RestSection> sections(nc);
+            std::vector<glm::vec3> centres(nc);
+            for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
+                for (size_t k = 0; k < nc; ++k) {
+                    sections[k] = asset.section(l, static_cast<size_t>(h), k);
+                    centres[k] = rest_[c * nc + k].origin + sections[k].centre_offset;
+                }
+                for (size_t k = 0; k < nc; ++k) {
+                    const size_t before = k == 0 ? 0 : k - 1, after = std::min(k + 1, nc - 1);
+                    const glm::vec3 tangent = unit_or_zero(centres[after] - centres[before]);
+                    const glm::vec3 major = sections[k].major_axis * sections[k].radii.x;
+                    const glm::vec3 minor = sections[k].minor_axis * sections[k].radii.y;
+                    const float diameter = corner_diameter(
+                        centres[k], tangent, {centres[k] + major, centres[k] - major, centres[k] + minor, centres[k] - minor});
+                    if (diameter > best[k]) {
+                        best[k] = diameter;
+                        widest[c * nc + k] = WidestRest{centres[before], centres[k], centres[after], major, minor};
+                    }
+                }
+            }
+        });
+    }
+    widest_strand_radius_.assign(clusters, 0.0f);
+    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+        const auto [first, end] = asset.cluster_strands(c);
+        uint16_t widest = 0;  // halves >= 0 order like their codes
+        for (size_t i = static_cast<size_t>(first) * nc; i < static_cast<size_t>(end) * nc; ++i)
+            widest = std::max(widest, asset.strand_radius[i]);
+        widest_strand_radius_[c] = decode_half(widest, asset.radius_exponent);
+    });
+    geometry_.cluster_bounds.resize(clusters);
+    geometry_.levels.resize(asset.thick_levels.size());
+    for (ThickHairGeometry& level : geometry_.levels) level.widest.resize(clusters * nc);
+    rows_.resize(clusters * nc);
+    update(asset.rest_guides);
+}
+
+void FrameSkinning::update(std::span<const glm::vec3> deformed_guides) {
+    const std::vector<ClusterMap> maps = cluster_maps(*asset_, rest_, deformed_guides);
+    const auto nc = static_cast<size_t>(asset_->control_points);
+    tbb::parallel_for(size_t{0}, asset_->cluster_count(), [&](size_t c) {
+        glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
+        for (size_t k = 0; k < nc; ++k) {
+            const size_t i = c * nc + k;
+            rows_[i] = affine_rows(maps[i]);
+            // The 8 corners of the box of the strands' rest offsets, mapped: a linear map takes the
+            // box to a parallelepiped whose corners bound every mapped offset.
+            const QuantisationBox& box = asset_->offset_boxes[i];
+            const glm::vec3 extent = box.step * float(std::numeric_limits<uint16_t>::max());
+            for (int corner = 0; corner < 8; ++corner) {
+                const glm::vec3 offset = box.lower + glm::vec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1) * extent;
+                const glm::vec3 p = maps[i].origin + maps[i].linear * offset;
+                lower = glm::min(lower, p);
+                upper = glm::max(upper, p);
+            }
+        }
+        geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
+        for (size_t l = 0; l < widest_rest_.size(); ++l) {
+            for (size_t k = 0; k < nc; ++k) {
+                const size_t i = c * nc + k, before = k == 0 ? i : i - 1, after = k + 1 == nc ? i : i + 1;
+                const WidestRest& rest = widest_rest_[l][i];
+                const glm::vec3 centre = skin_point(maps[i], rest.centre);
+                const glm::vec3 tangent = unit_or_zero(skin_point(maps[after], rest.after) - skin_point(maps[before], rest.before));
+                const glm::vec3 major = maps[i].linear * rest.major, minor = maps[i].linear * rest.minor;
+                const float diameter = corner_diameter(centre, tangent, {centre + major, centre - major, centre + minor, centre - minor});
+                geometry_.levels[l].widest[i] = glm::vec4(centre, diameter);
+            }
+        }
+    });
+}
+
+LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
+    const auto nc = static_cast<size_t>(control_points);
+    const size_t clusters = cluster_count(), strands = strand_count();
+    const std::vector<ClusterMap> maps = cluster_maps(*this, rest_frames(*this), deformed_guides);
+
+    LodGeometry geometry;
+    StrandSet& out = geometry.strands;
+    out.points.resize(strands * nc);
+    out.radius.resize(strands * nc);
+    out.offsets.resize(strands + 1);
+    for (size_t s = 0; s <= strands; ++s) out.offsets[s] = static_cast<int64_t>(s * nc);
+    geometry.cluster_bounds.resize(clusters);
+    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+        glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
+        float widest = 0.0f;
+        const auto [first, end] = cluster_strands(c);
+        for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
+            const auto s = static_cast<size_t>(strand_order[i]);
+            for (size_t k = 0; k < nc; ++k) {
+                const glm::vec3 p = maps[c * nc + k].origin + maps[c * nc + k].linear * offset_boxes[c * nc + k].decode(strand_offset[i * nc + k]);
+                const float radius = decode_half(strand_radius[i * nc + k], radius_exponent);
+                out.points[s * nc + k] = p;
+                out.radius[s * nc + k] = radius;
+                lower = glm::min(lower, p);
+                upper = glm::max(upper, p);
+                widest = std::max(widest, radius);
+            }
+        }
+        geometry.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest);
+    });
+
+    for (size_t l = 0; l < thick_levels.size(); ++l) {
+        const ThickHairLevel& level = thick_levels[l];
+        ThickHairGeometry& g = geometry.levels.emplace_back();
+        const size_t count = level.hair_count() * nc;
+        g.centre.resize(count);
+        g.tangent.resize(count);
+        g.major.resize(count);
+        g.minor.resize(count);
+        g.corners.resize(count);
+        g.widest.resize(clusters * nc);
+        tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+            for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
+                const size_t first = static_cast<size_t>(h) * nc;
+                for (size_t k = 0; k < nc; ++k) {
+                    const size_t at = first + k;
+                    const RestSection rest = section(l, static_cast<size_t>(h), k);
+                    g.centre[at] = maps[c * nc + k].origin + maps[c * nc + k].linear * rest.centre_offset;
+                    g.major[at] = maps[c * nc + k].linear * (rest.major_axis * rest.radii.x);
+                    g.minor[at] = maps[c * nc + k].linear * (rest.minor_axis * rest.radii.y);
+                    // The axis ends skinned like the centre: linear skinning moves centre + axis
+                    // to the skinned centre plus the mapped axis.
+                    g.corners[at] = {g.centre[at] + g.major[at], g.centre[at] - g.major[at], g.centre[at] + g.minor[at],
+                                     g.centre[at] - g.minor[at]};
+                }
+                for (size_t k = 0; k < nc; ++k) {
+                    const glm::vec3 step = g.centre[first + std::min(k + 1, nc - 1)] - g.centre[first + (k == 0 ? 0 : k - 1)];
+                    const float length = glm::length(step);
+                    g.tangent[first + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
+                    const float diameter = corner_diameter(g.centre[first + k], g.tangent[first + k], g.corners[first + k]);
+                    glm::vec4& widest = g.widest[c * nc + k];
+                    if (h == level.cluster_first[c] || diameter > widest.w) widest = glm::vec4(g.centre[first + k], diameter);
+                }
+            }
+        });
+    }
+    return geometry;
+}
+
+}  // namespace hairlod

@@ -1,0 +1,112 @@
+"""The LoD preview follows deformed hair: the guides it reads from the evaluated Curves (a Geometry
+Nodes modifier here, keyframed), headless. Drawing is tested under Xvfb (tests/ui)."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from hairlod.blender.curves import evaluated_curve_subset, new_geometry_node_tree, strands_to_curves
+from hairlod.blender.lod_build_job import COLLECTION_NAME
+from hairlod.blender.packed_asset import packed_asset
+from hairlod.blender.preview import lod_preview
+from test_lod_operator import hanging_hair
+
+pytestmark = pytest.mark.usefixtures("addon")
+
+ANGLE = 0.6  # radians about z at frame 10
+
+
+def rotation_z(angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def add_keyframed_turn(obj):
+    """A Geometry Nodes modifier turning the hair about z: 0 at frame 1, ANGLE at frame 10."""
+    tree = new_geometry_node_tree("Turn")
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    transform = tree.nodes.new('GeometryNodeTransform')
+    tree.links.new(group_in.outputs[0], transform.inputs["Geometry"])
+    tree.links.new(transform.outputs["Geometry"], group_out.inputs[0])
+    rotation = transform.inputs["Rotation"]
+    for frame, angle in ((1, 0.0), (10, ANGLE)):
+        rotation.default_value = (0.0, 0.0, angle)
+        rotation.keyframe_insert("default_value", frame=frame)
+    for curve in tree.animation_data.action.fcurves:
+        for key in curve.keyframe_points:
+            key.interpolation = 'LINEAR'
+    modifier = obj.modifiers.new("Turn", 'NODES')
+    modifier.node_group = tree
+    return tree
+
+
+@pytest.fixture
+def built_hair():
+    scene = bpy.context.scene
+    scene.frame_set(1)
+    obj = strands_to_curves(hanging_hair(), "Hair")
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
+    # In background mode Build Hair LoD attaches no preview (nothing draws): attach it as the UI does.
+    lod_preview.attach(obj, packed_asset(obj), packed=True)
+    yield obj
+    scene.frame_set(1)
+    collection = bpy.data.collections.get(COLLECTION_NAME)
+    if collection is not None:
+        bpy.data.collections.remove(collection)
+    lod_preview.detach(obj.name)
+    bpy.data.objects.remove(obj)
+
+
+def test_the_preview_reads_the_guides_of_the_animated_hair(built_hair):
+    obj = built_hair
+    asset = packed_asset(obj)
+    preview = lod_preview.preview_of(obj)
+    assert preview is not None and preview.guides is None and preview.pending_guides is None
+    add_keyframed_turn(obj)
+    scene = bpy.context.scene
+    scene.frame_set(10)
+    lod_preview._on_frame_change(scene, bpy.context.evaluated_depsgraph_get())
+    assert preview.follow_status == ""
+    size = float(np.ptp(asset.rest_guides.reshape(-1, 3), axis=0).max())
+    expected = asset.rest_guides @ rotation_z(ANGLE).T
+    # Rigid motion: the guides read and resampled are the turned rest guides to float precision.
+    assert np.abs(preview.pending_guides - expected).max() <= 1e-5 * size
+    assert preview.follow_stats["read_ms"] >= 0.0
+
+    # Back at frame 1 the hair is at rest again; frame 1 again reads nothing new.
+    scene.frame_set(1)
+    lod_preview._on_frame_change(scene, bpy.context.evaluated_depsgraph_get())
+    assert np.abs(preview.pending_guides - asset.rest_guides).max() <= 1e-5 * size
+    assert not preview.read_guides(obj, bpy.context.evaluated_depsgraph_get())
+
+
+def test_only_the_guide_curves_are_gathered(built_hair):
+    obj = built_hair
+    asset = packed_asset(obj)
+    subset = evaluated_curve_subset(obj, asset.guide_strands, bpy.context.evaluated_depsgraph_get(), asset.strand_count)
+    assert len(subset.offsets) - 1 == asset.guide_count
+    whole = hanging_hair()
+    expected = np.concatenate([whole.points[whole.offsets[g]:whole.offsets[g + 1]] for g in asset.guide_strands])
+    assert np.array_equal(subset.points, expected)
+
+
+def test_a_changed_topology_stops_following_and_says_why(built_hair):
+    obj = built_hair
+    preview = lod_preview.preview_of(obj)
+    tree = new_geometry_node_tree("Delete")
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    delete = tree.nodes.new('GeometryNodeDeleteGeometry')
+    delete.domain = 'CURVE'
+    index, compare = tree.nodes.new('GeometryNodeInputIndex'), tree.nodes.new('FunctionNodeCompare')
+    compare.data_type, compare.operation = 'INT', 'LESS_THAN'
+    compare.inputs[3].default_value = 10  # B (int): curves 0-9 go
+    tree.links.new(index.outputs[0], compare.inputs[2])
+    tree.links.new(group_in.outputs[0], delete.inputs["Geometry"])
+    tree.links.new(compare.outputs[0], delete.inputs["Selection"])
+    tree.links.new(delete.outputs["Geometry"], group_out.inputs[0])
+    obj.modifiers.new("Delete", 'NODES').node_group = tree
+    assert not preview.read_guides(obj, bpy.context.evaluated_depsgraph_get())
+    assert "590 curves now, 600 when the LoD was built" in preview.follow_status

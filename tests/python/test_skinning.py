@@ -1,0 +1,102 @@
+"""Following animated hair: guides resampled from moved strands, FrameSkinning's maps (the GPU path)
+against the CPU skin, selection on moved geometry, and the self-shadowing volume that follows."""
+
+import math
+
+import numpy as np
+import pytest
+
+from hairlod import HairlodError, Strands, self_shadow
+from hairlod.bench import _bend, _turn
+from hairlod.lod import build_lod
+from test_lod import hanging_hair, look_at, perspective
+
+
+@pytest.fixture(scope="module")
+def hair():
+    return hanging_hair(curves=1200, points=12)
+
+
+@pytest.fixture(scope="module")
+def asset(hair):
+    return build_lod(hair, guides=16, levels=5, control_points=8, seed=1)
+
+
+def rigid(points):
+    angle = 0.9
+    rotation = np.array([[math.cos(angle), 0, math.sin(angle)], [0, 1, 0], [-math.sin(angle), 0, math.cos(angle)]])
+    return (np.asarray(points, np.float64) @ rotation.T + (0.5, -2.0, 1.0)).astype(np.float32)
+
+
+def guide_curves(hair, asset, deform):
+    """The guide strands of `hair`, moved by `deform`, as a Blender reader gathers them."""
+    offsets = hair.offsets
+    pieces = [hair.points[offsets[g]:offsets[g + 1]] for g in asset.guide_strands]
+    counts = [len(piece) for piece in pieces]
+    return Strands.from_counts(deform(np.concatenate(pieces)), np.array(counts), np.zeros(sum(counts), np.float32))
+
+
+def test_guides_resampled_from_moved_strands_are_the_moved_rest_guides(hair, asset):
+    size = float(np.ptp(asset.rest_guides.reshape(-1, 3), axis=0).max())
+    at_rest = asset.resample_guides(guide_curves(hair, asset, lambda p: p))
+    assert at_rest.shape == asset.rest_guides.shape
+    assert np.abs(at_rest - asset.rest_guides).max() <= 1e-6 * size
+    moved = asset.resample_guides(guide_curves(hair, asset, rigid))
+    assert np.abs(moved - rigid(asset.rest_guides)).max() <= 1e-5 * size
+    with pytest.raises(HairlodError, match="expected 16 guide curves"):
+        asset.resample_guides(hanging_hair(curves=3, points=5))
+
+
+def test_maps_applied_to_the_rest_pose_equal_the_cpu_skin(asset):
+    """What skinning.glsl computes (maps on the rest vertex buffers) is LodAsset.skin, rigid or not."""
+    rest = asset.skin(asset.rest_guides)
+    skinning = asset.frame_skinning()
+    assert skinning.maps.shape == (asset.cluster_count, 8, 3, 4)
+    assert np.abs(skinning.maps - np.concatenate([np.eye(3), np.zeros((3, 1))], axis=1)).max() <= 1e-5
+    rest_points = rest["strands"].points.reshape(-1, 8, 3).astype(np.float64)
+    cluster = asset.levels[0].membership
+    for deform in (rigid, lambda p: _bend(p, 0.5), lambda p: _turn(_bend(p, 0.3), 1.0)):
+        guides = deform(asset.rest_guides)
+        skinning.update(guides)
+        maps = skinning.maps.astype(np.float64)[cluster]
+        gpu = np.einsum("skij,skj->ski", maps[..., :3], rest_points) + maps[..., 3]
+        cpu = asset.skin(guides)["strands"].points.reshape(-1, 8, 3)
+        assert np.abs(gpu - cpu).max() <= 2e-6 * np.abs(cpu).max()
+
+
+def test_selection_follows_the_skinned_geometry(asset):
+    skinning = asset.frame_skinning()
+    selection = asset.view_selection(skinning=skinning)
+    view = look_at((4, 0.5, 0), (0, 0, -0.3)).astype(np.float32)
+    projection = perspective(math.radians(40), 1.5, 0.05, 100).astype(np.float32)
+    selection.update(view, projection, (900.0, 600.0))
+    visible = selection.selection.visible.copy()
+    assert visible.all()
+    # The hair moves far to one side: its clusters leave the view, as the moved geometry says.
+    skinning.update(asset.rest_guides + np.float32((0.0, 50.0, 0.0)))
+    selection.set_geometry(skinning)
+    assert selection.update(view, projection, (900.0, 600.0))
+    assert not selection.selection.visible.any()
+    bounds = skinning.selection_geometry()["cluster_bounds"]
+    assert bounds.shape == (asset.cluster_count, 4) and np.all(bounds[:, 1] > 45.0)
+    with pytest.raises(HairlodError, match="deformed guides must have shape"):
+        skinning.update(asset.rest_guides[:3])
+    nan = asset.rest_guides.copy()
+    nan[2, 3, 1] = np.nan
+    with pytest.raises(HairlodError, match="NaN or infinite"):
+        skinning.update(nan)
+    assert np.all(skinning.selection_geometry()["cluster_bounds"][:, 1] > 45.0)  # the last frame is kept
+
+
+def test_moved_volume_follows_the_box():
+    volume = self_shadow.HairVolume(centre=np.array([1.0, 2.0, 3.0]), semi_axes=np.array([1.0, 2.0, 0.5]), extinction=4.0)
+    box = (np.array([0.0, 0.0, 2.5]), np.array([2.0, 4.0, 3.5]))
+    same = self_shadow.moved_volume(volume, box, box)
+    assert np.allclose(same.centre, volume.centre) and np.allclose(same.semi_axes, volume.semi_axes)
+    assert same.extinction == pytest.approx(4.0)
+    shifted = self_shadow.moved_volume(volume, box, (box[0] + 5.0, box[1] + 5.0))
+    assert np.allclose(shifted.centre, volume.centre + 5.0) and shifted.extinction == pytest.approx(4.0)
+    wider = self_shadow.moved_volume(volume, box, (box[0], box[1] + (2.0, 0.0, 0.0)))
+    assert np.allclose(wider.semi_axes, (2.0, 2.0, 0.5)) and wider.extinction == pytest.approx(2.0)
+    flat = self_shadow.moved_volume(volume, box, (box[0], (2.0, 4.0, 2.5)))
+    assert np.isfinite(flat.extinction) and flat.extinction > 0.0

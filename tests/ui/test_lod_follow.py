@@ -1,0 +1,143 @@
+"""The viewport LoD preview follows animated hair (Blender under Xvfb, scripts/run_ui_tests.sh).
+
+A hair Curves object of 5,000 strands generated in examples/data/wavy_cap.hairmesh.json, with a
+Geometry Nodes modifier that tilts it about x (keyframed: 0 at frame 1, 0.8 rad at frame 10, a nod),
+gets its LoD built and previewed. Seen from the side, at frames 1 and 10, the preview (every strand drawn,
+then the LoD's own levels) must lie where Blender draws the turned strands itself: the hair pixels'
+centroid within a few pixels of Blender's and far from the rest pose's, and most hair pixels shared.
+The per-frame cost of following (reading the guides, skinning, uploading the maps) is printed.
+Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
+"""
+
+import os
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import REPO_ROOT, check, screenshot  # noqa: E402
+
+HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
+REDRAW_DELAY = 1.0
+ANGLE = 0.8
+
+
+def view3d(window):
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    return area, area.spaces.active.region_3d
+
+
+def hair_mask(image, background):
+    return np.abs(image - background).max(axis=2) > 0.05
+
+
+def centroid(mask):
+    rows, columns = np.nonzero(mask)
+    return np.array([columns.mean(), rows.mean()])
+
+
+def overlap(a, b):
+    """Shared hair pixels over the union, each mask grown by 2 pixels (line widths differ)."""
+    def grow(mask):
+        grown = mask.copy()
+        for axis in (0, 1):
+            for shift in (-2, -1, 1, 2):
+                grown |= np.roll(mask, shift, axis=axis)
+        return grown
+    a, b = grow(a), grow(b)
+    return float((a & b).sum()) / max(float((a | b).sum()), 1.0)
+
+
+def add_keyframed_turn(obj):
+    from hairlod.blender.curves import new_geometry_node_tree
+
+    tree = new_geometry_node_tree("Turn")
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    transform = tree.nodes.new('GeometryNodeTransform')
+    tree.links.new(group_in.outputs[0], transform.inputs["Geometry"])
+    tree.links.new(transform.outputs["Geometry"], group_out.inputs[0])
+    rotation = transform.inputs["Rotation"]
+    for frame, angle in ((1, 0.0), (10, ANGLE)):
+        rotation.default_value = (angle, 0.0, 0.0)
+        rotation.keyframe_insert("default_value", frame=frame)
+    obj.modifiers.new("Turn", 'NODES').node_group = tree
+
+
+def steps():
+    import addon_utils
+
+    window = bpy.context.window_manager.windows[0]
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    import hairlod
+    from hairlod import hairmesh
+    from hairlod.blender.curves import strands_to_curves
+    from hairlod.blender.packed_asset import packed_asset
+    from hairlod.blender.preview import lod_preview
+
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    scene = bpy.context.scene
+    scene.frame_set(1)
+    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=5000, vertices=17, seed=2)
+    obj = strands_to_curves(strands, "Hair")
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    add_keyframed_turn(obj)
+    check(bpy.ops.hairlod.build_lod(guides=48, levels=5, control_points=12, seed=0) == {'FINISHED'}, "LoD built")
+    check(lod_preview.preview_of(obj) is not None and packed_asset(obj) is not None, "the preview is attached")
+    settings = obj.hairlod_lod_preview
+    preview = lod_preview.preview_of(obj)
+
+    area, region_3d = view3d(window)
+    space = area.spaces.active
+    space.overlay.show_floor = space.overlay.show_axis_x = space.overlay.show_axis_y = False
+    space.overlay.show_cursor = space.overlay.show_outline_selected = False
+    space.show_gizmo = False
+    lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
+    size = float(np.linalg.norm(upper - lower))
+    region_3d.view_perspective = 'ORTHO'
+    region_3d.view_rotation = (0.5, 0.5, 0.5, 0.5)  # from the side: the nod turns the image
+    region_3d.view_location = (0.0, 0.0, 0.0)
+    region_3d.view_distance = 1.6 * size
+
+    def shot(name, preview_on, hidden=False):
+        obj.hide_set(hidden)
+        settings.enabled = preview_on
+        area.tag_redraw()
+        yield REDRAW_DELAY
+        shots[name] = screenshot(window, area, f"lod_follow_{name}.png")
+
+    shots = {}
+    yield from shot("background", False, hidden=True)
+    for frame in (1, 10):
+        scene.frame_set(frame)  # frame_change_post: the preview reads the turned guides
+        yield from shot(f"own_{frame}", False)
+        settings.width_px = 0.01  # every strand: the same hair Blender draws
+        yield from shot(f"strands_{frame}", True)
+        settings.width_px = 2.0
+        yield from shot(f"lod_{frame}", True)
+    check(preview.follow_status == "", f"following the hair ({preview.follow_status or 'no message'})")
+    check(preview.guides is not None, "the preview drew the turned guides")
+    print("following, per frame: " + ", ".join(f"{k} {v:.2f} ms" for k, v in preview.follow_stats.items()))
+
+    background = shots["background"]
+    masks = {name: hair_mask(image, background) for name, image in shots.items() if name != "background"}
+    for name, mask in masks.items():
+        check(mask.sum() > 200, f"{name}: hair pixels drawn ({mask.sum()})")
+    moved = np.linalg.norm(centroid(masks["own_10"]) - centroid(masks["own_1"]))
+    check(moved > 20.0, f"Blender's own drawing moved {moved:.0f} px between frames 1 and 10")
+    for kind in ("strands", "lod"):
+        for frame in (1, 10):
+            off = np.linalg.norm(centroid(masks[f"{kind}_{frame}"]) - centroid(masks[f"own_{frame}"]))
+            shared = overlap(masks[f"{kind}_{frame}"], masks[f"own_{frame}"])
+            check(off < 0.1 * moved, f"frame {frame}, {kind}: centroid {off:.1f} px from Blender's own drawing "
+                                     f"(the turn moves it {moved:.0f} px)")
+            check(shared > 0.6, f"frame {frame}, {kind}: {shared:.0%} of hair pixels shared with Blender's own")
+        stale = overlap(masks[f"{kind}_10"], masks["own_1"])
+        check(overlap(masks[f"{kind}_10"], masks["own_10"]) > stale + 0.1,
+              f"frame 10, {kind}: closer to the turned hair than to the rest pose (shared with rest {stale:.0%})")
+
+
+harness.run(steps)
