@@ -400,15 +400,6 @@ def _bend(points, angle, pivot_height=1.0):
     return np.stack([p[..., 0], c * p[..., 1] - s * p[..., 2], s * p[..., 1] + c * p[..., 2]], axis=-1).astype(np.float32)
 
 
-def _following_error(skinned, truth, strand_radius, size):
-    """Distances between skinned and truly deformed points: mean, 99th percentile and max, in strand
-    radii and as fractions of the hair's size."""
-    distance = np.linalg.norm(np.asarray(skinned, np.float64) - np.asarray(truth, np.float64), axis=-1).ravel()
-    stats = {"mean": float(distance.mean()), "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}
-    return {**{f"{k}_radii": v / strand_radius for k, v in stats.items()},
-            **{f"{k}_of_size": v / size for k, v in stats.items()}}
-
-
 def _skinned_coverage(asset, geometry):
     """Per thick level: the fraction of member control points inside their skinned ellipse, each
     point projected onto the plane of the ellipse's skinned axes (least squares on the two axes)."""
@@ -497,9 +488,9 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
         "maps_bytes": int(skinning.maps.nbytes),
         "hair_size": size,
         "strand_radius": radius,
-        "rigid_turn_30deg": _following_error(turned["strands"].points.reshape(-1, control_points, 3),
+        "rigid_turn_30deg": lod.following_error(turned["strands"].points.reshape(-1, control_points, 3),
                                              _turn(rest, turn_angle), radius, size),
-        "bend": _following_error(bent_points, _bend(rest, bend_angle), radius, size),
+        "bend": lod.following_error(bent_points, _bend(rest, bend_angle), radius, size),
         "gpu_path_vs_cpu_skin_max_of_size": float(np.abs(gpu_points - bent_points).max()) / size,
         "coverage_rest": [level.coverage for level in asset.levels],
         "coverage_bent": _skinned_coverage(asset, bent),

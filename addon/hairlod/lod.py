@@ -24,8 +24,11 @@ LOD_DEFAULTS = {name: (round(value, 6) if isinstance(value, float) else value)
                 for name, value in _core.LOD_DEFAULTS.items()}
 MIN_LEVELS, MAX_LEVELS = _core.LEVELS_RANGE
 MIN_CONTROL_POINTS = _core.MIN_CONTROL_POINTS
+# Strands.resampled(n_c, LOD_ARC_LENGTH_SUBDIVISIONS) resamples as build_lod does: the rest pose the
+# asset's skinning reproduces.
+LOD_ARC_LENGTH_SUBDIVISIONS = _core.LOD_ARC_LENGTH_SUBDIVISIONS
 
-__all__ = ["DEFAULT_WIDTH_PX", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "keep_scene_levels", "load", "pack",
+__all__ = ["DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "following_error", "keep_scene_levels", "load", "pack",
            "read_cameras", "save", "scene_levels", "unpack"]
 
 MANIFEST = "manifest.json"
@@ -129,6 +132,18 @@ class LodAsset:
         """Guides [G, n_c, 3] from ``guide_curves`` (Strands: the guide strands, in the order of
         guide_strands, as they are now), resampled as build_lod resamples them."""
         return self._core.resample_guides(guide_curves)
+
+
+def following_error(skinned, truth, strand_radius, size):
+    """How far skinned points lie from the same points deformed by other means (every strand moved,
+    e.g. by Blender's Deform Curves on Surface, resampled as build_lod resamples: Strands.resampled(
+    n_c, LOD_ARC_LENGTH_SUBDIVISIONS)): the mean, 99th percentile and largest distance, in strand
+    radii and as fractions of the hair's size."""
+    distance = np.linalg.norm(np.asarray(skinned, np.float64).reshape(-1, 3) -
+                              np.asarray(truth, np.float64).reshape(-1, 3), axis=1)
+    stats = {"mean": float(distance.mean()), "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}
+    return {**{f"{k}_radii": v / strand_radius for k, v in stats.items()},
+            **{f"{k}_of_size": v / size for k, v in stats.items()}}
 
 
 def strand_bytes(strands):

@@ -186,13 +186,13 @@ len(strands) is the number of curves C.)doc")
              },
              "Length of each curve's control polyline, float64 [C].")
         .def("resampled",
-             [](const StrandSet& s, int points_per_curve) {
+             [](const StrandSet& s, int points_per_curve, int subdivisions_per_segment) {
                  py::gil_scoped_release release;
-                 return resample_strands(s, ResampleOptions{points_per_curve});
+                 return resample_strands(s, ResampleOptions{points_per_curve, subdivisions_per_segment});
              },
-             py::arg("points_per_curve"),
+             py::arg("points_per_curve"), py::arg("subdivisions_per_segment") = ResampleOptions{}.subdivisions_per_segment,
              "Each curve resampled to K points equally spaced in arc length along its centripetal "
-             "Catmull-Rom curve.")
+             "Catmull-Rom curve, measured on a polyline of `subdivisions_per_segment` pieces per segment.")
         .def("require_float_range", &StrandSet::require_float_range, py::arg("what"),
              "Raises ValueError ('what: ...') when coordinates or radii exceed 1e13 in magnitude or the hair "
              "is less than 1e-10 across: the range hairlod's float32 geometry handles.");

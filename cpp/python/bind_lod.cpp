@@ -213,6 +213,8 @@ void bind_lod(py::module_& m) {
     m.attr("LOD_DEFAULTS") = lod_defaults;
     m.attr("LEVELS_RANGE") = py::make_tuple(kMinLevels, kMaxLevels);
     m.attr("MIN_CONTROL_POINTS") = kMinControlPoints;
+    // Strands.resampled(K, LOD_ARC_LENGTH_SUBDIVISIONS) resamples as build_lod does (the rest pose skinning reproduces).
+    m.attr("LOD_ARC_LENGTH_SUBDIVISIONS") = LodOptions{}.arc_length_subdivisions;
     m.attr("MIN_WIDTH_PX") = kMinWidthPx;
     py::class_<Selection>(m, "Selection", "LoD level per L0 cluster and segment, visibility and draw ranges.")
         .def_property_readonly("levels",

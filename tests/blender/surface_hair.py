@@ -1,0 +1,104 @@
+"""Hair attached to an armature-animated head, the way artists animate hair in Blender: a UV-sphere
+head deformed by a two-bone rig (neck, head), and a hair Curves object on its surface (Curves.surface,
+surface_uv_map and each curve's surface_uv_coordinate) moved by a Geometry Nodes modifier with the
+Deform Curves on Surface node. Shared by the headless tests and the measurement script."""
+
+import math
+
+import bpy
+import numpy as np
+
+from hairlod import Strands
+from hairlod.blender.curves import new_geometry_node_tree, strands_to_curves
+
+
+def _triangles(mesh):
+    """(centroids [T, 3], normals [T, 3], uv centroids [T, 2]) of the mesh's loop triangles."""
+    mesh.calc_loop_triangles()
+    count = len(mesh.loop_triangles)
+    loops = np.empty(count * 3, np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    vertex_of_loop = np.empty(len(mesh.loops), np.int32)
+    mesh.loops.foreach_get("vertex_index", vertex_of_loop)
+    positions = np.empty(len(mesh.vertices) * 3, np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    positions = positions.reshape(-1, 3)
+    uv = np.empty(len(mesh.loops) * 2, np.float32)
+    mesh.uv_layers.active.data.foreach_get("uv", uv)
+    uv = uv.reshape(-1, 2)
+    corners = positions[vertex_of_loop[loops]].reshape(count, 3, 3)
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return corners.mean(axis=1), normals, uv[loops].reshape(count, 3, 2).mean(axis=1)
+
+
+def surface_strands(head_mesh, points=12, length=0.9, seed=4):
+    """Strands rooted at the centroids of the head's upper triangles (one per triangle, away from
+    the UV seam), growing out along the normal and falling: (Strands, uv [C, 2])."""
+    centroids, normals, uv = _triangles(head_mesh)
+    # Away from the poles and the seam (u near 0 or 1), where a UV coordinate names one triangle.
+    keep = (centroids[:, 2] > 0.15) & (uv[:, 0] > 0.02) & (uv[:, 0] < 0.98)
+    roots, out, uv = centroids[keep], normals[keep], uv[keep]
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, points)[None, :, None]
+    wave = 0.02 * np.sin(8.0 * t + rng.uniform(0, 2 * math.pi, (len(roots), 1, 1)))
+    positions = roots[:, None, :] + length * (0.25 * t * out[:, None, :] + np.array([0.0, 0.0, -1.0]) * t ** 2) + wave
+    count = len(roots)
+    strands = Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(count, points),
+                                  np.full(count * points, 0.002, np.float32))
+    return strands, uv
+
+
+def build_scene(rigid, subdivisions=48):
+    """(hair object, rig object) in the current scene. `rigid`: every head vertex follows the head
+    bone (a head turn moves the surface rigidly); else the weights fall from the crown to the ears
+    (turning the head bone bends and squashes the scalp)."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=subdivisions, ring_count=subdivisions // 2, radius=1.0)
+    head = bpy.context.active_object
+    head.name = "Head"
+    rig_data = bpy.data.armatures.new("Rig")
+    rig = bpy.data.objects.new("Rig", rig_data)
+    bpy.context.scene.collection.objects.link(rig)
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode='EDIT')
+    neck = rig_data.edit_bones.new("neck")
+    neck.head, neck.tail = (0.0, 0.0, -2.0), (0.0, 0.0, -0.8)
+    skull = rig_data.edit_bones.new("head")
+    skull.head, skull.tail, skull.parent = (0.0, 0.0, -0.8), (0.0, 0.0, 1.2), neck
+    bpy.ops.object.mode_set(mode='OBJECT')
+    z = np.array([v.co.z for v in head.data.vertices])
+    skull_weight = np.ones_like(z) if rigid else np.clip(z, 0.0, 1.0) ** 2
+    neck_group, skull_group = head.vertex_groups.new(name="neck"), head.vertex_groups.new(name="head")
+    for index, weight in enumerate(skull_weight):
+        skull_group.add([index], float(weight), 'REPLACE')
+        neck_group.add([index], float(1.0 - weight), 'REPLACE')
+    head.modifiers.new("Armature", 'ARMATURE').object = rig
+    # Deform Curves on Surface reads the surface's rest positions (to find the same tangents on the
+    # original and the deformed mesh) from this attribute, which the armature leaves as it is.
+    rest = head.data.attributes.new("rest_position", 'FLOAT_VECTOR', 'POINT')
+    positions = np.empty(len(head.data.vertices) * 3, np.float32)
+    head.data.vertices.foreach_get("co", positions)
+    rest.data.foreach_set("vector", positions)
+
+    strands, uv = surface_strands(head.data)
+    hair = strands_to_curves(strands, "Hair")
+    hair.data.surface = head
+    hair.data.surface_uv_map = head.data.uv_layers.active.name
+    attribute = hair.data.attributes.new("surface_uv_coordinate", 'FLOAT2', 'CURVE')
+    attribute.data.foreach_set("vector", uv.astype(np.float32).ravel())
+    tree = new_geometry_node_tree("Deform on Head")
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    deform = tree.nodes.new('GeometryNodeDeformCurvesOnSurface')
+    tree.links.new(group_in.outputs[0], deform.inputs[0])
+    tree.links.new(deform.outputs[0], group_out.inputs[0])
+    hair.modifiers.new("Deform on Head", 'NODES').node_group = tree
+    bpy.context.view_layer.objects.active = hair
+    return hair, rig
+
+
+def turn_head(rig, angle):
+    """Turns the head bone about its local x axis (a nod) and updates the scene."""
+    bone = rig.pose.bones["head"]
+    bone.rotation_mode = 'XYZ'
+    bone.rotation_euler = (angle, 0.0, 0.3 * angle)
+    bpy.context.view_layer.update()
