@@ -156,6 +156,7 @@ def command_convert(args):
         "points": strands.point_count,
         "read_seconds": read_seconds,
         "write_seconds": write_seconds,
+        "animation_frames": len(args.animation or ()),
     }
     if args.json:
         _print_json(result)
@@ -207,6 +208,7 @@ def command_generate(args):
         "prepare_seconds": prepare_seconds,
         "generate_seconds": generate_seconds,
         "write_seconds": write_seconds,
+        "animation_frames": len(args.animation or ()),
     }
     if args.json:
         _print_json(result)
@@ -218,9 +220,11 @@ def command_generate(args):
 
 
 def command_lod(args):
+    import numpy as np
+
     from . import lod
 
-    inputs = [args.input, args.cameras]
+    inputs = [args.input, args.cameras, *(args.animation or ())]
     # Refused before the build, so a refusal costs nothing (lod.save checks again when it writes).
     atomic_output.check_folder_target(args.out, lod.FORMAT_KIND, args.force, inputs, lod.WHAT)
     cameras = lod.read_cameras(args.cameras) if args.cameras else None
@@ -234,13 +238,20 @@ def command_lod(args):
         asset, selected = lod.keep_scene_levels(asset, cameras, args.width_px)
     options = {name: getattr(args, name) for name in ("levels", "control_points", "seed", "width_px")}
     options["guides"] = asset.guide_count
+    animation = None
+    if args.animation:
+        # Each frame's guides, from its file (the same curves, moved): the asset's skinning turns
+        # them into every strand and thick hair of that frame.
+        poses = [lod.frame_guides(asset, _read_timed(path)[0], path) for path in args.animation]
+        animation = (list(range(args.first_frame, args.first_frame + len(poses))), np.stack(poses))
     start = time.perf_counter()
-    manifest = lod.save(asset, args.out, extra={
+    manifest = lod.save(asset, args.out, animation=animation, extra={
         "input": os.path.abspath(args.input),
         "options": options,
         "cameras": len(cameras) if cameras else 0,
         "selected_levels": selected,
         "strands_selected": finest in selected,
+        "animation_files": [os.path.abspath(path) for path in args.animation or ()],
     }, force=args.force, inputs=inputs)
     write_seconds = time.perf_counter() - start
     result = {
@@ -258,6 +269,7 @@ def command_lod(args):
         "read_seconds": read_seconds,
         "build_seconds": build_seconds,
         "write_seconds": write_seconds,
+        "animation_frames": len(args.animation or ()),
     }
     if args.json:
         _print_json(result)
@@ -554,6 +566,11 @@ def build_parser():
     lod.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
                      help=f"screen width threshold in pixels (default {DEFAULT_WIDTH_PX:g})")
     lod.add_argument("--cameras", type=_path, help="JSON list of {view, projection, viewport}: export only the levels they select")
+    lod.add_argument("--animation", type=_path, nargs="+", metavar="FRAME_FILE",
+                     help="hair files of the same hair at successive frames (same curves, moved): their guides are "
+                     "stored in the LoD folder (guide_animation.npy), which the asset's skinning turns into each frame")
+    lod.add_argument("--first-frame", type=_integer(-2**31, 2**31 - 1), default=1,
+                     help="frame number of the first --animation file (default 1)")
     lod.add_argument("--json", action="store_true", help="print one JSON object")
     lod.set_defaults(run=command_lod)
 

@@ -28,7 +28,8 @@ MIN_CONTROL_POINTS = _core.MIN_CONTROL_POINTS
 # asset's skinning reproduces.
 LOD_ARC_LENGTH_SUBDIVISIONS = _core.LOD_ARC_LENGTH_SUBDIVISIONS
 
-__all__ = ["DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "following_error", "keep_scene_levels", "load", "pack",
+__all__ = ["DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "check_animation", "curve_subset", "following_error", "frame_guides", "keep_scene_levels", "load",
+           "load_animation", "pack",
            "read_cameras", "save", "scene_levels", "unpack"]
 
 MANIFEST = "manifest.json"
@@ -132,6 +133,27 @@ class LodAsset:
         """Guides [G, n_c, 3] from ``guide_curves`` (Strands: the guide strands, in the order of
         guide_strands, as they are now), resampled as build_lod resamples them."""
         return self._core.resample_guides(guide_curves)
+
+
+def curve_subset(points, offsets, curves):
+    """Strands of the curves `curves` (indices, in that order) of the curves given by points [N, 3]
+    and offsets [C + 1], positions only (radius 0): the guide strands of an animated frame."""
+    offsets = np.asarray(offsets, dtype=np.int64)
+    curves = np.asarray(curves, dtype=np.int64)
+    counts = offsets[curves + 1] - offsets[curves]
+    subset_offsets = np.concatenate([[0], np.cumsum(counts)])
+    # Point i of the subset is point i - subset_offsets[c] + offsets[curves[c]] of its curve c.
+    gather = np.repeat(offsets[curves] - subset_offsets[:-1], counts) + np.arange(subset_offsets[-1])
+    return _core.Strands(np.asarray(points, dtype=np.float32)[gather], subset_offsets, None)
+
+
+def frame_guides(asset, strands, what="the frame"):
+    """The guides [G, n_c, 3] of `asset` in `strands`, the asset's hair as it is at some frame (the
+    same curves in the same order, moved or deformed): its guide strands resampled as the build
+    resamples them. Raises ValueError when the curves do not match the asset's."""
+    if len(strands) != asset.strand_count:
+        raise ValueError(f"{what} has {len(strands)} curves, the LoD asset {asset.strand_count}")
+    return asset.resample_guides(curve_subset(strands.points, strands.offsets, asset.guide_strands))
 
 
 def following_error(skinned, truth, strand_radius, size):
@@ -288,18 +310,66 @@ def _header(asset):
     }
 
 
-def save(asset, directory, extra=None, force=False, inputs=()):
+# The manifest's description of guide_animation.npy, for readers without hairlod.
+ANIMATION_MEANING = ("guides[f, g, k] (float32 [frames, guides, n_c, 3], object space): control point k of guide g "
+                     "(the order of guide_strands) at frame frames[f]. Every strand and thick hair follows by the "
+                     "linear skinning of hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 4: LodAsset.skin(guides[f]) "
+                     "in hairlod, or per L0 cluster c and control point k the frame of its cluster_guides "
+                     "(frame_kinds) applied to the stored offsets.")
+
+
+def check_animation(asset, frames, guides):
+    """(frames int64 [F], guides float32 [F, G, n_c, 3]) checked against `asset`: strictly increasing
+    frames, one guide pose per frame, finite coordinates. Raises ValueError naming what is wrong."""
+    frames = np.asarray(frames)
+    guides = np.asarray(guides, dtype=np.float32)
+    if frames.ndim != 1 or len(frames) == 0 or not np.issubdtype(frames.dtype, np.integer):
+        raise ValueError("animation frames must be a non-empty list of integers")
+    if np.any(np.diff(frames) <= 0):
+        raise ValueError("animation frames must be strictly increasing")
+    expected = (len(frames), asset.guide_count, asset.control_points, 3)
+    if guides.shape != expected:
+        raise ValueError(f"animation guides must have shape {list(expected)} (frames, guides, control points, xyz), "
+                         f"got {list(guides.shape)}")
+    if not np.all(np.isfinite(guides)):
+        raise ValueError("animation guides contain NaN or infinite coordinates")
+    return frames.astype(np.int64), guides
+
+
+def save(asset, directory, extra=None, force=False, inputs=(), animation=None):
     """Writes `asset` into folder `directory` atomically (atomic_output.replace_folder: built under a
     temporary name, moved into place when complete): manifest.json, one .npy per stored array, the
     per-hair arrays of PER_HAIR and one .hair per thick level (thickness = 2 x major radius).
     An existing `directory` is replaced only when it is an LoD folder hairlod wrote, or with
     `force`; never when it holds one of `inputs` (paths this run reads). `extra` (JSON-able dict)
-    is stored in the manifest under "extra". Returns the manifest."""
-    return atomic_output.replace_folder(directory, FORMAT_KIND, lambda folder: _write_folder(asset, folder, extra),
+    is stored in the manifest under "extra". `animation`: (frames [F], guides [F, G, n_c, 3]), the
+    guides of an animated hair per frame (check_animation), stored as guide_animation.npy and
+    described under "animation" (load_animation reads them back). Returns the manifest."""
+    if animation is not None:
+        animation = check_animation(asset, *animation)
+    return atomic_output.replace_folder(directory, FORMAT_KIND,
+                                        lambda folder: _write_folder(asset, folder, extra, animation),
                                         force=force, inputs=inputs, what=WHAT)
 
 
-def _write_folder(asset, folder, extra):
+def load_animation(directory, asset):
+    """(frames int64 [F], guides float32 [F, G, n_c, 3]) stored by save(..., animation=...) in the LoD
+    folder `directory` of `asset`, or None when it holds no animation; ValueError when damaged."""
+    directory = os.fspath(directory)
+    manifest = strict_json.load(os.path.join(directory, MANIFEST), f"the manifest of LoD folder {directory}")
+    entry = manifest.get("animation") if isinstance(manifest, dict) else None
+    if entry is None:
+        return None
+    if not isinstance(entry, dict) or not isinstance(entry.get("frames"), list):
+        raise ValueError(f"{directory}: {MANIFEST}: animation must be an object with a list of frames")
+    guides = _read_array(directory, entry, "guide_animation")
+    try:
+        return check_animation(asset, np.asarray(entry["frames"]), guides)
+    except ValueError as error:
+        raise ValueError(f"{directory}: {error}") from None
+
+
+def _write_folder(asset, folder, extra, animation=None):
     from . import io
 
     arrays = asset.arrays()
@@ -328,6 +398,11 @@ def _write_folder(asset, folder, extra):
             "per_hair": per_hair,
         })
     manifest.update(arrays=entries, extra=extra or {})
+    if animation is not None:
+        frames, guides = animation
+        holder = {}
+        _write_array(folder, "guide_animation", guides, holder, meaning=ANIMATION_MEANING)
+        manifest["animation"] = dict(holder["guide_animation"], frames=[int(f) for f in frames])
     text = strict_json.dumps(manifest, indent=1)
     with open(os.path.join(folder, MANIFEST), "w", encoding="utf-8") as file:
         file.write(text)

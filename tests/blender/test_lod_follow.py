@@ -149,3 +149,46 @@ def test_skinning_follows_deform_curves_on_surface(rigid, empty_scene):
         assert error["max_of_size"] <= at_rest["max_of_size"] + 1e-5
     else:
         assert error["p99_of_size"] <= stale["p99_of_size"] / 2.5 and error["mean_of_size"] <= stale["mean_of_size"] / 4
+
+
+def test_headless_export_stores_the_guides_of_a_frame_range(built_hair, tmp_path):
+    """pipeline.export_lod(frames=...): what a `blender -b` script exports for an engine."""
+    from hairlod import lod
+    from hairlod.blender import pipeline
+
+    obj = built_hair
+    add_keyframed_turn(obj)
+    scene = bpy.context.scene
+    scene.frame_set(4)
+    calls = []
+    summary = pipeline.export_lod(obj, tmp_path / "export", bake=False, frames=range(1, 11),
+                                  progress=lambda done, total: calls.append((done, total)))
+    assert summary["frames"] == 10 and calls[-1] == (10, 10)
+    assert scene.frame_current == 4  # the scene is back where it was
+    asset = lod.load(tmp_path / "export" / "lod")
+    frames, guides = lod.load_animation(tmp_path / "export" / "lod", asset)
+    assert frames.tolist() == list(range(1, 11))
+    size = float(np.ptp(asset.rest_guides.reshape(-1, 3), axis=0).max())
+    for frame, pose in zip(frames, guides):
+        angle = ANGLE * (frame - 1) / 9  # the keyframes are linear
+        assert np.abs(pose - asset.rest_guides @ rotation_z(angle).T).max() <= 1e-5 * size, f"frame {frame}"
+
+
+def test_export_of_a_frame_range_refuses_a_changing_topology(built_hair, tmp_path):
+    from hairlod.blender import pipeline
+
+    obj = built_hair
+    tree = new_geometry_node_tree("Delete later")
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    delete = tree.nodes.new('GeometryNodeDeleteGeometry')
+    delete.domain = 'CURVE'
+    tree.links.new(group_in.outputs[0], delete.inputs["Geometry"])
+    tree.links.new(delete.outputs["Geometry"], group_out.inputs[0])
+    selection = delete.inputs["Selection"]
+    for frame, value in ((1, False), (3, True)):  # from frame 3 every curve is deleted
+        selection.default_value = value
+        selection.keyframe_insert("default_value", frame=frame)
+    obj.modifiers.new("Delete later", 'NODES').node_group = tree
+    with pytest.raises(ValueError, match=r"frame 3: 'Hair[.0-9]*' has 0 curves now, 600 when the LoD was built"):
+        pipeline.export_lod(obj, tmp_path / "export", bake=False, frames=range(1, 5))
+    assert not (tmp_path / "export" / "lod").exists()

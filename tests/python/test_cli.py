@@ -184,6 +184,34 @@ def test_lod_bad_input_exits_2_without_output(tmp_path, arguments):
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["in.hair", "bad.json"])
 
 
+def test_lod_stores_the_guides_of_per_frame_files(tmp_path):
+    from hairlod import Strands, io, lod
+    from hairlod.bench import _turn
+
+    source = _lod_input(tmp_path)
+    hair = io.read(source)
+    frames = []
+    for index, angle in enumerate((0.0, 0.3)):
+        frames.append(tmp_path / f"frame{index}.hair")
+        io.write(frames[-1], Strands(_turn(hair.points, angle), hair.offsets, hair.radius))
+    result = run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 4, "--control-points", 8,
+                     "--animation", *frames, "--first-frame", 7, "--json")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["animation_frames"] == 2
+    asset = lod.load(tmp_path / "asset")
+    numbers, guides = lod.load_animation(tmp_path / "asset", asset)
+    assert numbers.tolist() == [7, 8]
+    size = float(np.ptp(asset.rest_guides.reshape(-1, 3), axis=0).max())
+    assert np.abs(guides[0] - asset.rest_guides).max() <= 1e-5 * size
+    assert np.abs(guides[1] - _turn(asset.rest_guides, 0.3)).max() <= 1e-5 * size
+
+    # A frame of another hair (fewer curves) is refused, and nothing is written.
+    io.write(tmp_path / "other.hair", Strands.from_counts(hair.points[:40], np.full(4, 10), hair.radius[:40]))
+    result = run_cli("lod", source, "--out", tmp_path / "asset2", "--animation", frames[0], tmp_path / "other.hair")
+    assert "other.hair has 4 curves, the LoD asset 1200" in one_line_error(result)
+    assert not (tmp_path / "asset2").exists()
+
+
 def test_bench_lod_json():
     result = run_cli("bench", "lod", "--strands", 3000, "--guides", 16, "--frames", 20, "--json")
     assert result.returncode == 0, result.stderr
@@ -191,3 +219,17 @@ def test_bench_lod_json():
     assert set(report["stages"]) == {"resample", "kmeans", "clusters", "levels", "fitting", "weights"}
     assert all(entry["seconds_per_frame"] > 0 for entry in report["selection"].values())
     assert report["memory_ratio"] > 0 and len(report["area_ratios"]) == len(report["levels"]) - 1
+
+
+def test_bench_skinning_json():
+    result = run_cli("bench", "skinning", "--strands", 2000, "--guides", 16, "--control-points", 8, "--frames", 3,
+                     "--json")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert set(report["per_frame_ms"]) == {"skin_maps", "maps_copy", "select_moved", "select_static"}
+    assert report["maps_bytes"] == report["clusters"] * 8 * 12 * 4
+    # The rigid turn is exact to float precision; the GPU path is the CPU skin.
+    assert report["rigid_turn_30deg"]["max_of_size"] < 1e-5
+    assert report["gpu_path_vs_cpu_skin_max_of_size"] < 1e-5
+    assert 0.0 < report["bend"]["mean_of_size"] < report["bend"]["p99_of_size"]
+    assert len(report["coverage_bent"]) == len(report["coverage_rest"]) == report["built_levels"] - 1

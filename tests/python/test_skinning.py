@@ -100,3 +100,51 @@ def test_moved_volume_follows_the_box():
     assert np.allclose(wider.semi_axes, (2.0, 2.0, 0.5)) and wider.extinction == pytest.approx(2.0)
     flat = self_shadow.moved_volume(volume, box, (box[0], (2.0, 4.0, 2.5)))
     assert np.isfinite(flat.extinction) and flat.extinction > 0.0
+
+
+def test_guide_animation_is_stored_with_the_asset_and_read_back(asset, tmp_path):
+    from hairlod import lod
+
+    frames = [1, 2, 5]
+    guides = np.stack([_turn(asset.rest_guides, angle) for angle in (0.0, 0.2, 0.5)])
+    manifest = lod.save(asset, tmp_path / "lod", animation=(frames, guides))
+    assert manifest["animation"]["frames"] == frames and manifest["animation"]["shape"] == list(guides.shape)
+    assert "LodAsset.skin(guides[f])" in manifest["animation"]["meaning"]
+    loaded = lod.load(tmp_path / "lod")
+    read_frames, read_guides = lod.load_animation(tmp_path / "lod", loaded)
+    assert read_frames.tolist() == frames and np.array_equal(read_guides, guides)
+    # What an engine does with frame 5: skin everything to its guides.
+    moved = loaded.skin(read_guides[2])["strands"].points
+    assert np.abs(moved - _turn(loaded.skin(loaded.rest_guides)["strands"].points, 0.5)).max() <= 1e-5 * np.abs(moved).max()
+
+    lod.save(asset, tmp_path / "still")
+    assert lod.load_animation(tmp_path / "still", asset) is None
+
+
+@pytest.mark.parametrize("frames, guides, message", [
+    ([1, 1], 2, "strictly increasing"),
+    ([], 0, "non-empty list of integers"),
+    ([0.5], 1, "non-empty list of integers"),
+    ([1, 2], 3, r"must have shape \[2, 16, 8, 3\]"),
+    ([1], "nan", "NaN or infinite"),
+])
+def test_bad_guide_animations_are_refused_before_anything_is_written(asset, tmp_path, frames, guides, message):
+    from hairlod import lod
+
+    if guides == "nan":
+        guides = asset.rest_guides[None].copy()
+        guides[0, 3, 2, 1] = np.nan
+    else:
+        guides = np.repeat(asset.rest_guides[None], guides, axis=0)
+    with pytest.raises(ValueError, match=message):
+        lod.save(asset, tmp_path / "lod", animation=(frames, guides))
+    assert not (tmp_path / "lod").exists()
+
+
+def test_a_damaged_guide_animation_is_reported(asset, tmp_path):
+    from hairlod import lod
+
+    lod.save(asset, tmp_path / "lod", animation=([3, 4], np.stack([asset.rest_guides] * 2)))
+    np.save(tmp_path / "lod" / "guide_animation.npy", np.zeros((2, 3), np.float32))
+    with pytest.raises(ValueError, match="guide_animation does not match its manifest"):
+        lod.load_animation(tmp_path / "lod", asset)

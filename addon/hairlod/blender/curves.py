@@ -10,6 +10,7 @@ import numpy as np
 # Taken from the core, not from the hairlod package: hairlod.register() imports hairlod.blender, so
 # that would be an import cycle (tests/python/test_import_layers.py).
 from .._core import Strands
+from ..lod import curve_subset
 
 # Strands attribute domain <-> Blender attribute domain.
 _DOMAIN_TO_BLENDER = {"point": "POINT", "curve": "CURVE"}
@@ -92,11 +93,7 @@ def evaluated_curve_subset(obj, curve_indices, depsgraph, expected_curves=None) 
     curves.curve_offset_data.foreach_get("value", offsets)
     points = np.empty((len(curves.points), 3), np.float32)
     curves.attributes["position"].data.foreach_get("vector", points.ravel())
-    counts = (offsets[indices + 1] - offsets[indices]).astype(np.int64)
-    subset_offsets = np.concatenate([[0], np.cumsum(counts)])
-    # Point i of the subset is point i - subset_offsets[c] + offsets[indices[c]] of its curve c.
-    gather = np.repeat(offsets[indices] - subset_offsets[:-1], counts) + np.arange(subset_offsets[-1])
-    return Strands(points[gather], subset_offsets, None)
+    return curve_subset(points, offsets, indices)
 
 
 def strands_to_curves(strands: Strands, name, collection=None):

@@ -6,6 +6,9 @@ call these."""
 import os
 
 import bpy
+import numpy as np
+
+from .curves import evaluated_curve_subset
 
 
 def build_lod(obj, context=None, guides=None, levels=None, control_points=None, seed=None, scene_cameras_only=None,
@@ -33,13 +36,42 @@ def build_lod(obj, context=None, guides=None, levels=None, control_points=None, 
     return job.asset
 
 
-def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=64):
+def guide_animation(obj, asset, frames, context=None, progress=None):
+    """(frames, guides float32 [F, G, n_c, 3]): the guides of `obj`'s evaluated hair (armature,
+    Deform Curves on Surface, Geometry Nodes, caches) at each of `frames`, read as the LoD preview
+    reads them (only the guide curves, resampled as the build does). The scene is back at its frame
+    afterwards. `progress(done, total)` is called after each frame. Raises ValueError when the hair's
+    curves no longer match the asset at some frame."""
+    context = context or bpy.context
+    scene = context.scene
+    frames = [int(frame) for frame in frames]
+    current = scene.frame_current, scene.frame_subframe
+    poses = []
+    try:
+        for done, frame in enumerate(frames, start=1):
+            scene.frame_set(frame)
+            depsgraph = context.evaluated_depsgraph_get()
+            try:
+                curves = evaluated_curve_subset(obj, asset.guide_strands, depsgraph, asset.strand_count)
+            except ValueError as error:
+                raise ValueError(f"frame {frame}: {error}") from None
+            poses.append(asset.resample_guides(curves))
+            if progress is not None:
+                progress(done, len(frames))
+    finally:
+        scene.frame_set(current[0], subframe=current[1])
+    return frames, np.stack(poses) if poses else np.empty((0, asset.guide_count, asset.control_points, 3), np.float32)
+
+
+def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=64, frames=None, progress=None):
     """Writes the LoD asset packed into `obj` to `directory`: <directory>/lod (lod.save: manifest,
     arrays, one .hair of thick hairs per level) and, with `bake`, <directory>/bcsdf (bcsdf_bake.bake:
     OpenEXR tables + manifest) for the hair the LoD preview shows (principled_hair.object_hair_params:
     the object's Principled Hair BSDF, else the preview panel's hair), with
     hair counts up to the asset's largest crossing count. Each folder appears complete or not at all.
-    Returns a summary dict (paths, counts, the material used)."""
+    `frames` (e.g. range(scene.frame_start, scene.frame_end + 1)): the guides of the animated hair at
+    each frame are stored in the LoD folder (guide_animation; lod.load_animation reads them back),
+    `progress(done, total)` called per frame. Returns a summary dict (paths, counts, the material used)."""
     from .. import atomic_output, bcsdf, bcsdf_bake, lod
     from .packed_asset import packed_asset
 
@@ -52,9 +84,10 @@ def export_lod(obj, directory, bake=True, theta_samples=64, hair_count_samples=6
     atomic_output.check_folder_target(lod_dir, lod.FORMAT_KIND, what=lod.WHAT)
     if bake:
         atomic_output.check_folder_target(bake_dir, bcsdf_bake.BAKE_FORMAT, what=bcsdf_bake.BAKE_WHAT)
-    lod.save(asset, lod_dir, extra={"source_object": obj.name})
+    animation = guide_animation(obj, asset, frames, progress=progress) if frames is not None else None
+    lod.save(asset, lod_dir, extra={"source_object": obj.name}, animation=animation)
     summary = {"object": obj.name, "strands": asset.strand_count, "levels": [len(l.n_total) for l in asset.levels],
-               "lod": lod_dir}
+               "lod": lod_dir, "frames": len(animation[0]) if animation is not None else 0}
     if bake:
         from .principled_hair import material_params, object_hair_params
 
