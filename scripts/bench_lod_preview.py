@@ -13,7 +13,6 @@ the far view without hair, with the LoD and with every strand (wm.redraw_timer, 
 
 import argparse
 import json
-import math
 import os
 import sys
 import time
@@ -24,6 +23,9 @@ import numpy as np
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from viewport_capture import capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
+
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
 
@@ -34,36 +36,6 @@ def parse_args():
     parser.add_argument("--guides", type=int, default=256)
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
-
-
-def psnr(a, b, background):
-    """PSNR over the bounding box of the pixels where either image differs from the background, so
-    that a small hair far away is not flattered by the empty viewport around it."""
-    hair = (np.abs(a - background).max(axis=2) > 1 / 255) | (np.abs(b - background).max(axis=2) > 1 / 255)
-    if not hair.any():
-        return math.inf
-    rows, columns = np.flatnonzero(hair.any(axis=1)), np.flatnonzero(hair.any(axis=0))
-    box = (slice(rows[0], rows[-1] + 1), slice(columns[0], columns[-1] + 1))
-    mse = float(np.mean((a[box] - b[box]) ** 2))
-    return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
-
-
-def capture(window, area, path):
-    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
-        bpy.ops.screen.screenshot_area(filepath=path, check_existing=False)
-    image = bpy.data.images.load(path)
-    pixels = np.empty(image.size[0] * image.size[1] * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    size = tuple(image.size)
-    bpy.data.images.remove(image)
-    return pixels.reshape(size[1], size[0], 4)[..., :3]
-
-
-def redraw(window, area, region, iterations=1):
-    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-        start = time.perf_counter()
-        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
-    return (time.perf_counter() - start) / iterations
 
 
 def run(args):

@@ -384,22 +384,6 @@ def bench_lod(strands=100_000, points=32, guides=None, levels=6, control_points=
     }
 
 
-def _turn(points, angle, centre=(0.0, 0.0, 0.5)):
-    """Points [..., 3] turned by `angle` about the vertical axis through `centre` (a head turning)."""
-    c, s = np.cos(angle), np.sin(angle)
-    p = np.asarray(points, np.float64) - centre
-    return (np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1], p[..., 2]], axis=-1) + centre).astype(np.float32)
-
-
-def _bend(points, angle, pivot_height=1.0):
-    """Points [..., 3] bent about the x axis by an angle growing from 0 at `pivot_height` to `angle`
-    one unit below it (a neck bending: every strand rotates differently along its length)."""
-    p = np.asarray(points, np.float64)
-    a = angle * np.clip(pivot_height - p[..., 2], 0.0, None)
-    c, s = np.cos(a), np.sin(a)
-    return np.stack([p[..., 0], c * p[..., 1] - s * p[..., 2], s * p[..., 1] + c * p[..., 2]], axis=-1).astype(np.float32)
-
-
 def _skinned_coverage(asset, geometry):
     """Per thick level: the fraction of member control points inside their skinned ellipse, each
     point projected onto the plane of the ellipse's skinned axes (least squares on the two axes)."""
@@ -425,7 +409,7 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
     thick hair (export, rendering). Accuracy: the skinned strands against every strand moved by the
     same rigid turn and by a non-rigid bend, and the thick hairs' coverage after the bend. No
     assertions: a benchmark, not a test."""
-    from . import lod
+    from . import lod, temporal
     from .camera import look_at, perspective
 
     memory_budget.check(int(strands) * int(points) * 3 * 8 * 8 +
@@ -445,7 +429,7 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
     static.update(view, projection, viewport)
     times = {"skin_maps": [], "maps_copy": [], "select_moved": [], "select_static": []}
     for frame in range(frames):
-        guides = _turn(_bend(rest_guides, 0.4 * frame / frames), 0.8 * frame / frames)
+        guides = temporal.turn(temporal.bend(rest_guides, 0.4 * frame / frames), 0.8 * frame / frames)
         start = time.perf_counter()
         skinning.update(guides)
         skinned = time.perf_counter()
@@ -459,14 +443,14 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
         for name, seconds in zip(times, (skinned - start, copied - skinned, selected - copied, done - selected)):
             times[name].append(seconds)
     per_frame_ms = {name: 1e3 * float(np.median(values)) for name, values in times.items()}
-    bent_guides = _bend(rest_guides, 0.4)
+    bent_guides = temporal.bend(rest_guides, 0.4)
     cpu_skin_ms = 1e3 * median_seconds(lambda: asset.skin(bent_guides), repeats=5)
 
     rest = asset.skin(rest_guides)["strands"].points.reshape(-1, control_points, 3)
     size = float(np.linalg.norm(rest.reshape(-1, 3).max(0) - rest.reshape(-1, 3).min(0)))
     radius = float(np.median(hair.radius))
     turn_angle, bend_angle = np.radians(30.0), 0.4
-    turned = asset.skin(_turn(rest_guides, turn_angle))
+    turned = asset.skin(temporal.turn(rest_guides, turn_angle))
     bent = asset.skin(bent_guides)
     # The GPU path: the maps applied to the rest pose, as skinning.glsl does.
     skinning.update(bent_guides)
@@ -489,8 +473,8 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
         "hair_size": size,
         "strand_radius": radius,
         "rigid_turn_30deg": lod.following_error(turned["strands"].points.reshape(-1, control_points, 3),
-                                             _turn(rest, turn_angle), radius, size),
-        "bend": lod.following_error(bent_points, _bend(rest, bend_angle), radius, size),
+                                             temporal.turn(rest, turn_angle), radius, size),
+        "bend": lod.following_error(bent_points, temporal.bend(rest, bend_angle), radius, size),
         "gpu_path_vs_cpu_skin_max_of_size": float(np.abs(gpu_points - bent_points).max()) / size,
         "coverage_rest": [level.coverage for level in asset.levels],
         "coverage_bent": _skinned_coverage(asset, bent),

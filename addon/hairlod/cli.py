@@ -286,8 +286,11 @@ def command_render(args):
         raise UsageError(f"--out {args.out}: must end in .exr or .png")
     if args.method.startswith("lod") and not args.lod:
         raise UsageError(f"--method {args.method} needs --lod DIR (an LoD asset from 'hairlod lod')")
+    if args.frame is not None and not args.method.startswith("lod"):
+        raise UsageError(f"--frame {args.frame}: only the lod methods skin to a frame (the strands are IN as it is)")
     strands, read_seconds = _read_timed(args.input)
     asset = lod.load(args.lod) if args.lod else None
+    guides = _animation_frame(args.lod, asset, args.frame) if args.frame is not None else None
     bar = None
     if sys.stderr.isatty() or args.progress:
         def bar(fraction):
@@ -295,18 +298,35 @@ def command_render(args):
             print(f"\rrender [{'#' * done}{'.' * (30 - done)}] {100 * fraction:5.1f}%", end="" if fraction < 1 else "\n",
                   file=sys.stderr, flush=True)
     result = render.render(strands, method=args.method, view=args.view, width=args.width, spp=args.spp, asset=asset,
-                           seed=args.seed, params=_read_params(args.params), progress=bar)
+                           seed=args.seed, params=_read_params(args.params), progress=bar, guides=guides)
     render.write_image(args.out, result["image"])
     summary = {key: result[key] for key in ("seconds", "setup_seconds", "rays", "rays_per_second", "segments",
                                             "strand_segments", "thick_segments", "camera")}
     summary.update(input=args.input, lod=args.lod, output=args.out, method=args.method, view=args.view, spp=args.spp,
-                   width=args.width, read_seconds=read_seconds)
+                   width=args.width, read_seconds=read_seconds, frame=args.frame)
     if args.json:
         _print_json(summary)
     else:
         print(f"{args.input} -> {args.out}: {args.method}, {args.view} view, {summary['segments']} segments, "
               f"{result['seconds']:.2f} s, {result['rays_per_second'] / 1e6:.2f} M rays/s")
     return 0
+
+
+def _animation_frame(folder, asset, frame):
+    """The guides of `frame` in the guide animation stored in the LoD folder (lod --animation)."""
+    import numpy as np
+
+    from . import lod
+
+    animation = lod.load_animation(folder, asset)
+    if animation is None:
+        raise UsageError(f"--frame {frame}: {folder} holds no guide animation (lod --animation, or Export Hair LoD "
+                         "with Guide Animation)")
+    frames, guides = animation
+    if frame not in frames:
+        raise UsageError(f"--frame {frame}: {folder} stores frames {int(frames[0])} to {int(frames[-1])}"
+                         + ("" if len(frames) == frames[-1] - frames[0] + 1 else " (not every one)"))
+    return guides[int(np.flatnonzero(frames == frame)[0])]
 
 
 def _read_params(path):
@@ -509,13 +529,40 @@ def _bench_quality(args):
     return 0
 
 
+def _bench_animation(args):
+    from . import lod, temporal
+
+    if not args.animation or len(args.animation) < 2:
+        raise UsageError("bench animation needs the hair at 2 or more frames: --animation FRAME_FILE FRAME_FILE ...")
+    frames = [_read_timed(path)[0] for path in args.animation]
+    asset = lod.load(args.lod) if args.lod else None
+    say = None if args.json else (lambda message: print(f"bench animation: {message}", file=sys.stderr, flush=True))
+    result = temporal.bench_animation(frames, asset=asset, view=args.view, width=args.width, spp=args.spp,
+                                      width_px=args.width_px, guides=args.guides, params=_read_params(args.params),
+                                      progress=say)
+    result.update(component="animation", files=args.animation, lod=args.lod)
+    if args.json:
+        _print_json(result)
+    else:
+        print(f"{'frame':>5} {'strand seg':>10} {'lod seg':>8} {'lod bPSNR':>9} {'strands adj':>11} {'lod adj':>8}")
+        for row in result["rows"]:
+            adjacent = (f"{row['strands_adjacent_psnr']:>11.2f} {row['lod_adjacent_psnr']:>8.2f}"
+                        if "lod_adjacent_psnr" in row else f"{'-':>11} {'-':>8}")
+            print(f"{row['frame']:>5} {row['strand_segments']:>10} {row['lod_segments']:>8} "
+                  f"{row['lod_blurred_psnr']:>9.2f} {adjacent}")
+        print(f"adjacent-frame blurred PSNR: strands {result['mean_strands_adjacent_psnr']:.2f} dB, LoD "
+              f"{result['mean_lod_adjacent_psnr']:.2f} dB (gap {result['adjacent_psnr_gap_db']:+.2f} dB); "
+              f"{result['mean_segment_reduction']:.1f}x fewer segments")
+    return 0
+
+
 def command_bench(args):
     return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "skinning": _bench_skinning, "generate": _bench_generate,
-            "quality": _bench_quality}[args.component](args)
+            "quality": _bench_quality, "animation": _bench_animation}[args.component](args)
 
 
 def build_parser():
-    from .render import BLUR_BOX
+    from .render import BLUR_BOX, VIEWS
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -600,6 +647,9 @@ def build_parser():
     rend = commands.add_parser("render", help="render hair with the Embree reference renderer (EXR or PNG)")
     rend.add_argument("input", type=_path, help="hair file to read (.hair .data .bin .ply .tfx)")
     rend.add_argument("--lod", type=_path, metavar="DIR", help="LoD asset folder (needed by the lod methods)")
+    rend.add_argument("--frame", type=_integer(-2**31, 2**31 - 1), default=None,
+                      help="lod methods: skin the asset to the guides of this frame of its guide animation (IN is the "
+                      "hair at that frame, for the view and the pt reference)")
     rend.add_argument("--method", choices=["pt", "ds", "lod", "lod-single", "lod-no-s"], default="pt",
                       help="pt (reference), ds (dual scattering), lod (aggregated BCSDF), lod-single, lod-no-s")
     rend.add_argument("--view", choices=["near", "mid", "far"], default="mid",
@@ -614,7 +664,7 @@ def build_parser():
     rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
-    bench.add_argument("component", choices=["bcsdf", "lod", "skinning", "generate", "quality"], help="what to benchmark")
+    bench.add_argument("component", choices=["bcsdf", "lod", "skinning", "generate", "quality", "animation"], help="what to benchmark")
     bench.add_argument("input", type=_path, nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.add_argument("--repeats", type=_integer(1), default=5, help="bcsdf: timing repeats (median; default 5)")
@@ -622,7 +672,7 @@ def build_parser():
     bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, skinning, generate: strands (default 100000)")
     bench.add_argument("--vertices", type=_integer(2), default=33, help="generate: vertices per strand (default 33)")
     bench.add_argument("--points", type=_integer(2), default=32, help="lod, skinning: points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, skinning, quality: guides (default: one per 128 "
+    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, skinning, quality, animation: guides (default: one per 128 "
                        "strands, 16 to 256)")
     bench.add_argument("--levels", type=_integer(MIN_LEVELS, MAX_LEVELS), default=LOD_DEFAULTS["levels"],
                        help=f"lod, skinning: levels including the strands (default {LOD_DEFAULTS['levels']})")
@@ -630,21 +680,26 @@ def build_parser():
                        default=LOD_DEFAULTS["control_points"],
                        help=f"lod, skinning: control points (default {LOD_DEFAULTS['control_points']})")
     bench.add_argument("--width-px", type=_width_px(), default=DEFAULT_WIDTH_PX,
-                       help=f"lod, quality: LoD width threshold eps_w in pixels (default {DEFAULT_WIDTH_PX:g})")
-    bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera; skinning: animation frames (default 200)")
-    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality: LoD asset folder (default: built with --guides)")
-    bench.add_argument("--spp", type=_integer(1), default=256, help="quality: samples per pixel of the methods (default 256)")
+                       help=f"lod, quality, animation: LoD width threshold eps_w in pixels (default {DEFAULT_WIDTH_PX:g})")
+    bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera; "
+                       "skinning: animation frames (default 200)")
+    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality, animation: LoD asset folder (default: built "
+                       "with --guides; animation: of the first frame)")
+    bench.add_argument("--spp", type=_integer(1), default=256, help="quality, animation: samples per pixel of the methods (default 256)")
     bench.add_argument("--reference-spp", type=_integer(1), default=1024,
                        help="quality: spp of the pt reference (default 1024)")
     bench.add_argument("--equal-time-spp", type=_integer(1), default=16,
                        help="quality: spp of the methods in the equal-time table (default 16)")
     bench.add_argument("--width", type=_integer(BLUR_BOX), default=128,
-                       help=f"quality: image width and height, at least {BLUR_BOX} (default 128)")
+                       help=f"quality, animation: image width and height, at least {BLUR_BOX} (default 128)")
     bench.add_argument("--images", type=_path, metavar="DIR", help="quality: write DIR/<view>.png, reference | ds | lod | "
                        "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "
                        "(default 0.5,1,2,4,8)")
-    bench.add_argument("--params", type=_path, help="quality: HairParams JSON (default: the BCSDF defaults)")
+    bench.add_argument("--params", type=_path, help="quality, animation: HairParams JSON (default: the BCSDF defaults)")
+    bench.add_argument("--animation", type=_path, nargs="+", metavar="FRAME_FILE",
+                       help="animation: the hair at successive frames (same curves, moved)")
+    bench.add_argument("--view", choices=list(VIEWS), default="mid", help="animation: camera distance (default mid)")
     bench.set_defaults(run=command_bench)
     return parser
 

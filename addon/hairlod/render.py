@@ -61,12 +61,14 @@ def _matrices(camera):
     return view, projection
 
 
-def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX):
-    """The LoD selection (Sec. 5.1 step 5) for `camera` at the rest pose, as renderable geometry:
-    (Strands of the strand-level segments or None, thick-hair dict or None, segment counts)."""
+def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX, guides=None):
+    """The LoD selection (Sec. 5.1 step 5) for `camera`, at the rest pose or skinned to `guides`
+    [G, n_c, 3] (an animated frame), as renderable geometry: (Strands of the strand-level segments or
+    None, thick-hair dict or None)."""
     view, projection = _matrices(camera)
-    selection = asset.select(view, projection, (camera["width"], camera["height"]), width_px)
-    skinned = asset.skin(asset.rest_guides)
+    guides = asset.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
+    selection = asset.select(view, projection, (camera["width"], camera["height"]), width_px, guides=guides)
+    skinned = asset.skin(guides)
     nc = asset.control_points
     strand_order = asset.arrays()["strand_order"]
     thick = {"centres": [], "major_axis": [], "radii": [], "density": [], "counts": [], "n_total": []}
@@ -109,9 +111,11 @@ def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX):
 
 
 def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, params=None, seed=0,
-           max_bounces=70, width_px=_core.DEFAULT_WIDTH_PX, lights=None, camera=None, progress=None, coverage_only=False):
+           max_bounces=70, width_px=_core.DEFAULT_WIDTH_PX, lights=None, camera=None, progress=None, coverage_only=False,
+           guides=None):
     """Renders `strands` (full geometry; also frames the view) or, for the lod methods, the selection of
-    `asset` for the framed camera. Returns a dict: image [H, W, 3] float32 linear, camera, seconds,
+    `asset` for the framed camera, skinned to `guides` [G, n_c, 3] when given (a frame of an animation:
+    lod.load_animation, lod.frame_guides). Returns a dict: image [H, W, 3] float32 linear, camera, seconds,
     setup_seconds, rays, rays_per_second, segments (Embree curve segments in the scene).
     coverage_only: black hair under a white environment (it takes no `lights`), so every channel of
     the image is 1 - alpha, the thick hairs' gaps included."""
@@ -132,7 +136,7 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
     if method.startswith("lod"):
         if asset is None:
             raise ValueError(f"method {method!r} needs an LoD asset (--lod DIR)")
-        scene_strands, thick = lod_geometry(asset, camera, width_px)
+        scene_strands, thick = lod_geometry(asset, camera, width_px, guides)
     else:
         scene_strands, thick = strands, None
     result = _core.render(scene_strands, thick, camera, lights, params, method=method, spp=int(spp),

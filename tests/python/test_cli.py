@@ -186,14 +186,14 @@ def test_lod_bad_input_exits_2_without_output(tmp_path, arguments):
 
 def test_lod_stores_the_guides_of_per_frame_files(tmp_path):
     from hairlod import Strands, io, lod
-    from hairlod.bench import _turn
+    from hairlod.temporal import turn
 
     source = _lod_input(tmp_path)
     hair = io.read(source)
     frames = []
     for index, angle in enumerate((0.0, 0.3)):
         frames.append(tmp_path / f"frame{index}.hair")
-        io.write(frames[-1], Strands(_turn(hair.points, angle), hair.offsets, hair.radius))
+        io.write(frames[-1], Strands(turn(hair.points, angle), hair.offsets, hair.radius))
     result = run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 4, "--control-points", 8,
                      "--animation", *frames, "--first-frame", 7, "--json")
     assert result.returncode == 0, result.stderr
@@ -203,7 +203,7 @@ def test_lod_stores_the_guides_of_per_frame_files(tmp_path):
     assert numbers.tolist() == [7, 8]
     size = float(np.ptp(asset.rest_guides.reshape(-1, 3), axis=0).max())
     assert np.abs(guides[0] - asset.rest_guides).max() <= 1e-5 * size
-    assert np.abs(guides[1] - _turn(asset.rest_guides, 0.3)).max() <= 1e-5 * size
+    assert np.abs(guides[1] - turn(asset.rest_guides, 0.3)).max() <= 1e-5 * size
 
     # A frame of another hair (fewer curves) is refused, and nothing is written.
     io.write(tmp_path / "other.hair", Strands.from_counts(hair.points[:40], np.full(4, 10), hair.radius[:40]))
@@ -233,3 +233,30 @@ def test_bench_skinning_json():
     assert report["gpu_path_vs_cpu_skin_max_of_size"] < 1e-5
     assert 0.0 < report["bend"]["mean_of_size"] < report["bend"]["p99_of_size"]
     assert len(report["coverage_bent"]) == len(report["coverage_rest"]) == report["built_levels"] - 1
+
+
+def test_render_and_bench_animation_take_frames(tmp_path):
+    from hairlod import Strands, io
+    from hairlod.temporal import bend
+
+    source = _lod_input(tmp_path)
+    hair = io.read(source)
+    bent = tmp_path / "bent.hair"
+    io.write(bent, Strands(bend(hair.points, 0.4), hair.offsets, hair.radius))
+    assert run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 4, "--control-points", 8,
+                   "--animation", source, bent).returncode == 0
+    result = run_cli("render", bent, "--method", "lod", "--lod", tmp_path / "asset", "--frame", 2, "--spp", 2,
+                     "--width", 32, "--out", tmp_path / "frame2.png", "--json")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["frame"] == 2 and (tmp_path / "frame2.png").is_file()
+    assert "stores frames 1 to 2" in one_line_error(run_cli("render", bent, "--method", "lod", "--lod", tmp_path / "asset",
+                                                            "--frame", 5, "--out", tmp_path / "x.png"))
+    assert "only the lod methods" in one_line_error(run_cli("render", bent, "--frame", 1, "--out", tmp_path / "x.png"))
+    assert not (tmp_path / "x.png").exists()
+
+    result = run_cli("bench", "animation", "--animation", source, bent, "--lod", tmp_path / "asset", "--spp", 2,
+                     "--width", 32, "--json")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["frames"] == 2 and np.isfinite(report["adjacent_psnr_gap_db"])
+    assert "2 or more frames" in one_line_error(run_cli("bench", "animation", "--animation", source))

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hairlod import HairlodError, Strands, self_shadow
-from hairlod.bench import _bend, _turn
+from hairlod.temporal import bend, turn
 from hairlod.lod import build_lod
 from test_lod import hanging_hair, look_at, perspective
 
@@ -55,7 +55,7 @@ def test_maps_applied_to_the_rest_pose_equal_the_cpu_skin(asset):
     assert np.abs(skinning.maps - np.concatenate([np.eye(3), np.zeros((3, 1))], axis=1)).max() <= 1e-5
     rest_points = rest["strands"].points.reshape(-1, 8, 3).astype(np.float64)
     cluster = asset.levels[0].membership
-    for deform in (rigid, lambda p: _bend(p, 0.5), lambda p: _turn(_bend(p, 0.3), 1.0)):
+    for deform in (rigid, lambda p: bend(p, 0.5), lambda p: turn(bend(p, 0.3), 1.0)):
         guides = deform(asset.rest_guides)
         skinning.update(guides)
         maps = skinning.maps.astype(np.float64)[cluster]
@@ -106,7 +106,7 @@ def test_guide_animation_is_stored_with_the_asset_and_read_back(asset, tmp_path)
     from hairlod import lod
 
     frames = [1, 2, 5]
-    guides = np.stack([_turn(asset.rest_guides, angle) for angle in (0.0, 0.2, 0.5)])
+    guides = np.stack([turn(asset.rest_guides, angle) for angle in (0.0, 0.2, 0.5)])
     manifest = lod.save(asset, tmp_path / "lod", animation=(frames, guides))
     assert manifest["animation"]["frames"] == frames and manifest["animation"]["shape"] == list(guides.shape)
     assert "LodAsset.skin(guides[f])" in manifest["animation"]["meaning"]
@@ -115,7 +115,7 @@ def test_guide_animation_is_stored_with_the_asset_and_read_back(asset, tmp_path)
     assert read_frames.tolist() == frames and np.array_equal(read_guides, guides)
     # What an engine does with frame 5: skin everything to its guides.
     moved = loaded.skin(read_guides[2])["strands"].points
-    assert np.abs(moved - _turn(loaded.skin(loaded.rest_guides)["strands"].points, 0.5)).max() <= 1e-5 * np.abs(moved).max()
+    assert np.abs(moved - turn(loaded.skin(loaded.rest_guides)["strands"].points, 0.5)).max() <= 1e-5 * np.abs(moved).max()
 
     lod.save(asset, tmp_path / "still")
     assert lod.load_animation(tmp_path / "still", asset) is None

@@ -1,0 +1,40 @@
+"""What the viewport benchmarks under Xvfb share (scripts/bench_lod_preview.py,
+scripts/bench_preview_animation.py): timed redraws, screenshots as arrays, and a PSNR over the hair."""
+
+import math
+import time
+
+import bpy
+import numpy as np
+
+
+def psnr(a, b, background):
+    """PSNR over the bounding box of the pixels where either image differs from the background, so
+    that a small hair far away is not flattered by the empty viewport around it."""
+    hair = (np.abs(a - background).max(axis=2) > 1 / 255) | (np.abs(b - background).max(axis=2) > 1 / 255)
+    if not hair.any():
+        return math.inf
+    rows, columns = np.flatnonzero(hair.any(axis=1)), np.flatnonzero(hair.any(axis=0))
+    box = (slice(rows[0], rows[-1] + 1), slice(columns[0], columns[-1] + 1))
+    mse = float(np.mean((a[box] - b[box]) ** 2))
+    return math.inf if mse == 0.0 else 10.0 * math.log10(1.0 / mse)
+
+
+def capture(window, area, path):
+    """Screenshot of `area` saved at `path`, as RGB float [H, W, 3] (rows bottom-up)."""
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path, check_existing=False)
+    image = bpy.data.images.load(path)
+    pixels = np.empty(image.size[0] * image.size[1] * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    size = tuple(image.size)
+    bpy.data.images.remove(image)
+    return pixels.reshape(size[1], size[0], 4)[..., :3]
+
+
+def redraw(window, area, region, iterations=1):
+    """Seconds per redraw of `region`, over `iterations` redraws."""
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+        start = time.perf_counter()
+        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
+    return (time.perf_counter() - start) / iterations
