@@ -12,11 +12,9 @@ the far view without hair, with the LoD and with every strand (wm.redraw_timer, 
 """
 
 import argparse
-import json
 import os
 import sys
 import time
-import traceback
 
 import bpy
 import numpy as np
@@ -24,6 +22,7 @@ import numpy as np
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import window_steps  # noqa: E402  (scripts/window_steps.py)
 from viewport_capture import capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
 
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
@@ -124,23 +123,7 @@ def run(args):
               "far_frame_ms": timings,
               "far_hair_ms_ratio": (timings["all_strands"] - timings["no_hair"]) /
                                    max(timings["lod"] - timings["no_hair"], 1e-3)}
-    text = json.dumps(result, indent=1)
-    print(text)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(text)
+    window_steps.report(result, args.out)
 
 
-def main():
-    status = 0
-    try:
-        run(parse_args())
-    except Exception:
-        traceback.print_exc()
-        status = 1
-    sys.stdout.flush()
-    os._exit(status)
-
-
-bpy.context.preferences.view.show_splash = False
-bpy.app.timers.register(main, first_interval=1.0)
+window_steps.run_once(lambda: run(parse_args()))

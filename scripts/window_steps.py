@@ -26,6 +26,15 @@ def run(steps, first_delay=1.0):
     bpy.app.timers.register(tick, first_interval=first_delay)
 
 
+def run_once(function, first_delay=1.0):
+    """Runs `function()` once from a timer (the window is up by then), then exits as run() does."""
+    def steps():
+        function()
+        yield from ()
+
+    run(steps(), first_delay)
+
+
 def report(result, path=None):
     """Prints `result` as one indented JSON object, and writes it to `path` when given."""
     text = json.dumps(result, indent=1)

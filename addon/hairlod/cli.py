@@ -545,13 +545,16 @@ def _bench_animation(args):
         _print_json(result)
     else:
         print(f"{'frame':>5} {'strand seg':>10} {'lod seg':>8} {'lod bPSNR':>9} {'strands adj':>11} {'lod adj':>8}")
+        def db(value, width, sign=""):  # None: identical images (infinite PSNR)
+            return format("inf" if value is None else format(value, f"{sign}.2f"), f">{width}")
+
         for row in result["rows"]:
-            adjacent = (f"{row['strands_adjacent_psnr']:>11.2f} {row['lod_adjacent_psnr']:>8.2f}"
+            adjacent = (f"{db(row['strands_adjacent_psnr'], 11)} {db(row['lod_adjacent_psnr'], 8)}"
                         if "lod_adjacent_psnr" in row else f"{'-':>11} {'-':>8}")
             print(f"{row['frame']:>5} {row['strand_segments']:>10} {row['lod_segments']:>8} "
-                  f"{row['lod_blurred_psnr']:>9.2f} {adjacent}")
-        print(f"adjacent-frame blurred PSNR: strands {result['mean_strands_adjacent_psnr']:.2f} dB, LoD "
-              f"{result['mean_lod_adjacent_psnr']:.2f} dB (gap {result['adjacent_psnr_gap_db']:+.2f} dB); "
+                  f"{db(row['lod_blurred_psnr'], 9)} {adjacent}")
+        print(f"adjacent-frame blurred PSNR: strands {db(result['mean_strands_adjacent_psnr'], 0)} dB, LoD "
+              f"{db(result['mean_lod_adjacent_psnr'], 0)} dB (gap {db(result['adjacent_psnr_gap_db'], 0, '+')} dB); "
               f"{result['mean_segment_reduction']:.1f}x fewer segments")
     return 0
 

@@ -73,24 +73,33 @@ def bench_animation(frames, asset=None, view="mid", width=128, spp=64, width_px=
     # image around it), on whole blurring blocks.
     box = _hair_box([image for pair in images for image in pair], render.BLUR_BOX)
     crop = [(strands_image[box], lod_image[box]) for strands_image, lod_image in images]
+    # An infinite PSNR (identical 8-bit images) is stored as None: strict JSON has no Infinity.
     for index, (row, (strands_image, lod_image)) in enumerate(zip(rows, crop)):
-        row["lod_blurred_psnr"] = render.blurred_psnr(lod_image, strands_image)
+        row["lod_blurred_psnr"] = _finite(render.blurred_psnr(lod_image, strands_image))
         if index > 0:
-            row["strands_adjacent_psnr"] = render.blurred_psnr(strands_image, crop[index - 1][0])
-            row["lod_adjacent_psnr"] = render.blurred_psnr(lod_image, crop[index - 1][1])
+            row["strands_adjacent_psnr"] = _finite(render.blurred_psnr(strands_image, crop[index - 1][0]))
+            row["lod_adjacent_psnr"] = _finite(render.blurred_psnr(lod_image, crop[index - 1][1]))
     moving = rows[1:]
 
-    def mean(key):
-        values = [row[key] for row in moving if np.isfinite(row[key])]
-        return float(np.mean(values)) if values else float("inf")
+    def mean(key, rows=moving):
+        """The mean over the frames whose PSNR is finite (None when there is none)."""
+        values = [row[key] for row in rows if row[key] is not None]
+        return float(np.mean(values)) if values else None
+
+    gap = (mean("lod_adjacent_psnr") - mean("strands_adjacent_psnr")
+           if mean("lod_adjacent_psnr") is not None and mean("strands_adjacent_psnr") is not None else None)
 
     return {"frames": len(frames), "strands": asset.strand_count, "guides": asset.guide_count, "view": view,
             "width": int(width), "spp": int(spp), "width_px": float(width_px), "build_seconds": build_seconds,
             "hair_box": [int(box[0].stop - box[0].start), int(box[1].stop - box[1].start)],
-            "rows": rows, "mean_lod_blurred_psnr": float(np.mean([row["lod_blurred_psnr"] for row in rows])),
+            "rows": rows, "mean_lod_blurred_psnr": mean("lod_blurred_psnr", rows),
             "mean_strands_adjacent_psnr": mean("strands_adjacent_psnr"), "mean_lod_adjacent_psnr": mean("lod_adjacent_psnr"),
-            "adjacent_psnr_gap_db": mean("lod_adjacent_psnr") - mean("strands_adjacent_psnr"),
+            "adjacent_psnr_gap_db": gap,
             "mean_segment_reduction": float(np.mean([row["strand_segments"] / max(row["lod_segments"], 1) for row in rows]))}
+
+
+def _finite(value):
+    return float(value) if np.isfinite(value) else None
 
 
 def _hair_box(images, block):

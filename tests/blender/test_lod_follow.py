@@ -11,6 +11,7 @@ from hairlod.blender.curves import evaluated_curve_subset, new_geometry_node_tre
 from hairlod.blender.lod_build_job import COLLECTION_NAME
 from hairlod.blender.packed_asset import packed_asset
 from hairlod.blender.preview import lod_preview
+from animated_hair import add_keyframed_rotation, build_scene, turn_head
 from test_lod_operator import hanging_hair
 
 pytestmark = pytest.mark.usefixtures("addon")
@@ -24,22 +25,8 @@ def rotation_z(angle):
 
 
 def add_keyframed_turn(obj):
-    """A Geometry Nodes modifier turning the hair about z: 0 at frame 1, ANGLE at frame 10."""
-    tree = new_geometry_node_tree("Turn")
-    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
-    transform = tree.nodes.new('GeometryNodeTransform')
-    tree.links.new(group_in.outputs[0], transform.inputs["Geometry"])
-    tree.links.new(transform.outputs["Geometry"], group_out.inputs[0])
-    rotation = transform.inputs["Rotation"]
-    for frame, angle in ((1, 0.0), (10, ANGLE)):
-        rotation.default_value = (0.0, 0.0, angle)
-        rotation.keyframe_insert("default_value", frame=frame)
-    for curve in tree.animation_data.action.fcurves:
-        for key in curve.keyframe_points:
-            key.interpolation = 'LINEAR'
-    modifier = obj.modifiers.new("Turn", 'NODES')
-    modifier.node_group = tree
-    return tree
+    """The hair turns about z: 0 at frame 1, ANGLE at frame 10."""
+    return add_keyframed_rotation(obj, ((1, (0.0, 0.0, 0.0)), (10, (0.0, 0.0, ANGLE))))
 
 
 @pytest.fixture
@@ -121,7 +108,6 @@ def test_skinning_follows_deform_curves_on_surface(rigid, empty_scene):
     and skinning from guides is smooth across a cluster."""
     from hairlod import lod
     from hairlod.blender.curves import curves_to_strands
-    from surface_hair import build_scene, turn_head
 
     hair, rig = build_scene(rigid)
     depsgraph = bpy.context.evaluated_depsgraph_get()

@@ -17,6 +17,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "blender"))
 from harness import REPO_ROOT, check, screenshot  # noqa: E402
 
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
@@ -50,21 +51,6 @@ def overlap(a, b):
     return float((a & b).sum()) / max(float((a | b).sum()), 1.0)
 
 
-def add_keyframed_turn(obj):
-    from hairlod.blender.curves import new_geometry_node_tree
-
-    tree = new_geometry_node_tree("Turn")
-    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
-    transform = tree.nodes.new('GeometryNodeTransform')
-    tree.links.new(group_in.outputs[0], transform.inputs["Geometry"])
-    tree.links.new(transform.outputs["Geometry"], group_out.inputs[0])
-    rotation = transform.inputs["Rotation"]
-    for frame, angle in ((1, 0.0), (10, ANGLE)):
-        rotation.default_value = (angle, 0.0, 0.0)
-        rotation.keyframe_insert("default_value", frame=frame)
-    obj.modifiers.new("Turn", 'NODES').node_group = tree
-
-
 def steps():
     import addon_utils
 
@@ -84,7 +70,9 @@ def steps():
     obj = strands_to_curves(strands, "Hair")
     bpy.context.view_layer.objects.active = obj
     obj.select_set(True)
-    add_keyframed_turn(obj)
+    from animated_hair import add_keyframed_rotation  # tests/blender/animated_hair.py (needs the add-on)
+
+    add_keyframed_rotation(obj, ((1, (0.0, 0.0, 0.0)), (10, (ANGLE, 0.0, 0.0))))
     check(bpy.ops.hairlod.build_lod(guides=48, levels=5, control_points=12, seed=0) == {'FINISHED'}, "LoD built")
     check(lod_preview.preview_of(obj) is not None and packed_asset(obj) is not None, "the preview is attached")
     settings = obj.hairlod_lod_preview

@@ -136,6 +136,9 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
             material.active = settings.enabled and not lod_preview.uses_material(obj, settings)
             for key in ("melanin", "melanin_redness", "roughness", "radial_roughness"):
                 material.prop(settings, key, slider=True)
+        if preview.follow_status:  # the hair no longer matches the asset: it is not followed
+            for index, line in enumerate(_wrapped(preview.follow_status, context)):
+                column.label(text=line, icon='ERROR' if index == 0 else 'BLANK1')
         column.prop(settings, "show_statistics")
         if settings.show_statistics and preview.stats:
             stats = preview.stats
@@ -146,6 +149,10 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
                 box.label(text=f"  {name}: {count:,}")
             box.label(text=f"Selection {stats['select_ms']:.2f} ms")
             box.label(text=f"Draw {stats['draw_ms']:.2f} ms" + (" with GPU" if stats.get("gpu_timed") else " (CPU)"))
+            follow = preview.follow_stats
+            if "skin_ms" in follow:  # the hair moved since the build: the last frame it followed
+                box.label(text=f"Following: read {follow['read_ms']:.1f} ms, skin {follow['skin_ms']:.1f} ms, "
+                               f"upload {follow['upload_ms']:.1f} ms")
 
 
 def _wrapped(text, context):

@@ -252,8 +252,7 @@ class LodPreview:
         from ..curves import evaluated_curve_subset
 
         if obj.type != 'CURVES':
-            self.follow_status = "Not following: the object is not hair Curves"
-            return False
+            return False  # an asset shown on another object (Load LoD Asset) has no hair to follow
         start = time.perf_counter()
         try:
             curves = evaluated_curve_subset(obj, self.asset.guide_strands, depsgraph, self.asset.strand_count)

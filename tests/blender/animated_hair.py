@@ -1,7 +1,9 @@
-"""Hair attached to an armature-animated head, the way artists animate hair in Blender: a UV-sphere
-head deformed by a two-bone rig (neck, head), and a hair Curves object on its surface (Curves.surface,
-surface_uv_map and each curve's surface_uv_coordinate) moved by a Geometry Nodes modifier with the
-Deform Curves on Surface node. Shared by the headless tests and the measurement script."""
+"""Animated hair for the tests and benchmarks: a Geometry Nodes modifier that turns a hair object by
+keyframed angles, and hair attached to an armature-animated head the way artists animate hair in
+Blender (a UV-sphere head deformed by a two-bone rig, neck and head, and a hair Curves object on its
+surface, Curves.surface, surface_uv_map and each curve's surface_uv_coordinate, moved by a Geometry
+Nodes modifier with the Deform Curves on Surface node). Shared by tests/blender, tests/ui and
+scripts/bench_preview_animation.py."""
 
 import math
 
@@ -10,6 +12,25 @@ import numpy as np
 
 from hairlod import Strands
 from hairlod.blender.curves import new_geometry_node_tree, strands_to_curves
+
+
+def add_keyframed_rotation(obj, keys, name="Turn"):
+    """A Geometry Nodes modifier on `obj` whose Transform node rotates the geometry by Euler angles
+    keyed at frames: keys ((frame, (x, y, z)), ...), interpolated linearly between them."""
+    tree = new_geometry_node_tree(name)
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    transform = tree.nodes.new('GeometryNodeTransform')
+    tree.links.new(group_in.outputs[0], transform.inputs["Geometry"])
+    tree.links.new(transform.outputs["Geometry"], group_out.inputs[0])
+    rotation = transform.inputs["Rotation"]
+    for frame, angles in keys:
+        rotation.default_value = angles
+        rotation.keyframe_insert("default_value", frame=frame)
+    for curve in tree.animation_data.action.fcurves:
+        for key in curve.keyframe_points:
+            key.interpolation = 'LINEAR'
+    obj.modifiers.new(name, 'NODES').node_group = tree
+    return tree
 
 
 def _triangles(mesh):
