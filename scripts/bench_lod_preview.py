@@ -23,7 +23,7 @@ REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
-from viewport_capture import capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
+from viewport_capture import add_sun, bare_viewport, capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
 
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
@@ -56,23 +56,12 @@ def run(args):
         bpy.data.objects.remove(obj)
     holder = bpy.data.objects.new("hair LoD", None)
     bpy.context.scene.collection.objects.link(holder)
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", 'SUN'))
-    sun.data.energy = 3.0
-    sun.rotation_euler = (0.9, 0.3, 0.6)
-    bpy.context.scene.collection.objects.link(sun)
+    add_sun(bpy.context.scene)
     lod_preview.attach(holder, asset)
     settings = holder.hairlod_lod_preview
     preview = lod_preview.preview_of(holder)
 
-    window = bpy.context.window_manager.windows[0]
-    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
-    region = next(r for r in area.regions if r.type == 'WINDOW')
-    space = area.spaces.active
-    region_3d = space.region_3d
-    space.overlay.show_overlays = False
-    space.show_gizmo = False
-    space.clip_start, space.clip_end = 0.01 * size, 100.0 * size
-    region_3d.view_perspective = 'PERSP'
+    window, area, region, region_3d = bare_viewport(size)
     region_3d.view_location = centre
     region_3d.view_rotation = (0.8, 0.45, 0.2, 0.35)
     region_3d.view_rotation.normalize()

@@ -28,7 +28,7 @@ REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
-from viewport_capture import capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
+from viewport_capture import add_sun, bare_viewport, capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
 
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
 
@@ -71,27 +71,16 @@ def run(args):
     from animated_hair import add_keyframed_rotation  # tests/blender/animated_hair.py
 
     add_keyframed_rotation(obj, ((1, (0.0, 0.0, 0.0)), (args.frames, (NOD, 0.0, 0.0))), name="Nod")
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", 'SUN'))
-    sun.data.energy = 3.0
-    sun.rotation_euler = (0.9, 0.3, 0.6)
-    scene.collection.objects.link(sun)
+    add_sun(scene)
     start = time.perf_counter()
     bpy.ops.hairlod.build_lod(guides=args.guides, levels=6, control_points=16, seed=0)
     build_seconds = time.perf_counter() - start
     settings = obj.hairlod_lod_preview
     preview = lod_preview.preview_of(obj)
 
-    window = bpy.context.window_manager.windows[0]
-    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
-    region = next(r for r in area.regions if r.type == 'WINDOW')
-    space = area.spaces.active
-    space.overlay.show_overlays = False
-    space.show_gizmo = False
     lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
     size = float(np.linalg.norm(upper - lower))
-    space.clip_start, space.clip_end = 0.01 * size, 100.0 * size
-    region_3d = space.region_3d
-    region_3d.view_perspective = 'PERSP'
+    window, area, region, region_3d = bare_viewport(size)
     region_3d.view_location = 0.5 * (lower + upper)
     region_3d.view_rotation = (0.5, 0.5, 0.5, 0.5)  # from the side: the nod turns the image
     region_3d.view_distance = args.distance * size

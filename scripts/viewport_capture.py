@@ -1,11 +1,35 @@
 """What the viewport benchmarks under Xvfb share (scripts/bench_lod_preview.py,
-scripts/bench_preview_animation.py): timed redraws, screenshots as arrays, and a PSNR over the hair."""
+scripts/bench_preview_animation.py): the light and the viewport, timed redraws, screenshots as arrays,
+and a PSNR over the hair."""
 
 import math
 import time
 
 import bpy
 import numpy as np
+
+
+def add_sun(scene):
+    """The benchmarks' one light: a sun of irradiance 3 from above one side."""
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", 'SUN'))
+    sun.data.energy = 3.0
+    sun.rotation_euler = (0.9, 0.3, 0.6)
+    scene.collection.objects.link(sun)
+    return sun
+
+
+def bare_viewport(size):
+    """(window, area, region, region_3d) of the first 3D viewport, without overlays or gizmos, its
+    clipping range fitted to hair of `size` and a perspective view."""
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    space = area.spaces.active
+    space.overlay.show_overlays = False
+    space.show_gizmo = False
+    space.clip_start, space.clip_end = 0.01 * size, 100.0 * size
+    space.region_3d.view_perspective = 'PERSP'
+    return window, area, region, space.region_3d
 
 
 def psnr(a, b, background):

@@ -156,7 +156,6 @@ def command_convert(args):
         "points": strands.point_count,
         "read_seconds": read_seconds,
         "write_seconds": write_seconds,
-        "animation_frames": len(args.animation or ()),
     }
     if args.json:
         _print_json(result)
@@ -208,7 +207,6 @@ def command_generate(args):
         "prepare_seconds": prepare_seconds,
         "generate_seconds": generate_seconds,
         "write_seconds": write_seconds,
-        "animation_frames": len(args.animation or ()),
     }
     if args.json:
         _print_json(result)
@@ -544,10 +542,10 @@ def _bench_animation(args):
     if args.json:
         _print_json(result)
     else:
-        print(f"{'frame':>5} {'strand seg':>10} {'lod seg':>8} {'lod bPSNR':>9} {'strands adj':>11} {'lod adj':>8}")
         def db(value, width, sign=""):  # None: identical images (infinite PSNR)
             return format("inf" if value is None else format(value, f"{sign}.2f"), f">{width}")
 
+        print(f"{'frame':>5} {'strand seg':>10} {'lod seg':>8} {'lod bPSNR':>9} {'strands adj':>11} {'lod adj':>8}")
         for row in result["rows"]:
             adjacent = (f"{db(row['strands_adjacent_psnr'], 11)} {db(row['lod_adjacent_psnr'], 8)}"
                         if "lod_adjacent_psnr" in row else f"{'-':>11} {'-':>8}")

@@ -40,6 +40,14 @@ def screenshot(window, area, name, whole_window=False):
     return pixels
 
 
+def crop(pixels, window, region):
+    """The pixels of `region` in a whole-window screenshot (which may be scaled from window to image size)."""
+    scale_y, scale_x = pixels.shape[0] / window.height, pixels.shape[1] / window.width
+    x0, y0 = int(region.x * scale_x), int(region.y * scale_y)
+    x1, y1 = int((region.x + region.width) * scale_x), int((region.y + region.height) * scale_y)
+    return pixels[y0:y1, x0:x1]
+
+
 def _load_rgb(path):
     image = bpy.data.images.load(path)
     width, height = image.size

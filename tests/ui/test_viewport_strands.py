@@ -17,7 +17,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
-from harness import check  # noqa: E402
+from harness import check, crop  # noqa: E402
 
 REDRAW_DELAY = 1.0
 
@@ -29,13 +29,6 @@ def view3d(window):
 
 def screenshot(window, area, name):
     return harness.screenshot(window, area, name, whole_window=True)
-
-
-def crop(pixels, window, region):
-    scale_y, scale_x = pixels.shape[0] / window.height, pixels.shape[1] / window.width
-    x0, y0 = int(region.x * scale_x), int(region.y * scale_y)
-    x1, y1 = int((region.x + region.width) * scale_x), int((region.y + region.height) * scale_y)
-    return pixels[y0:y1, x0:x1]
 
 
 

@@ -3,6 +3,7 @@
 import bpy
 from bpy.props import FloatProperty, IntProperty
 
+from .operators import select_only
 from .strand_settings import StrandSettings
 
 
@@ -85,10 +86,7 @@ class HAIRLOD_OT_hair_mesh_from_faces(bpy.types.Operator):
             return {'CANCELLED'}
         obj.matrix_world = scalp.matrix_world
 
-        for other in context.selected_objects:
-            other.select_set(False)
-        obj.select_set(True)
-        context.view_layer.objects.active = obj
+        select_only(context, obj)
         self.report({'INFO'}, f"Hair mesh with {hair_mesh.face_count} faces and {self.layers + 1} layers")
         return {'FINISHED'}
 

@@ -11,6 +11,14 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper, axis_conversion, ori
 from .. import io
 
 
+def select_only(context, obj):
+    """Makes `obj` (an object an operator just made) the only selected object and the active one."""
+    for selected in context.selected_objects:
+        selected.select_set(False)
+    obj.select_set(True)
+    context.view_layer.objects.active = obj
+
+
 def _file_filter(formats):
     return ";".join("*" + extension for extension in formats)
 
@@ -166,10 +174,7 @@ class HAIRLOD_OT_import_hair(bpy.types.Operator, ImportHelper):
         finally:
             window_manager.progress_end()
 
-        for selected in context.selected_objects:
-            selected.select_set(False)
-        obj.select_set(True)
-        context.view_layer.objects.active = obj
+        select_only(context, obj)
         self.report({'INFO'}, f"Imported {len(strands):,} strands, {strands.point_count:,} points")
         return {'FINISHED'}
 

@@ -10,6 +10,12 @@ the selection (level per L0 cluster and segment) as a small texture; the fragmen
 segments selected at another level, and a block is drawn only when one of its clusters has a segment
 at that level. A level with few selected segments (EXACT_SEGMENTS) is drawn from an exact index list
 instead, small enough to rebuild within the frame budget when its ranges change.
+
+The vertex buffers hold the rest pose. When the hair moves (playback, scrubbing, an edit of what
+deforms it), the frame-change and depsgraph handlers read the evaluated guide curves; the next draw
+skins to them with FrameSkinning (one affine map per L0 cluster and control point, Sec. 5.1 step 4),
+uploads the maps as a texture that the vertex shaders apply (shaders/skinning.glsl) and gives every
+view's selection the moved geometry: per frame O(clusters x n_c) work, no vertex buffer rebuilt.
 """
 
 import time
