@@ -2,14 +2,8 @@
 # Runs each tests/blender/test_*.py in its own headless Blender (pytest inside Blender's Python),
 # prints a summary and fails if any file fails. BLENDER overrides the binary; extra arguments go
 # to pytest (e.g. -k round_trip).
-set -u
-cd "$(dirname "$0")/.."
-BLENDER=${BLENDER:-blender}
-command -v "$BLENDER" >/dev/null || { echo "run_blender_tests.sh: '$BLENDER' not found (apt-get install blender)" >&2; exit 2; }
-
-# Blender writes temporary files; keep them out of the shared /tmp and remove them afterwards.
-TMPDIR=$(mktemp -d) && export TMPDIR
-trap 'rm -rf "$TMPDIR"' EXIT
+. "$(dirname "$0")/blender_test_env.sh"
+blender_test_env run_blender_tests.sh blender
 
 summary=""
 failed=0

@@ -1,16 +1,9 @@
 #!/bin/sh
 # Runs each tests/ui/test_*.py in a real Blender window under Xvfb, prints a summary and fails if
 # any fails. Screenshots land in $HAIRLOD_UI_OUT (default out/ui). BLENDER overrides the binary.
-set -u
-cd "$(dirname "$0")/.."
-BLENDER=${BLENDER:-blender}
-for tool in "$BLENDER" xvfb-run; do
-    command -v "$tool" >/dev/null || { echo "run_ui_tests.sh: '$tool' not found (apt-get install blender xvfb)" >&2; exit 2; }
-done
+. "$(dirname "$0")/blender_test_env.sh"
+blender_test_env run_ui_tests.sh "blender xvfb" xvfb-run
 HAIRLOD_UI_OUT=${HAIRLOD_UI_OUT:-$PWD/out/ui} && export HAIRLOD_UI_OUT
-
-TMPDIR=$(mktemp -d) && export TMPDIR
-trap 'rm -rf "$TMPDIR"' EXIT
 
 failed=""
 passed=0
