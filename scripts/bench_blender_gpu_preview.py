@@ -10,12 +10,12 @@ rebuilt), and of drawing the batch once into an offscreen buffer (the upload to 
 the first draw; Mesa llvmpipe under Xvfb, so this draw is software rasterisation).
 """
 
-import argparse
 import json
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_bench_args import strand_arguments  # noqa: E402  (puts addon/ on sys.path too)
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
@@ -25,10 +25,7 @@ from hairlod.bench import median_seconds  # noqa: E402
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--count", type=int, default=100000)
-    parser.add_argument("--vertices", type=int, default=17)
-    args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    args = strand_arguments()
 
     addon_utils.enable("hairlod", default_set=True)
     import gpu

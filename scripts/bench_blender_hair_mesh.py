@@ -7,12 +7,12 @@ of one live preview update after a vertex edit (in-place rewrite), at the previe
 and with the limit raised to --count.
 """
 
-import argparse
 import json
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_bench_args import strand_arguments  # noqa: E402  (puts addon/ on sys.path too)
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
@@ -22,12 +22,8 @@ import numpy as np  # noqa: E402
 from hairlod.bench import median_seconds  # noqa: E402
 
 
-
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--count", type=int, default=100000)
-    parser.add_argument("--vertices", type=int, default=17)
-    args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    args = strand_arguments()
 
     addon_utils.enable("hairlod", default_set=True)
     from hairlod.blender.hair_mesh import hair_mesh_from_object

@@ -25,6 +25,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
 from viewport_capture import add_sun, bare_viewport, capture, psnr, redraw  # noqa: E402  (scripts/viewport_capture.py)
 
+sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
+
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
 
@@ -43,7 +45,7 @@ def run(args):
     addon_utils.enable("hairlod", default_set=True)
     import hairlod
     from hairlod import hairmesh, lod
-    from hairlod.blender.preview import lod_preview
+    from hair_fixtures import preview_on_an_empty  # tests/blender/hair_fixtures.py
 
     strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=args.count, vertices=17, seed=1)
     start = time.perf_counter()
@@ -52,14 +54,8 @@ def run(args):
     lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
     centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
 
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    holder = bpy.data.objects.new("hair LoD", None)
-    bpy.context.scene.collection.objects.link(holder)
+    _, settings, preview = preview_on_an_empty(asset)
     add_sun(bpy.context.scene)
-    lod_preview.attach(holder, asset)
-    settings = holder.hairlod_lod_preview
-    preview = lod_preview.preview_of(holder)
 
     window, area, region, region_3d = bare_viewport(size)
     region_3d.view_location = centre

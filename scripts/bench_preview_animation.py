@@ -68,7 +68,7 @@ def run(args):
     obj = strands_to_curves(strands, "Hair")
     bpy.context.view_layer.objects.active = obj
     obj.select_set(True)
-    from animated_hair import add_keyframed_rotation  # tests/blender/animated_hair.py
+    from hair_fixtures import add_keyframed_rotation  # tests/blender/hair_fixtures.py
 
     add_keyframed_rotation(obj, ((1, (0.0, 0.0, 0.0)), (args.frames, (NOD, 0.0, 0.0))), name="Nod")
     add_sun(scene)

@@ -52,6 +52,30 @@ def vertex_attribute(obj, name):
     return values
 
 
+def raise_top_layer(obj):
+    """Moves the hair mesh's last layer up by 1 through the mesh data (Object Mode, as a script would)."""
+    layer = vertex_attribute(obj, "hair_layer")
+    positions = np.empty((len(obj.data.vertices), 3), np.float32)
+    obj.data.vertices.foreach_get("co", positions.ravel())
+    positions[layer == layer.max(), 2] += 1.0
+    obj.data.vertices.foreach_set("co", positions.ravel())
+    obj.data.update()
+    bpy.context.view_layer.update()
+
+
+def raise_top_layer_in_edit_mode(obj):
+    """Enters Edit Mode and moves the hair mesh's last layer up by 1, as an artist would."""
+    bpy.ops.object.mode_set(mode='EDIT')
+    editable = bmesh.from_edit_mesh(obj.data)
+    layer = editable.verts.layers.int["hair_layer"]
+    top = max(vertex[layer] for vertex in editable.verts)
+    for vertex in editable.verts:
+        if vertex[layer] == top:
+            vertex.co.z += 1.0
+    bmesh.update_edit_mesh(obj.data)
+    bpy.context.view_layer.update()
+
+
 def left_half_hair_mesh(layers=3, length=1.0):
     """Hair mesh from the 2 x 4 left cells of a 4 x 4 grid: 15 roots, 8 faces, 22 root edges."""
     scalp = grid_object()
@@ -254,13 +278,7 @@ def test_live_preview_follows_edits_capped_and_goes_away(empty_scene, addon):
     assert bpy.data.objects["Scalp_hair_mesh_preview"].as_pointer() == pointer
 
     # Raising the top layer lengthens the strands.
-    layer = vertex_attribute(obj, "hair_layer")
-    positions = np.empty((len(obj.data.vertices), 3), np.float32)
-    obj.data.vertices.foreach_get("co", positions.ravel())
-    positions[layer == layer.max(), 2] += 1.0
-    obj.data.vertices.foreach_set("co", positions.ravel())
-    obj.data.update()
-    bpy.context.view_layer.update()
+    raise_top_layer(obj)
     after = preview_points(obj)
     assert after.shape == before.shape and after[:, 2].max() > before[:, 2].max() + 0.5
     assert bpy.data.objects["Scalp_hair_mesh_preview"].as_pointer() == pointer  # rewritten in place
@@ -284,15 +302,7 @@ def test_live_preview_follows_edit_mode_edits(empty_scene, addon):
     obj = left_half_hair_mesh()
     obj.hairlod_strands.live_preview = True
     before = preview_points(obj)
-    bpy.ops.object.mode_set(mode='EDIT')
-    editable = bmesh.from_edit_mesh(obj.data)
-    layer = editable.verts.layers.int["hair_layer"]
-    top = max(vertex[layer] for vertex in editable.verts)
-    for vertex in editable.verts:
-        if vertex[layer] == top:
-            vertex.co.z += 1.0
-    bmesh.update_edit_mesh(obj.data)
-    bpy.context.view_layer.update()
+    raise_top_layer_in_edit_mode(obj)
     assert obj.mode == 'EDIT'
     assert preview_points(obj)[:, 2].max() > before[:, 2].max() + 0.5
 
@@ -407,13 +417,7 @@ def test_viewport_strands_follow_edits_settings_and_level(empty_scene, addon):
     assert np.diff(state.batch.updates[-1][2]).max() < 9
 
     # An edit of the mesh reaches the state through the depsgraph handler.
-    layer = vertex_attribute(obj, "hair_layer")
-    positions = np.empty((len(obj.data.vertices), 3), np.float32)
-    obj.data.vertices.foreach_get("co", positions.ravel())
-    positions[layer == layer.max(), 2] += 1.0
-    obj.data.vertices.foreach_set("co", positions.ravel())
-    obj.data.update()
-    bpy.context.view_layer.update()
+    raise_top_layer(obj)
     assert regenerate(obj, state, 1.0)
     assert state.batch.updates[-1][0][:, 2].max() > points[:, 2].max() + 0.5
 
@@ -443,15 +447,7 @@ def test_viewport_strands_follow_edit_mode_edits(empty_scene, addon):
     obj = left_half_hair_mesh()
     obj.hairlod_strands.viewport_strands = True
     before = preview_state(obj).hair_mesh.layers.copy()
-    bpy.ops.object.mode_set(mode='EDIT')
-    editable = bmesh.from_edit_mesh(obj.data)
-    layer = editable.verts.layers.int["hair_layer"]
-    top = max(vertex[layer] for vertex in editable.verts)
-    for vertex in editable.verts:
-        if vertex[layer] == top:
-            vertex.co.z += 1.0
-    bmesh.update_edit_mesh(obj.data)
-    bpy.context.view_layer.update()
+    raise_top_layer_in_edit_mode(obj)
     assert obj.mode == 'EDIT'
     after = preview_state(obj).hair_mesh.layers
     assert np.allclose(after[-1, :, 2], before[-1, :, 2] + 1.0) and np.array_equal(after[:-1], before[:-1])

@@ -11,8 +11,7 @@ from hairlod.blender.curves import evaluated_curve_subset, new_geometry_node_tre
 from hairlod.blender.lod_build_job import COLLECTION_NAME
 from hairlod.blender.packed_asset import packed_asset
 from hairlod.blender.preview import lod_preview
-from animated_hair import add_keyframed_rotation, build_scene, turn_head
-from test_lod_operator import hanging_hair
+from hair_fixtures import add_keyframed_rotation, build_scene, hanging_hair, turn_head
 
 pytestmark = pytest.mark.usefixtures("addon")
 

@@ -1,27 +1,16 @@
 """Build Hair LoD (hairlod.build_lod) on a hair Curves object, headless."""
 
-import math
-
 import bpy
 import numpy as np
 import pytest
 
-from hairlod import Strands, lod
+from hairlod import lod
 from hairlod.blender.curves import curves_to_strands, strands_to_curves
 from hairlod.blender.lod_build_job import COLLECTION_NAME, LodBuildJob, scene_cameras
 from hairlod.blender.packed_asset import PACKED_PROPERTY, packed_asset
+from hair_fixtures import hanging_hair
 
 pytestmark = pytest.mark.usefixtures("addon")
-
-
-def hanging_hair(curves=600, points=8, seed=3):
-    rng = np.random.default_rng(seed)
-    azimuth, polar = rng.uniform(0, 2 * math.pi, curves), rng.uniform(0, 1.4, curves)
-    roots = np.stack([np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], axis=1)
-    t = np.linspace(0, 1, points)
-    positions = roots[:, None, :] * (1 + 0.2 * t[None, :, None]) - np.array([0, 0, 1.0]) * t[None, :, None]
-    return Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(curves, points),
-                               np.full(curves * points, 0.002, np.float32))
 
 
 def start_job(obj, guides, levels, control_points, seed=0, level_objects=False):

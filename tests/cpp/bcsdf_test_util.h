@@ -1,12 +1,15 @@
 #pragma once
-// Helpers shared by the bcsdf tests: random directions with a fixed seed, grazing corners.
+// Helpers shared by the bcsdf tests: random directions with a fixed seed, grazing corners, one set of
+// circular-Gaussian tables.
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "hairlod/bcsdf/circular_gaussian.h"
 #include "hairlod/bcsdf/furnace.h"
 
 namespace hairlod::bcsdf::test {
@@ -34,6 +37,12 @@ inline bool finite_non_negative(const glm::dvec3& v) {
     for (int c = 0; c < 3; ++c)
         if (!std::isfinite(v[c]) || v[c] < 0.0) return false;
     return true;
+}
+
+// The circular-Gaussian tables, built once per test program (they take a moment).
+inline std::shared_ptr<const CircularGaussianTables> shared_circular_gaussian_tables() {
+    static const auto tables = std::make_shared<const CircularGaussianTables>(circular_gaussian_tables());
+    return tables;
 }
 
 }  // namespace hairlod::bcsdf::test

@@ -14,28 +14,10 @@
 
 #include "hairlod/core/error.h"
 #include "hairlod/curves/resample.h"
+#include "hanging_hair.h"
 
 namespace hairlod {
 namespace {
-
-// Wavy strands hanging from the upper half of a unit sphere, shifted by `offset`.
-StrandSet test_hair(size_t curves, size_t points, uint32_t seed, glm::vec3 offset = glm::vec3(0.0f)) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    StrandSet strands;
-    std::vector<glm::vec3> curve(points);
-    std::vector<float> radius(points, 0.002f);
-    for (size_t c = 0; c < curves; ++c) {
-        const float azimuth = 6.2831853f * unit(rng), polar = 1.4f * unit(rng);
-        const glm::vec3 root(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
-        for (size_t i = 0; i < points; ++i) {
-            const float t = static_cast<float>(i) / static_cast<float>(points - 1);
-            curve[i] = offset + root * (1.0f + 0.2f * t) + glm::vec3(0.05f * std::sin(9.0f * t + azimuth), 0.0f, -t);
-        }
-        strands.add_curve(curve, radius);
-    }
-    return strands;
-}
 
 // The strands as build_lod resamples them: what the rest pose must reproduce.
 StrandSet lod_resampled(const StrandSet& strands, int control_points) {
@@ -53,7 +35,7 @@ float max_relative_error(std::span<const glm::vec3> got, std::span<const glm::ve
 class LodAssetTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        strands_ = new StrandSet(test_hair(3000, 12, 1));
+        strands_ = new StrandSet(testing::wavy_hair(3000, 12, 1));
         asset_ = new LodAsset(build_lod(*strands_, {.guides = 24, .levels = 6, .control_points = 8, .seed = 3}));
     }
     static void TearDownTestSuite() {
@@ -177,7 +159,7 @@ TEST(LodAssetLevels, LargeClustersShrinkFourfoldPerLevel) {
     // One guide: a single L0 cluster of 4000 strands; (4000 / 4)^(1/2) > 4, so the 4x cap holds the
     // sizes to 4000, 1000, 250. The whole head is far from convex, so its ellipse is relatively
     // larger than its parts': the area shrinks more than the count.
-    const LodAsset a = build_lod(test_hair(4000, 8, 9), {.guides = 1, .levels = 4, .control_points = 6});
+    const LodAsset a = build_lod(testing::wavy_hair(4000, 8, 9), {.guides = 1, .levels = 4, .control_points = 6});
     ASSERT_EQ(a.thick_levels.size(), 3u);
     EXPECT_EQ(a.thick_levels[0].hair_count(), 1u);
     EXPECT_EQ(a.thick_levels[1].hair_count(), 4u);
@@ -192,7 +174,7 @@ TEST(LodAssetLevels, LargeClustersShrinkFourfoldPerLevel) {
 }
 
 TEST(LodAssetLevels, WithLevelsComposesParentsThroughDroppedLevels) {
-    const LodAsset a = build_lod(test_hair(4000, 8, 9), {.guides = 1, .levels = 4, .control_points = 6});
+    const LodAsset a = build_lod(testing::wavy_hair(4000, 8, 9), {.guides = 1, .levels = 4, .control_points = 6});
     ASSERT_GE(a.thick_levels.size(), 3u);
     const std::vector<size_t> kept_positions{0, 2};
     const LodAsset kept = a.with_levels(kept_positions);
@@ -210,20 +192,20 @@ TEST(LodAssetLevels, WithLevelsComposesParentsThroughDroppedLevels) {
 
 TEST(LodAssetLevels, LevelsStopWhereAreaStopsShrinking) {
     // A single strand has nothing to split: L0 alone.
-    const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 4, .levels = 6});
+    const LodAsset one = build_lod(testing::wavy_hair(1, 5, 2), {.guides = 4, .levels = 6});
     EXPECT_EQ(one.thick_levels.size(), 1u);
     // Seven strands cannot make two children of 4 strands on average.
-    EXPECT_EQ(build_lod(test_hair(7, 5, 2), {.guides = 1, .levels = 6}).thick_levels.size(), 1u);
+    EXPECT_EQ(build_lod(testing::wavy_hair(7, 5, 2), {.guides = 1, .levels = 6}).thick_levels.size(), 1u);
     // Twelve strands in one cluster: a split makes at most 3 children (4 strands each on average);
     // k-means may leave them uneven and split the largest again, but never down to single strands.
-    const LodAsset twelve = build_lod(test_hair(12, 5, 2), {.guides = 1, .levels = 6});
+    const LodAsset twelve = build_lod(testing::wavy_hair(12, 5, 2), {.guides = 1, .levels = 6});
     ASSERT_GE(twelve.thick_levels.size(), 2u);
     EXPECT_LE(twelve.thick_levels[1].hair_count(), 3u);
     EXPECT_LE(twelve.thick_levels.back().hair_count(), 6u);
     for (size_t l = 1; l < twelve.thick_levels.size(); ++l)
         EXPECT_GT(twelve.thick_levels[l].hair_count(), twelve.thick_levels[l - 1].hair_count());
     // 4000 strands in one cluster with levels = 3: the option still caps the depth.
-    EXPECT_EQ(build_lod(test_hair(4000, 6, 9), {.guides = 1, .levels = 3, .control_points = 6}).thick_levels.size(), 2u);
+    EXPECT_EQ(build_lod(testing::wavy_hair(4000, 6, 9), {.guides = 1, .levels = 3, .control_points = 6}).thick_levels.size(), 2u);
 }
 
 TEST(LodAssetLevels, AutomaticGuideCountFollowsTheStrands) {
@@ -233,7 +215,7 @@ TEST(LodAssetLevels, AutomaticGuideCountFollowsTheStrands) {
     EXPECT_EQ(auto_guide_count(8000), 8000 / kStrandsPerGuide);
     EXPECT_EQ(auto_guide_count(100000), kMaxAutoGuides);
     EXPECT_EQ(auto_guide_count(size_t{1} << 40), kMaxAutoGuides);
-    const StrandSet hair = test_hair(3000, 6, 5);
+    const StrandSet hair = testing::wavy_hair(3000, 6, 5);
     EXPECT_EQ(build_lod(hair, {.guides = 0, .levels = 3, .control_points = 6}).guide_count(),
               static_cast<size_t>(auto_guide_count(3000)));
     EXPECT_EQ(build_lod(hair, {.guides = 7, .levels = 3, .control_points = 6}).guide_count(), 7u);
@@ -241,12 +223,12 @@ TEST(LodAssetLevels, AutomaticGuideCountFollowsTheStrands) {
 
 TEST(LodAssetLevels, ProgressCountsEveryStepAndCancels) {
     LodBuildProgress progress;
-    const LodAsset a = build_lod(test_hair(500, 8, 4), {.guides = 8, .levels = 4, .control_points = 6, .progress = &progress});
+    const LodAsset a = build_lod(testing::wavy_hair(500, 8, 4), {.guides = 8, .levels = 4, .control_points = 6, .progress = &progress});
     EXPECT_EQ(progress.total.load(), 4 + 2 + 3);
     EXPECT_EQ(progress.done.load(), progress.total.load());
     LodBuildProgress cancelled;
     cancelled.cancel = true;
-    EXPECT_THROW(build_lod(test_hair(500, 8, 4), {.guides = 8, .progress = &cancelled}), LodBuildCancelled);
+    EXPECT_THROW(build_lod(testing::wavy_hair(500, 8, 4), {.guides = 8, .progress = &cancelled}), LodBuildCancelled);
 }
 
 TEST_F(LodAssetTest, RestPoseAndRigidMotionsSkinExactly) {
@@ -323,20 +305,20 @@ TEST_F(LodAssetTest, DeterministicForASeedAndAnyThreadCount) {
 }
 
 TEST(LodAssetHardCases, OneStrandAndFewerStrandsThanGuides) {
-    const LodAsset one = build_lod(test_hair(1, 5, 2), {.guides = 256});
+    const LodAsset one = build_lod(testing::wavy_hair(1, 5, 2), {.guides = 256});
     EXPECT_EQ(one.guide_count(), 1u);
     EXPECT_EQ(one.cluster_count(), 1u);
     EXPECT_EQ(one.thick_levels[0].n_total(0), 1);
-    const LodAsset few = build_lod(test_hair(10, 5, 2), {.guides = 256});
+    const LodAsset few = build_lod(testing::wavy_hair(10, 5, 2), {.guides = 256});
     EXPECT_EQ(few.guide_count(), 10u);
     EXPECT_LT(max_relative_error(few.rest_geometry().strands.points,
-                                 lod_resampled(test_hair(10, 5, 2), 16).points),
+                                 lod_resampled(testing::wavy_hair(10, 5, 2), 16).points),
               1e-5f);
 }
 
 TEST(LodAssetHardCases, IdenticalStrands) {
     StrandSet strands;
-    const StrandSet one = test_hair(1, 6, 5);
+    const StrandSet one = testing::wavy_hair(1, 6, 5);
     for (int i = 0; i < 50; ++i) strands.add_curve(one.curve_points(0), one.radius);
     const LodAsset asset = build_lod(strands, {.guides = 8});
     EXPECT_EQ(asset.guide_count(), 1u);
@@ -357,7 +339,7 @@ TEST(LodAssetHardCases, TwoPointAndCollinearStrands) {
 }
 
 TEST(LodAssetHardCases, HugeCoordinates) {
-    const StrandSet strands = test_hair(300, 8, 6, glm::vec3(1e6f, -1e6f, 1e6f));
+    const StrandSet strands = testing::wavy_hair(300, 8, 6, glm::vec3(1e6f, -1e6f, 1e6f));
     const LodAsset asset = build_lod(strands, {.guides = 8, .control_points = 6});
     const LodGeometry rest = asset.rest_geometry();
     EXPECT_LT(max_relative_error(rest.strands.points, lod_resampled(strands, 6).points), 1e-5f);
@@ -370,13 +352,13 @@ TEST(LodAssetHardCases, HugeCoordinates) {
 }
 
 TEST(LodAssetHardCases, ClearErrors) {
-    StrandSet nan_strands = test_hair(5, 4, 1);
+    StrandSet nan_strands = testing::wavy_hair(5, 4, 1);
     nan_strands.points[6].y = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(build_lod(nan_strands), Error);
     EXPECT_THROW(build_lod(StrandSet{}), Error);
-    EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.guides = -1}), Error);
-    EXPECT_THROW(build_lod(test_hair(5, 4, 1), {.levels = 1}), Error);
-    const LodAsset asset = build_lod(test_hair(5, 4, 1), {.guides = 2});
+    EXPECT_THROW(build_lod(testing::wavy_hair(5, 4, 1), {.guides = -1}), Error);
+    EXPECT_THROW(build_lod(testing::wavy_hair(5, 4, 1), {.levels = 1}), Error);
+    const LodAsset asset = build_lod(testing::wavy_hair(5, 4, 1), {.guides = 2});
     EXPECT_THROW(asset.skin(std::vector<glm::vec3>(3)), Error);
     std::vector<glm::vec3> guides = asset.rest_guides;
     guides[0].x = std::numeric_limits<float>::infinity();
@@ -385,7 +367,7 @@ TEST(LodAssetHardCases, ClearErrors) {
 
 // A damaged stored asset is refused by validate() (run by from_arrays) instead of skinning to NaN.
 TEST(LodAssetHardCases, ValidateRefusesValuesThatDecodeToNonFinite) {
-    const LodAsset built = build_lod(test_hair(200, 6, 4), {.guides = 4});
+    const LodAsset built = build_lod(testing::wavy_hair(200, 6, 4), {.guides = 4});
     EXPECT_NO_THROW(built.validate());
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     const std::vector<std::function<void(LodAsset&)>> damages = {

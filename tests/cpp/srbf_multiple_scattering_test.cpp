@@ -17,11 +17,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::shared_ptr<const CircularGaussianTables> shared_tables() {
-    static const auto tables = std::make_shared<const CircularGaussianTables>(circular_gaussian_tables());
-    return tables;
-}
-
 HairParams brown() {
     HairParams params;
     params.sigma_a = {0.2, 0.4, 0.9};
@@ -35,7 +30,7 @@ struct Models {
     explicit Models(const HairParams& params)
         : marschner(params),
           backscatter(backscatter_table(marschner, 33, kDefaultBackscatterDensity, {1e-5, 1e-4, 24})),
-          fast(CircularGaussianMarschner(marschner, shared_tables()), backscatter) {}
+          fast(CircularGaussianMarschner(marschner, test::shared_circular_gaussian_tables()), backscatter) {}
 };
 
 const Models& brown_setup() {
@@ -125,7 +120,7 @@ TEST(SrbfMultipleScattering, WhiteFurnaceIsBounded) {
     params.sigma_a = glm::dvec3(0.0);
     const MarschnerBcsdf marschner(params);
     const BackscatterTable backscatter = backscatter_table(marschner, 33, kDefaultBackscatterDensity, {1e-5, 1e-4, 24});
-    const SrbfMultipleScattering fast(CircularGaussianMarschner(marschner, shared_tables()), backscatter, 1.0);
+    const SrbfMultipleScattering fast(CircularGaussianMarschner(marschner, test::shared_circular_gaussian_tables()), backscatter, 1.0);
     double max_a_b = 0.0;
     for (double t = -0.5 * kPi; t <= 0.5 * kPi; t += 0.01) max_a_b = std::max(max_a_b, backscatter.at(t).A_b.x);
     EXPECT_LE(max_a_b, 1.0);

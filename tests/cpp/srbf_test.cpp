@@ -15,11 +15,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::shared_ptr<const CircularGaussianTables> shared_tables() {
-    static const auto tables = std::make_shared<const CircularGaussianTables>(circular_gaussian_tables());
-    return tables;
-}
-
 TEST(Srbf, LinearQuadratureIsExactForLinearFunctionsAndConvergesForSmoothOnes) {
     const double mu = 0.3, variance = 0.04;
     const std::vector<double> nodes = linear_quadrature_nodes(mu, variance, 4);
@@ -50,7 +45,7 @@ TEST(Srbf, LinearQuadratureIsExactForLinearFunctionsAndConvergesForSmoothOnes) {
 TEST(Srbf, RCoefficientsReproduceNR) {
     HairParams params;
     const MarschnerBcsdf marschner(params);
-    const CircularGaussianMarschner cg(marschner, shared_tables());
+    const CircularGaussianMarschner cg(marschner, test::shared_circular_gaussian_tables());
     double worst = 0.0;
     for (double theta_d : {0.0, 0.7, 1.4})
         for (double phi = -kPi; phi <= kPi; phi += 0.1) {
@@ -73,7 +68,7 @@ TEST(Srbf, SingleScatteringMatchesBruteForce) {
     params.sigma_a = {0.1, 0.4, 1.2};
     params.beta_m = 0.2;
     const MarschnerBcsdf marschner(params);
-    const CircularGaussianMarschner cg(marschner, shared_tables());
+    const CircularGaussianMarschner cg(marschner, test::shared_circular_gaussian_tables());
     double worst = 0.0;
     for (double lambda : {0.2, 0.5, 1.0})
         for (const auto& [theta_j, phi_j] : {std::pair{0.2, 0.4}, std::pair{-0.5, 2.8}, std::pair{0.9, -1.5}}) {
@@ -97,7 +92,7 @@ TEST(Srbf, SingleScatteringMatchesBruteForce) {
 TEST(Srbf, NarrowAndWideLights) {
     HairParams params;
     const MarschnerBcsdf marschner(params);
-    const CircularGaussianMarschner cg(marschner, shared_tables());
+    const CircularGaussianMarschner cg(marschner, test::shared_circular_gaussian_tables());
     const glm::dvec3 wo = fiber_frame_direction(0.3, 0.0);
     const glm::dvec3 wj = fiber_frame_direction(-0.2, 2.9);
     const double lambda = 1e-3;

@@ -70,7 +70,7 @@ def steps():
     obj = strands_to_curves(strands, "Hair")
     bpy.context.view_layer.objects.active = obj
     obj.select_set(True)
-    from animated_hair import add_keyframed_rotation  # tests/blender/animated_hair.py (needs the add-on)
+    from hair_fixtures import add_keyframed_rotation  # tests/blender/hair_fixtures.py (needs the add-on)
 
     add_keyframed_rotation(obj, ((1, (0.0, 0.0, 0.0)), (10, (ANGLE, 0.0, 0.0))))
     check(bpy.ops.hairlod.build_lod(guides=48, levels=5, control_points=12, seed=0) == {'FINISHED'}, "LoD built")

@@ -6,33 +6,20 @@ timer and finish with one Curves object per level and the packed asset. Invoked 
 success, 1 on failure.
 """
 
-import math
 import os
 import sys
 import time
 
 import bpy
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
 from harness import check  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "blender"))
+
 POLL_DELAY = 0.2
 TIMEOUT = 120.0
-
-
-def hanging_hair(curves, points=12, seed=3):
-    from hairlod import Strands
-
-    rng = np.random.default_rng(seed)
-    azimuth, polar = rng.uniform(0, 2 * math.pi, curves), rng.uniform(0, 1.4, curves)
-    roots = np.stack([np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], axis=1)
-    t = np.linspace(0, 1, points)
-    positions = roots[:, None, :] * (1 + 0.2 * t[None, :, None]) - np.array([0, 0, 1.0]) * t[None, :, None]
-    return Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(curves, points),
-                               np.full(curves * points, 0.002, np.float32))
-
 
 
 def counts():
@@ -46,11 +33,12 @@ def steps():
     from hairlod.blender.lod_build_job import COLLECTION_NAME
     from hairlod.blender.lod_operator import HAIRLOD_OT_build_lod
     from hairlod.blender.packed_asset import PACKED_PROPERTY, packed_asset
+    from hair_fixtures import hanging_hair  # tests/blender/hair_fixtures.py
 
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
     window = bpy.context.window_manager.windows[0]
     area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
-    source = strands_to_curves(hanging_hair(40000), "Hair")
+    source = strands_to_curves(hanging_hair(40000, points=12), "Hair")
     bpy.context.view_layer.objects.active = source
     progress, escapes = [], []
     modal = HAIRLOD_OT_build_lod.modal

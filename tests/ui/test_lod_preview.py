@@ -22,6 +22,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
 from harness import REPO_ROOT, check, screenshot  # noqa: E402
 
+sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
+
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
 REDRAW_DELAY = 1.0
@@ -67,20 +69,14 @@ def steps():
     import hairlod
     from hairlod import hairmesh, lod
     from hairlod.blender.preview import lod_preview
+    from hair_fixtures import preview_on_an_empty  # tests/blender/hair_fixtures.py
 
     strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=STRANDS, vertices=17, seed=1)
     asset = lod.build_lod(strands, guides=64, levels=6, control_points=16, seed=0)
     lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
     centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
 
-    # An empty scene but for an empty that carries the asset.
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    holder = bpy.data.objects.new("hair LoD", None)
-    bpy.context.scene.collection.objects.link(holder)
-    lod_preview.attach(holder, asset)
-    settings = holder.hairlod_lod_preview
-    preview = lod_preview.preview_of(holder)
+    _, settings, preview = preview_on_an_empty(asset)
 
     area, region, region_3d = view3d(window)
     space = area.spaces.active

@@ -1,4 +1,5 @@
-"""Animated hair for the tests and benchmarks: a Geometry Nodes modifier that turns a hair object by
+"""Hair for the Blender tests and benchmarks: hanging test strands; an LoD previewed on an empty; a
+Geometry Nodes modifier that turns a hair object by
 keyframed angles, and hair attached to an armature-animated head the way artists animate hair in
 Blender (a UV-sphere head deformed by a two-bone rig, neck and head, and a hair Curves object on its
 surface, Curves.surface, surface_uv_map and each curve's surface_uv_coordinate, moved by a Geometry
@@ -12,6 +13,30 @@ import numpy as np
 
 from hairlod import Strands
 from hairlod.blender.curves import new_geometry_node_tree, strands_to_curves
+
+
+def hanging_hair(curves=600, points=8, seed=3):
+    """Strands hanging from the upper part of a unit sphere, radius 0.002, deterministic for `seed`."""
+    rng = np.random.default_rng(seed)
+    azimuth, polar = rng.uniform(0, 2 * math.pi, curves), rng.uniform(0, 1.4, curves)
+    roots = np.stack([np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth), np.cos(polar)], axis=1)
+    t = np.linspace(0, 1, points)
+    positions = roots[:, None, :] * (1 + 0.2 * t[None, :, None]) - np.array([0, 0, 1.0]) * t[None, :, None]
+    return Strands.from_counts(positions.astype(np.float32).reshape(-1, 3), np.full(curves, points),
+                               np.full(curves * points, 0.002, np.float32))
+
+
+def preview_on_an_empty(asset):
+    """An empty scene but for an empty object that shows `asset` in the LoD preview:
+    (holder, its preview settings, its LodPreview)."""
+    from hairlod.blender.preview import lod_preview
+
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    holder = bpy.data.objects.new("hair LoD", None)
+    bpy.context.scene.collection.objects.link(holder)
+    lod_preview.attach(holder, asset)
+    return holder, holder.hairlod_lod_preview, lod_preview.preview_of(holder)
 
 
 def add_keyframed_rotation(obj, keys, name="Turn"):
