@@ -1,10 +1,12 @@
 """The viewport LoD preview follows animated hair (Blender under Xvfb, scripts/run_ui_tests.sh).
 
-A hair Curves object of 5,000 strands generated in examples/data/wavy_cap.hairmesh.json, with a
-Geometry Nodes modifier that tilts it about x (keyframed: 0 at frame 1, 0.8 rad at frame 10, a nod),
-gets its LoD built and previewed. Seen from the side, at frames 1 and 10, the preview (every strand drawn,
-then the LoD's own levels) must lie where Blender draws the turned strands itself: the hair pixels'
-centroid within a few pixels of Blender's and far from the rest pose's, and most hair pixels shared.
+Two animated hairs get their LoD built and previewed: a hair Curves object of 5,000 strands generated
+in examples/data/wavy_cap.hairmesh.json with a Geometry Nodes modifier that tilts it about x
+(keyframed: 0 at frame 1, 0.8 rad at frame 10, a nod), and hair on a UV-sphere head that a keyframed
+armature nods, the hair following by Deform Curves on Surface (tests/blender/hair_fixtures.py).
+Seen from the side, at frames 1 and 10, the preview (every strand drawn,
+then the LoD's own levels) must move as Blender's own drawing of the strands moves (the hair pixels'
+centroid), share most hair pixels with it, and be closer to it than to the rest pose.
 The per-frame cost of following (reading the guides, skinning, uploading the maps) is printed.
 Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
 """
@@ -51,6 +53,65 @@ def overlap(a, b):
     return float((a & b).sum()) / max(float((a | b).sum()), 1.0)
 
 
+def follow(window, scene, obj, name, size, view_location):
+    """Shots at frames 1 and 10 of Blender's own drawing of `obj`, the preview of every strand and the
+    LoD, each against a background of its frame without the hair (other objects may move too), seen
+    from the side; checks that the preview lies on Blender's drawing and moved with it."""
+    from hairlod.blender.preview import lod_preview
+
+    settings = obj.hairlod_lod_preview
+    preview = lod_preview.preview_of(obj)
+    area, region_3d = view3d(window)
+    space = area.spaces.active
+    space.overlay.show_floor = space.overlay.show_axis_x = space.overlay.show_axis_y = False
+    space.overlay.show_cursor = space.overlay.show_outline_selected = False
+    space.show_gizmo = False
+    region_3d.view_perspective = 'ORTHO'
+    region_3d.view_rotation = (0.5, 0.5, 0.5, 0.5)  # from the side: the nod turns the image
+    region_3d.view_location = view_location
+    region_3d.view_distance = 1.6 * size
+
+    def shot(label, preview_on, hidden=False):
+        obj.hide_set(hidden)
+        settings.enabled = preview_on
+        area.tag_redraw()
+        yield REDRAW_DELAY
+        shots[label] = screenshot(window, area, f"lod_follow_{name}_{label}.png")
+
+    shots = {}
+    for frame in (1, 10):
+        scene.frame_set(frame)  # frame_change_post: the preview reads the moved guides
+        yield from shot(f"background_{frame}", False, hidden=True)
+        yield from shot(f"own_{frame}", False)
+        settings.width_px = 0.01  # every strand: the same hair Blender draws
+        yield from shot(f"strands_{frame}", True)
+        settings.width_px = 2.0
+        yield from shot(f"lod_{frame}", True)
+    check(preview.follow_status == "", f"{name}: following the hair ({preview.follow_status or 'no message'})")
+    check(preview.guides is not None, f"{name}: the preview drew the moved guides")
+    print(f"{name}, following per frame: " + ", ".join(f"{k} {v:.2f} ms" for k, v in preview.follow_stats.items()))
+
+    masks = {label: hair_mask(image, shots[f"background_{label.rsplit('_', 1)[1]}"])
+             for label, image in shots.items() if not label.startswith("background")}
+    for label, mask in masks.items():
+        check(mask.sum() > 200, f"{name}, {label}: hair pixels drawn ({mask.sum()})")
+    own_motion = centroid(masks["own_10"]) - centroid(masks["own_1"])
+    moved = float(np.linalg.norm(own_motion))
+    check(moved > 20.0, f"{name}: Blender's own drawing moved {moved:.0f} px between frames 1 and 10")
+    for kind in ("strands", "lod"):
+        # The preview moves as Blender's drawing moves (whatever the two drawings' own difference).
+        motion = centroid(masks[f"{kind}_10"]) - centroid(masks[f"{kind}_1"])
+        miss = float(np.linalg.norm(motion - own_motion))
+        check(miss < 0.15 * moved, f"{name}, {kind}: moved {np.linalg.norm(motion):.0f} px, {miss:.1f} px from "
+                                   f"Blender's own drawing's motion of {moved:.0f} px")
+        for frame in (1, 10):
+            shared = overlap(masks[f"{kind}_{frame}"], masks[f"own_{frame}"])
+            check(shared > 0.5, f"{name}, frame {frame}, {kind}: {shared:.0%} of hair pixels shared with Blender's own")
+        stale = overlap(masks[f"{kind}_10"], masks["own_1"])
+        check(overlap(masks[f"{kind}_10"], masks["own_10"]) > stale + 0.1,
+              f"{name}, frame 10, {kind}: closer to the moved hair than to the rest pose (shared with rest {stale:.0%})")
+
+
 def steps():
     import addon_utils
 
@@ -61,7 +122,9 @@ def steps():
     from hairlod.blender.curves import strands_to_curves
     from hairlod.blender.packed_asset import packed_asset
     from hairlod.blender.preview import lod_preview
+    from hair_fixtures import add_keyframed_rotation, build_scene  # tests/blender/hair_fixtures.py
 
+    # Geometry Nodes: a keyframed Transform nods generated hair.
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     scene = bpy.context.scene
@@ -70,62 +133,28 @@ def steps():
     obj = strands_to_curves(strands, "Hair")
     bpy.context.view_layer.objects.active = obj
     obj.select_set(True)
-    from hair_fixtures import add_keyframed_rotation  # tests/blender/hair_fixtures.py (needs the add-on)
-
     add_keyframed_rotation(obj, ((1, (0.0, 0.0, 0.0)), (10, (ANGLE, 0.0, 0.0))))
     check(bpy.ops.hairlod.build_lod(guides=48, levels=5, control_points=12, seed=0) == {'FINISHED'}, "LoD built")
     check(lod_preview.preview_of(obj) is not None and packed_asset(obj) is not None, "the preview is attached")
-    settings = obj.hairlod_lod_preview
-    preview = lod_preview.preview_of(obj)
+    size = float(np.linalg.norm(strands.points.max(axis=0) - strands.points.min(axis=0)))
+    yield from follow(window, scene, obj, "nodes", size, (0.0, 0.0, 0.0))
 
-    area, region_3d = view3d(window)
-    space = area.spaces.active
-    space.overlay.show_floor = space.overlay.show_axis_x = space.overlay.show_axis_y = False
-    space.overlay.show_cursor = space.overlay.show_outline_selected = False
-    space.show_gizmo = False
-    lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
-    size = float(np.linalg.norm(upper - lower))
-    region_3d.view_perspective = 'ORTHO'
-    region_3d.view_rotation = (0.5, 0.5, 0.5, 0.5)  # from the side: the nod turns the image
-    region_3d.view_location = (0.0, 0.0, 0.0)
-    region_3d.view_distance = 1.6 * size
-
-    def shot(name, preview_on, hidden=False):
-        obj.hide_set(hidden)
-        settings.enabled = preview_on
-        area.tag_redraw()
-        yield REDRAW_DELAY
-        shots[name] = screenshot(window, area, f"lod_follow_{name}.png")
-
-    shots = {}
-    yield from shot("background", False, hidden=True)
-    for frame in (1, 10):
-        scene.frame_set(frame)  # frame_change_post: the preview reads the turned guides
-        yield from shot(f"own_{frame}", False)
-        settings.width_px = 0.01  # every strand: the same hair Blender draws
-        yield from shot(f"strands_{frame}", True)
-        settings.width_px = 2.0
-        yield from shot(f"lod_{frame}", True)
-    check(preview.follow_status == "", f"following the hair ({preview.follow_status or 'no message'})")
-    check(preview.guides is not None, "the preview drew the turned guides")
-    print("following, per frame: " + ", ".join(f"{k} {v:.2f} ms" for k, v in preview.follow_stats.items()))
-
-    background = shots["background"]
-    masks = {name: hair_mask(image, background) for name, image in shots.items() if name != "background"}
-    for name, mask in masks.items():
-        check(mask.sum() > 200, f"{name}: hair pixels drawn ({mask.sum()})")
-    moved = np.linalg.norm(centroid(masks["own_10"]) - centroid(masks["own_1"]))
-    check(moved > 20.0, f"Blender's own drawing moved {moved:.0f} px between frames 1 and 10")
-    for kind in ("strands", "lod"):
-        for frame in (1, 10):
-            off = np.linalg.norm(centroid(masks[f"{kind}_{frame}"]) - centroid(masks[f"own_{frame}"]))
-            shared = overlap(masks[f"{kind}_{frame}"], masks[f"own_{frame}"])
-            check(off < 0.1 * moved, f"frame {frame}, {kind}: centroid {off:.1f} px from Blender's own drawing "
-                                     f"(the turn moves it {moved:.0f} px)")
-            check(shared > 0.6, f"frame {frame}, {kind}: {shared:.0%} of hair pixels shared with Blender's own")
-        stale = overlap(masks[f"{kind}_10"], masks["own_1"])
-        check(overlap(masks[f"{kind}_10"], masks["own_10"]) > stale + 0.1,
-              f"frame 10, {kind}: closer to the turned hair than to the rest pose (shared with rest {stale:.0%})")
+    # An armature turns a head; the hair on it follows by Deform Curves on Surface.
+    for existing in list(bpy.data.objects):
+        bpy.data.objects.remove(existing)
+    scene.frame_set(1)
+    hair, rig = build_scene(rigid=True)
+    bone = rig.pose.bones["head"]
+    bone.rotation_mode = 'XYZ'
+    for frame, angle in ((1, 0.0), (10, ANGLE)):
+        bone.rotation_euler = (angle, 0.0, 0.3 * angle)
+        bone.keyframe_insert("rotation_euler", frame=frame)
+    scene.frame_set(1)
+    bpy.context.view_layer.objects.active = hair
+    hair.select_set(True)
+    check(bpy.ops.hairlod.build_lod(guides=32, levels=4, control_points=8, seed=0) == {'FINISHED'},
+          "LoD of the hair on the head built")
+    yield from follow(window, scene, hair, "surface", 4.0, (0.0, 0.0, 0.0))
 
 
 harness.run(steps)
