@@ -69,6 +69,22 @@ def test_the_preview_reads_the_guides_of_the_animated_hair(built_hair):
     assert not preview.read_guides(obj, bpy.context.evaluated_depsgraph_get())
 
 
+def test_turning_the_preview_on_catches_up_with_the_current_frame(built_hair):
+    """While the preview is off its handlers read nothing; turned on, it reads the hair as it is now."""
+    obj = built_hair
+    asset = packed_asset(obj)
+    preview = lod_preview.preview_of(obj)
+    obj.hairlod_lod_preview.enabled = False
+    add_keyframed_turn(obj)
+    scene = bpy.context.scene
+    scene.frame_set(10)
+    lod_preview._on_frame_change(scene, bpy.context.evaluated_depsgraph_get())
+    assert preview.pending_guides is None  # off: nothing read
+    obj.hairlod_lod_preview.enabled = True
+    size = float(np.ptp(asset.rest_guides.reshape(-1, 3), axis=0).max())
+    assert np.abs(preview.pending_guides - asset.rest_guides @ rotation_z(ANGLE).T).max() <= 1e-5 * size
+
+
 def test_only_the_guide_curves_are_gathered(built_hair):
     obj = built_hair
     asset = packed_asset(obj)

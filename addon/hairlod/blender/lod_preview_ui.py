@@ -18,7 +18,11 @@ def _enabled_changed(self, context):
     from .preview import lod_preview
 
     obj = self.id_data
-    lod_preview.replace_source_display(obj, self.enabled and lod_preview.preview_of(obj) is not None)
+    preview = lod_preview.preview_of(obj)
+    lod_preview.replace_source_display(obj, self.enabled and preview is not None)
+    if self.enabled and preview is not None:
+        # The handlers read the hair only while the preview is on: catch up with the current frame.
+        preview.read_guides(obj, context.evaluated_depsgraph_get())
     lod_preview._tag_viewports()
 
 
