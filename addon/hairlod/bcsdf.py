@@ -7,7 +7,8 @@ has a white furnace of 1. Every function taking parameters accepts a ``HairParam
 fields (hair_params.as_params).
 
 Models: ``"chiang"`` (d'Eon 2011 / Chiang 2016, as in Cycles; far field, or near field with ``h``),
-``"marschner"`` (Marschner 2003 as in Xu et al. 2011 Sec. 4.1), ``"fiber_rtd"`` (the R, TT, D fibre of
+``"huang"`` (the microfacet fibre of Huang et al. 2022, Blender 4.x's default, as in Cycles; far field;
+``huang_sample`` draws directions from it), ``"marschner"`` (Marschner 2003 as in Xu et al. 2011 Sec. 4.1), ``"fiber_rtd"`` (the R, TT, D fibre of
 Huang et al. 2025 Eq. 1), ``"realtime"`` (Karis / Tafuri approximations, thesis Sec. 4.3) and
 ``"aggregated"`` (the thick-hair BCSDF of Huang et al. 2025, Eq. 6-15).
 """
@@ -17,11 +18,12 @@ import numpy as np
 from . import _core
 from .hair_params import as_params, as_rgb
 
-MODELS = ("chiang", "marschner", "marschner_cg", "fiber_rtd", "realtime", "aggregated")
+MODELS = ("chiang", "huang", "marschner", "marschner_cg", "fiber_rtd", "realtime", "aggregated")
 
 # Inputs each model takes besides the directions (see evaluate()).
 _MODEL_INPUTS = {
     "chiang": {"h"},
+    "huang": {"residual_samples"},
     "marschner": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
     "marschner_cg": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
     "fiber_rtd": set(),
@@ -75,7 +77,8 @@ def evaluate(model, params, wi, wo, **model_inputs):
     chiang ``h`` (float [N] offsets in [-1, 1]: near field; default far field, averaged over h);
     marschner ``caustic_width``, ``caustic_fade_range``, ``caustic_max_window``;
     realtime ``tt`` ('tafuri' or 'karis');
-    aggregated ``hair_count`` (n >= 1 hairs crossed) and ``density`` (rho in (0, 1]), see cluster_density().
+    aggregated ``hair_count`` (n >= 1 hairs crossed) and ``density`` (rho in (0, 1]), see cluster_density();
+    huang ``residual_samples`` (visible normals per width node of its TT / TRT quadrature, default 8).
     """
     _check_model(model)
     unknown = sorted(set(model_inputs) - _MODEL_INPUTS[model])
@@ -103,6 +106,19 @@ def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6, tt=
     _check_model(model)
     wo = as_rgb(wo, "wo")
     return np.array(_core.bcsdf_white_furnace(model, as_params(params), wo, h=h, tolerance=float(tolerance), tt=tt))
+
+
+def huang_sample(params, wo, u):
+    """Directions drawn from the Huang fibre for the views wo (float [N, 3], fibre frame) with uniforms u
+    (float [N, 11] in [0, 1)): (wi [N, 3], weight [N, 3] = S cos(theta_i) / pdf; 0 where no path leaves).
+    As in Cycles, the model has no density to evaluate: a sample carries its weight."""
+    wo = np.ascontiguousarray(wo, dtype=np.float64)
+    u = np.ascontiguousarray(u, dtype=np.float64)
+    if wo.ndim != 2 or wo.shape[1] != 3:
+        raise ValueError(f"wo must have shape [N, 3], got {wo.shape}")
+    if u.shape != (wo.shape[0], 11):
+        raise ValueError(f"u must have shape [{wo.shape[0]}, 11], got {u.shape}")
+    return _core.huang_sample(as_params(params), wo, u)
 
 
 def dual_scattering(params, theta_d, model="chiang", backscatter_density=_core.DEFAULT_BACKSCATTER_DENSITY, tolerance=1e-6):
@@ -185,6 +201,7 @@ def srbf_multiple_scattering(params, lights, wo, forward_attenuation=1.0, forwar
 
 __all__ = [
     "MODELS",
+    "huang_sample",
     "cluster_density",
     "hairs_crossed",
     "lod_hair_count_range",

@@ -81,6 +81,23 @@ def _chiang_brute_force(wi, wo, nodes=64):
     return total
 
 
+def _huang_rows(wi, wo, run, row):
+    # Huang et al. 2022's microfacet fibre (Blender 4.x's default): its deterministic residual quadrature
+    # against one with 8x the visible-normal samples, then the tiers every other model is built on for a
+    # Huang material, the Chiang fibre fitted to it (exact, real-time, and the R/TT/D fibre of the
+    # dual-scattering and aggregated tables), against the Huang fibre itself.
+    huang = {**BROWN, "fibre": "huang"}
+    reference = bcsdf.evaluate("huang", huang, wi, wo, residual_samples=64)
+    values, ns = run("huang", huang)
+    row("huang", "exact (8 normals per node)", values, reference, "64 visible normals per node", ns,
+        _energy("huang"))
+    fitted = hair_params.fit_chiang(huang)[0]
+    for model, tier, inputs in (("chiang", "fitted chiang fibre", {}), ("fiber_rtd", "fitted r/tt/d fibre (luts)", {}),
+                                ("realtime", "fitted real-time (tafuri)", {"tt": "tafuri"})):
+        values, ns = run(model, fitted, **inputs)
+        row("huang", tier, values, reference, "huang exact", ns, _energy(model, **inputs))
+
+
 def _lut_rows(resolutions, table_samples, repeats):
     # LUT error against resolution: the baked texture's (theta_samples = n samples = resolution) and the
     # per-hair table's it is interpolated from (table_samples), whose linear interpolation is the floor.
@@ -153,9 +170,9 @@ def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128), table_samp
                      "mean_rel_error": mean_error, "energy_error": energy[0], "max_energy": energy[1], "bytes": None,
                      "reference": reference_name})
 
-    def run(model, **inputs):
-        values = bcsdf.evaluate(model, BROWN, wi, wo, **inputs)
-        ns = _ns_per_item(lambda: bcsdf.evaluate(model, BROWN, wi, wo, **inputs), count, repeats)
+    def run(model, params=BROWN, **inputs):
+        values = bcsdf.evaluate(model, params, wi, wo, **inputs)
+        ns = _ns_per_item(lambda: bcsdf.evaluate(model, params, wi, wo, **inputs), count, repeats)
         return values, ns
 
     marschner, ns = run("marschner")
@@ -171,6 +188,7 @@ def bench_bcsdf(seed=1, repeats=5, lut_resolutions=(16, 32, 64, 128), table_samp
         _energy("chiang"))
     values, ns = run("fiber_rtd")
     row("fiber_rtd", "exact", values, None, "itself", ns, _energy("fiber_rtd"))
+    _huang_rows(wi, wo, run, row)
     values, ns = run("aggregated", hair_count=4.0, density=0.5)
     row("aggregated", "exact (n = 4, rho = 0.5)", values, None, "itself", ns, _energy("aggregated"))
     rows.extend(_lut_rows(lut_resolutions, table_samples, repeats))

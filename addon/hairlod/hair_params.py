@@ -1,6 +1,7 @@
 """Hair fibre parameters: HairParams (the C++ struct), its validation from dicts, and the mapping from
-Blender's Principled Hair BSDF (Chiang mode) and its colour parametrizations."""
+Blender's Principled Hair BSDF (Chiang and Huang modes) and its colour parametrizations."""
 
+import functools
 import math
 
 import numpy as np
@@ -9,10 +10,13 @@ from . import _core
 
 HairParams = _core.HairParams
 
-FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt")
+FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt",
+          "fibre", "microfacet_roughness", "aspect_ratio")
+FIBRES = ("chiang", "huang")
 
-# Principled Hair BSDF sockets (snake case) and their Cycles 3.4 defaults.
+# Principled Hair BSDF sockets (snake case) and their Cycles defaults (the Huang sockets: Blender 4.0+).
 _PRINCIPLED_DEFAULTS = {
+    "model": "CHIANG",
     "parametrization": "COLOR",
     "color": (0.017513, 0.005763, 0.002059),
     "melanin": 0.8,
@@ -24,9 +28,14 @@ _PRINCIPLED_DEFAULTS = {
     "coat": 0.0,
     "ior": 1.55,
     "offset": math.radians(2.0),
+    "aspect_ratio": 0.85,
+    "reflection": 1.0,
+    "transmission": 1.0,
+    "secondary_reflection": 1.0,
 }
-# Per-strand noise and the node's model switch: accepted, not part of a fibre's parameters.
-_PRINCIPLED_IGNORED = {"random_color", "random_roughness", "random", "model"}
+PRINCIPLED_MODELS = ("CHIANG", "HUANG")
+# Per-strand noise and the node's mix weight: accepted, not part of a fibre's parameters.
+_PRINCIPLED_IGNORED = {"random_color", "random_roughness", "random", "weight"}
 
 
 def params_to_dict(params):
@@ -48,7 +57,8 @@ def as_params(params=None):
         result = HairParams()
         for name, value in params.items():
             try:
-                setattr(result, name, as_rgb(value, name) if name == "sigma_a" else float(value))
+                setattr(result, name, as_rgb(value, name) if name == "sigma_a" else
+                        value if name == "fibre" else float(value))
             except (TypeError, ValueError) as error:
                 raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
     else:
@@ -68,23 +78,44 @@ def as_rgb(value, name):
 
 
 def from_principled_hair(**node_inputs):
-    """HairParams from the inputs of Blender's Principled Hair BSDF (Cycles 3.4, Chiang model).
+    """HairParams from the inputs of Blender's Principled Hair BSDF.
 
     Keywords are the node's sockets in snake case (``color``, ``melanin``, ``melanin_redness``, ``tint``,
     ``absorption_coefficient``, ``roughness``, ``radial_roughness``, ``coat``, ``ior``, ``offset`` in
-    radians) and ``parametrization`` ('ABSORPTION', 'MELANIN' or 'COLOR', the node's enum). Missing
-    inputs take the node's defaults; ``random_color``, ``random_roughness`` and ``random`` are ignored.
+    radians; Blender 4.0+: ``aspect_ratio``, ``reflection``, ``transmission``, ``secondary_reflection``),
+    ``parametrization`` ('ABSORPTION', 'MELANIN' or 'COLOR') and ``model`` ('CHIANG', the only model
+    before Blender 4.0, or 'HUANG'), the node's enums. Missing inputs take the node's defaults;
+    ``random_color``, ``random_roughness``, ``random`` and ``weight`` are ignored. A Huang material gives
+    ``fibre = 'huang'`` with beta_m, beta_n of the Chiang fibre fitted to it (fit_chiang); the fit takes
+    about 0.2 s and is cached per set of inputs.
     """
     unknown = sorted(set(node_inputs) - set(_PRINCIPLED_DEFAULTS) - _PRINCIPLED_IGNORED)
     if unknown:
         raise ValueError(f"unknown Principled Hair input(s) {', '.join(unknown)}")
-    if node_inputs.get("model", "CHIANG") != "CHIANG":
-        raise ValueError(f"model must be 'CHIANG' (the Cycles 3.4 model), got {node_inputs['model']!r}")
+    if node_inputs.get("model", "CHIANG") not in PRINCIPLED_MODELS:
+        raise ValueError(f"model must be one of {', '.join(PRINCIPLED_MODELS)}, got {node_inputs['model']!r}")
     inputs = dict(_PRINCIPLED_DEFAULTS)
     inputs.update({k: v for k, v in node_inputs.items() if k in _PRINCIPLED_DEFAULTS})
     for name in ("color", "tint", "absorption_coefficient"):
-        inputs[name] = as_rgb(inputs[name], name)[:3]
-    return _core.params_from_principled_hair(**inputs)
+        inputs[name] = tuple(as_rgb(inputs[name], name)[:3])
+    converted = _converted(tuple(sorted(inputs.items())))
+    copy = HairParams()  # the cached object stays unchanged whatever the caller does with its copy
+    for name in FIELDS:
+        setattr(copy, name, getattr(converted, name))
+    return copy
+
+
+@functools.lru_cache(maxsize=64)
+def _converted(items):
+    # Cached: a Huang material's Chiang fit costs ~0.2 s, and the preview asks again on every change.
+    return _core.params_from_principled_hair(**dict(items))
+
+
+def fit_chiang(params):
+    """The Chiang fibre closest to a Huang fibre (hairlod/bcsdf/chiang_fit.h): returns (params with
+    beta_m, beta_n set to the fit, the fit's relative error, the error of beta_m = beta_n = the
+    microfacet roughness)."""
+    return _core.fit_chiang_to_huang(as_params(params))
 
 
 def sigma_a_from_color(color, beta_n):
@@ -97,5 +128,5 @@ def sigma_a_from_melanin(eumelanin, pheomelanin=0.0):
     return np.array(_core.sigma_a_from_melanin(float(eumelanin), float(pheomelanin)))
 
 
-__all__ = ["FIELDS", "HairParams", "as_params", "as_rgb", "from_principled_hair", "params_to_dict", "sigma_a_from_color",
-           "sigma_a_from_melanin"]
+__all__ = ["FIBRES", "FIELDS", "HairParams", "PRINCIPLED_MODELS", "as_params", "as_rgb", "fit_chiang", "from_principled_hair",
+           "params_to_dict", "sigma_a_from_color", "sigma_a_from_melanin"]

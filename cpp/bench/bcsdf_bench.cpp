@@ -51,6 +51,7 @@ void BM_ChiangNearField(benchmark::State& state) {
 
 BENCHMARK(BM_ChiangNearField)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Model, chiang_far_field, BcsdfModel::Chiang)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Model, huang, BcsdfModel::Huang)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Model, marschner, BcsdfModel::Marschner)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Model, fiber_rtd, BcsdfModel::FiberRtd)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Model, realtime, BcsdfModel::Realtime)->Unit(benchmark::kMicrosecond);

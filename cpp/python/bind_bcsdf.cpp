@@ -13,10 +13,12 @@
 #include "numpy_arrays.h"
 #include "hairlod/bcsdf/bake.h"
 #include "hairlod/bcsdf/chiang.h"
+#include "hairlod/bcsdf/chiang_fit.h"
 #include "hairlod/bcsdf/dual_scattering.h"
 #include "hairlod/bcsdf/exr_writer.h"
 #include "hairlod/bcsdf/fiber_rtd.h"
 #include "hairlod/bcsdf/furnace.h"
+#include "hairlod/bcsdf/huang.h"
 #include "hairlod/bcsdf/model_factory.h"
 #include "hairlod/bcsdf/principled_hair.h"
 #include "hairlod/bcsdf/srbf.h"
@@ -55,6 +57,18 @@ PrincipledParametrization parse_parametrization(const std::string& name) {
     throw Error("parametrization must be 'ABSORPTION', 'MELANIN' or 'COLOR', got '" + name + "'");
 }
 
+PrincipledModel parse_principled_model(const std::string& name) {
+    if (name == "CHIANG") return PrincipledModel::Chiang;
+    if (name == "HUANG") return PrincipledModel::Huang;
+    throw Error("model must be 'CHIANG' or 'HUANG', got '" + name + "'");
+}
+
+FibreModel parse_fibre(const std::string& name) {
+    if (name == "chiang") return FibreModel::Chiang;
+    if (name == "huang") return FibreModel::Huang;
+    throw Error("fibre must be 'chiang' or 'huang', got '" + name + "'");
+}
+
 RealtimeTT parse_realtime_tt(const std::string& name) {
     if (name == "tafuri") return RealtimeTT::Tafuri;
     if (name == "karis") return RealtimeTT::Karis;
@@ -87,7 +101,9 @@ beta_m, beta_n  longitudinal / azimuthal roughness in (0, 1] (pbrt convention)
 alpha           cuticle tilt in radians (pbrt/Cycles sign)
 coat            [0, 1]: R-lobe roughness is (1 - coat) beta_m (Cycles)
 eccentricity    Marschner's a in (1/sqrt(2), sqrt(2)); 1 is circular
-weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher order))doc")
+weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher order)
+fibre           'chiang' or 'huang': the fibre the path tracer shades strands with
+microfacet_roughness, aspect_ratio   the Huang fibre's GGX roughness [0.001, 1] and minor/major axis [0.1, 1])doc")
         .def(py::init<>())
         .def_readwrite("eta", &HairParams::eta)
         .def_property(
@@ -101,6 +117,11 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         .def_readwrite("weight_r", &HairParams::weight_r)
         .def_readwrite("weight_tt", &HairParams::weight_tt)
         .def_readwrite("weight_trt", &HairParams::weight_trt)
+        .def_property(
+            "fibre", [](const HairParams& p) { return std::string(p.fibre == FibreModel::Huang ? "huang" : "chiang"); },
+            [](HairParams& p, const std::string& name) { p.fibre = parse_fibre(name); })
+        .def_readwrite("microfacet_roughness", &HairParams::microfacet_roughness)
+        .def_readwrite("aspect_ratio", &HairParams::aspect_ratio)
         .def("validate", &HairParams::validate, "Raises ValueError naming the first invalid parameter.");
 
     m.def("sigma_a_from_color",
@@ -113,8 +134,14 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         "params_from_principled_hair",
         [](const std::string& parametrization, const std::array<double, 3>& color, double melanin,
            double melanin_redness, const std::array<double, 3>& tint, const std::array<double, 3>& absorption_coefficient,
-           double roughness, double radial_roughness, double coat, double ior, double offset) {
+           double roughness, double radial_roughness, double coat, double ior, double offset, const std::string& model,
+           double aspect_ratio, double reflection, double transmission, double secondary_reflection) {
             PrincipledHairInputs in;
+            in.model = parse_principled_model(model);
+            in.aspect_ratio = aspect_ratio;
+            in.reflection = reflection;
+            in.transmission = transmission;
+            in.secondary_reflection = secondary_reflection;
             in.parametrization = parse_parametrization(parametrization);
             in.color = to_dvec3(color);
             in.melanin = melanin;
@@ -126,17 +153,62 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
             in.coat = coat;
             in.ior = ior;
             in.offset = offset;
+            py::gil_scoped_release release;
             return params_from_principled_hair(in);
         },
         py::arg("parametrization"), py::arg("color"), py::arg("melanin"), py::arg("melanin_redness"), py::arg("tint"),
         py::arg("absorption_coefficient"), py::arg("roughness"), py::arg("radial_roughness"), py::arg("coat"),
-        py::arg("ior"), py::arg("offset"));
+        py::arg("ior"), py::arg("offset"), py::arg("model") = "CHIANG", py::arg("aspect_ratio") = 0.85,
+        py::arg("reflection") = 1.0, py::arg("transmission") = 1.0, py::arg("secondary_reflection") = 1.0);
+
+    m.def(
+        "fit_chiang_to_huang",
+        [](const HairParams& params) {
+            ChiangFit fit;
+            {
+                py::gil_scoped_release release;
+                fit = fit_chiang_to_huang(params);
+            }
+            return py::make_tuple(fit.params, fit.relative_error, fit.start_error);
+        },
+        py::arg("params"),
+        "(params with beta_m, beta_n of the Chiang fibre closest to the Huang fibre, relative error of the fit, "
+        "relative error of beta_m = beta_n = microfacet_roughness).");
+
+    m.def(
+        "huang_sample",
+        [](const HairParams& params, const DoubleArray& wo, const DoubleArray& u) {
+            if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [N, 3]");
+            if (u.ndim() != 2 || u.shape(0) != wo.shape(0) || u.shape(1) != 11) throw Error("u must have shape [N, 11]");
+            const py::ssize_t n = wo.shape(0);
+            py::array_t<double> wi({n, py::ssize_t(3)}), weight({n, py::ssize_t(3)});
+            const HuangBcsdf model(params);
+            double* wi_out = wi.mutable_data();
+            double* weight_out = weight.mutable_data();
+            const double* w = wo.data();
+            const double* uu = u.data();
+            {
+                py::gil_scoped_release release;
+                for (py::ssize_t k = 0; k < n; ++k) {
+                    std::array<double, 11> draw;
+                    std::copy(uu + 11 * k, uu + 11 * (k + 1), draw.begin());
+                    const FibreSample sample = model.sample({w[3 * k], w[3 * k + 1], w[3 * k + 2]}, draw);
+                    for (int c = 0; c < 3; ++c) {
+                        wi_out[3 * k + c] = sample.wi[c];
+                        weight_out[3 * k + c] = sample.weight[c];
+                    }
+                }
+            }
+            return py::make_tuple(wi, weight);
+        },
+        py::arg("params"), py::arg("wo"), py::arg("u"),
+        "Huang fibre sampling: (wi [N, 3], weight S cos(theta_i) / pdf [N, 3]) for wo [N, 3] and uniforms u [N, 11].");
 
     m.def(
         "bcsdf_evaluate",
         [](const std::string& model, const HairParams& params, const FloatArray& wi, const FloatArray& wo,
            const std::optional<FloatArray>& h, const std::string& tt, double caustic_width, double caustic_fade_range,
-           double caustic_max_window, double hair_count, double density) {
+           double caustic_max_window, double hair_count, double density, int residual_samples) {
             const std::span<const glm::vec3> in = rows_of<glm::vec3>(wi, 3, "wi");
             const std::span<const glm::vec3> out_dirs = rows_of<glm::vec3>(wo, 3, "wo");
             if (in.size() != out_dirs.size()) throw Error("wi and wo must have the same number of directions");
@@ -151,6 +223,8 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
             options.realtime_tt = parse_realtime_tt(tt);
             options.marschner_caustic = {caustic_width, caustic_fade_range, caustic_max_window};
             options.cluster = {hair_count, density};
+            if (residual_samples < 1) throw Error("residual_samples must be >= 1, got " + std::to_string(residual_samples));
+            options.huang_residual_samples = residual_samples;
             const BcsdfModel kind = parse_bcsdf_model(model);
             {
                 py::gil_scoped_release release;
@@ -167,7 +241,7 @@ weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher or
         py::arg("tt") = "tafuri", py::arg("caustic_width") = MarschnerCaustic{}.width,
         py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
         py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("hair_count") = 1.0,
-        py::arg("density") = 1.0,
+        py::arg("density") = 1.0, py::arg("residual_samples") = HuangBcsdf::kDefaultResidualSamples,
         "S(wi, wo) as float32 [N, 3]; directions in the fibre frame (tangent +x).");
 
     m.attr("DEFAULT_FORWARD_DENSITY") = kDefaultForwardDensity;

@@ -290,6 +290,27 @@ def test_preview_bake_and_export_use_one_hair(hair_object, tmp_path):
     assert blond == hair_params.params_to_dict(object_hair_params(hair_object)) and blond["sigma_a"][0] < darker["sigma_a"][0]
 
 
+@pytest.mark.skipif(bpy.app.version < (4, 0, 0), reason="Blender before 4.0 has no Huang hair model")
+def test_a_default_huang_hair_material_works_in_every_operator(hair_object, tmp_path):
+    # Blender 4.x's hair material: the Principled Hair BSDF in Huang mode with its default inputs. The
+    # build, the preview's hair and the export with its bake all take it; the bake is made on the
+    # Chiang fibre fitted to it, and the manifest says which fibre the material has.
+    import json
+
+    from hairlod.blender.preview.lod_preview import uses_material
+    from hairlod.blender.principled_hair import new_hair_material, object_hair_params
+
+    hair_object.data.materials.append(new_hair_material("Huang", {"model": "HUANG"}))
+    settings = hair_object.hairlod_lod_preview
+    assert uses_material(hair_object, settings)
+    params = object_hair_params(hair_object)
+    assert params.fibre == "huang" and params.aspect_ratio == pytest.approx(0.85)
+    assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}
+    assert _export(tmp_path) == {'FINISHED'}
+    baked = json.loads((tmp_path / "bcsdf" / "manifest.json").read_text())["params"]
+    assert baked["fibre"] == "huang" and baked["microfacet_roughness"] == pytest.approx(0.3)
+
+
 @pytest.mark.parametrize("foreign", ["lod", "bcsdf"])
 def test_export_refuses_folders_it_did_not_write_and_changes_nothing(hair_object, tmp_path, foreign):
     assert bpy.ops.hairlod.build_lod(guides=12, levels=4, control_points=6, seed=1) == {'FINISHED'}

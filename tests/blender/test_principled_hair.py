@@ -62,3 +62,36 @@ def test_new_hair_material_sets_the_inputs_principled_hair_inputs_reads():
     with pytest.raises(KeyError, match="no input 'shine'"):
         new_hair_material("Bad", {"shine": 1.0})
     assert len(bpy.data.materials) == materials  # nothing left behind
+
+
+@pytest.mark.skipif(bpy.app.version < (4, 0, 0), reason="Blender before 4.0 has no Huang hair model")
+def test_huang_mode_is_read_with_its_own_sockets():
+    # Blender 4.x: the lobe multipliers are read by their socket identifiers (labels Reflection,
+    # Transmission, Secondary Reflection); the Chiang-only sockets are disabled and not read.
+    from hairlod.blender.principled_hair import new_hair_material
+
+    material = new_hair_material("HuangTest", {"model": "HUANG", "parametrization": "MELANIN", "melanin": 0.4,
+                                               "aspect_ratio": 0.7, "reflection": 0.5, "transmission": 0.25,
+                                               "secondary_reflection": 2.0, "roughness": 0.2})
+    try:
+        inputs = principled_hair_inputs(material)
+        assert inputs["model"] == "HUANG"
+        assert "radial_roughness" not in inputs and "coat" not in inputs
+        assert (inputs["reflection"], inputs["transmission"], inputs["secondary_reflection"]) == pytest.approx((0.5, 0.25, 2.0))
+        params = params_from_material(material)
+        assert params.fibre == "huang"
+        assert (params.aspect_ratio, params.weight_r, params.weight_tt, params.weight_trt) == pytest.approx((0.7, 0.5, 0.25, 2.0))
+        assert params.microfacet_roughness == pytest.approx(0.2)
+    finally:
+        bpy.data.materials.remove(material)
+
+
+def test_chiang_is_the_model_blender_reads_before_huang_existed(hair_material):
+    from hairlod.blender.principled_hair import new_hair_material
+
+    assert principled_hair_inputs(hair_material)["model"] == "CHIANG"
+    if bpy.app.version < (4, 0, 0):
+        materials = len(bpy.data.materials)
+        with pytest.raises(KeyError, match="no model 'HUANG'"):
+            new_hair_material("Huang", {"model": "HUANG"})
+        assert len(bpy.data.materials) == materials

@@ -89,3 +89,45 @@ TEST(PrincipledHair, BadInputsNameTheSocketOrParameter) {
 
 }  // namespace
 }  // namespace hairlod::bcsdf
+
+namespace hairlod::bcsdf {
+namespace {
+
+// Huang mode (Blender 4.x): the microfacet roughness is Roughness (also the colour's radial roughness),
+// Radial Roughness and Coat are unused, an aspect ratio above 1 is its inverse, the lobe multipliers
+// are clamped at 0, and beta_m / beta_n hold the fitted Chiang fibre.
+TEST(PrincipledHair, HuangModeReadsItsOwnInputs) {
+    PrincipledHairInputs in;
+    in.model = PrincipledModel::Huang;
+    in.parametrization = PrincipledParametrization::DirectColoring;
+    in.color = {0.3, 0.2, 0.1};
+    in.roughness = 0.4;
+    in.radial_roughness = 0.9;
+    in.coat = 0.7;
+    in.aspect_ratio = 1.25;
+    in.reflection = 0.5;
+    in.transmission = -1.0;
+    in.secondary_reflection = 2.0;
+    const HairParams p = params_from_principled_hair(in);
+    EXPECT_EQ(p.fibre, FibreModel::Huang);
+    EXPECT_DOUBLE_EQ(p.microfacet_roughness, 0.4);
+    EXPECT_DOUBLE_EQ(p.aspect_ratio, 0.8);
+    EXPECT_DOUBLE_EQ(p.coat, 0.0);
+    EXPECT_EQ(p.weight_r, 0.5);
+    EXPECT_EQ(p.weight_tt, 0.0);
+    EXPECT_EQ(p.weight_trt, 2.0);
+    const glm::dvec3 sigma = sigma_a_from_color(in.color, 0.4);
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(p.sigma_a[c], sigma[c]);
+    EXPECT_NE(p.beta_m, 0.4);  // fitted, not copied
+    in.aspect_ratio = 0.0;
+    EXPECT_THROW(params_from_principled_hair(in), Error);
+    // Chiang mode ignores the Huang inputs.
+    in.model = PrincipledModel::Chiang;
+    const HairParams chiang = params_from_principled_hair(in);
+    EXPECT_EQ(chiang.fibre, FibreModel::Chiang);
+    EXPECT_DOUBLE_EQ(chiang.beta_n, 0.9);
+    EXPECT_DOUBLE_EQ(chiang.coat, 0.7);
+}
+
+}  // namespace
+}  // namespace hairlod::bcsdf

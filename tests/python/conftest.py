@@ -43,3 +43,15 @@ def blender():
         pytest.skip("Blender is not installed: this test runs headless Blender (apt-get install blender, "
                     "or set HAIRLOD_BLENDER; `make test` installs it)")
     return binary
+
+
+@pytest.fixture(scope="session")
+def blender_version(blender):
+    """(major, minor) of the `blender` fixture's Blender."""
+    import re
+    import subprocess
+
+    first = subprocess.run([blender, "--version"], capture_output=True, text=True, timeout=120).stdout.splitlines()
+    match = re.match(r"Blender (\d+)\.(\d+)", first[0] if first else "")
+    assert match, f"cannot read the version of {blender}: {first[:1]}"
+    return int(match.group(1)), int(match.group(2))

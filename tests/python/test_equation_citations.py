@@ -25,6 +25,7 @@ PAPERS = [
     r"Yuksel( et al\.)? 2015",  # Poisson sampling by sample elimination
     r"Chiang( et al\.)? 2016", r"d'Eon( et al\.)? 2011", r"Zinke( et al\.)? 2008",
     r"Marschner( et al\.)? 2003", r"Meyer( et al\.)? 2010", r"\bFLIP\b",
+    r"Huang( et al\.)? 2022", r"Heitz( et al\.)? 2018",  # the microfacet fibre and its GGX sampling
 ]
 NAMED = re.compile("|".join(PAPERS))
 

@@ -28,20 +28,30 @@ def principled_hair_node(material):
     return (linked or nodes)[0]
 
 
+# The node's sockets by identifier, which Blender keeps while labels change, where the snake-cased
+# label is not from_principled_hair's name: Blender 4.0+ labels the Huang lobe multipliers Reflection,
+# Transmission and Secondary Reflection over the identifiers 'R lobe', 'TT lobe', 'TRT lobe'.
+_SOCKET_NAMES = {"R lobe": "reflection", "TT lobe": "transmission", "TRT lobe": "secondary_reflection"}
+
+
+def socket_input_name(socket):
+    """from_principled_hair's name of a Principled Hair BSDF socket, in every Blender version."""
+    return _SOCKET_NAMES.get(getattr(socket, "identifier", ""), socket.name.lower().replace(" ", "_"))
+
+
 def principled_hair_inputs(material):
-    """The node's parametrization (and model, Blender 4.0+) and every enabled input socket's value,
-    in the snake-case names of ``hairlod.hair_params.from_principled_hair`` (colours as RGB, Offset in
-    radians). Linked sockets (textures) contribute their unlinked default value."""
+    """The node's parametrization and model ('CHIANG' before Blender 4.0, which has no other) and every
+    enabled input socket's value, in the snake-case names of ``hairlod.hair_params.from_principled_hair``
+    (colours as RGB, Offset in radians). Blender enables the sockets of the node's model only (Radial
+    Roughness and Coat for Chiang; Aspect Ratio, Reflection, Transmission, Secondary Reflection for
+    Huang). Linked sockets (textures) contribute their unlinked default value."""
     node = principled_hair_node(material)
-    inputs = {"parametrization": node.parametrization}
-    if hasattr(node, "model"):
-        inputs["model"] = node.model
+    inputs = {"parametrization": node.parametrization, "model": getattr(node, "model", "CHIANG")}
     for socket in node.inputs:
         if not socket.enabled or not hasattr(socket, "default_value"):
             continue
         value = socket.default_value
-        name = socket.name.lower().replace(" ", "_")
-        inputs[name] = [float(v) for v in value][:3] if hasattr(value, "__len__") else float(value)
+        inputs[socket_input_name(socket)] = [float(v) for v in value][:3] if hasattr(value, "__len__") else float(value)
     return inputs
 
 
@@ -57,10 +67,18 @@ def new_hair_material(name, inputs):
         nodes.remove(node)
     output = nodes.new("ShaderNodeOutputMaterial")
     node = nodes.new(NODE_TYPE)
-    sockets = {socket.name.lower().replace(" ", "_"): socket for socket in node.inputs}
+    sockets = {socket_input_name(socket): socket for socket in node.inputs}
     for key, value in inputs.items():
         if key == "parametrization":
             node.parametrization = value
+            continue
+        if key == "model":
+            if not hasattr(node, "model"):
+                if value != "CHIANG":
+                    bpy.data.materials.remove(material)
+                    raise KeyError(f"the Principled Hair BSDF of Blender {bpy.app.version_string} has no model '{value}'")
+                continue
+            node.model = value
             continue
         if key not in sockets:
             bpy.data.materials.remove(material)
@@ -74,7 +92,7 @@ def new_hair_material(name, inputs):
 
 
 def params_from_material(material):
-    """hairlod HairParams of the material's Principled Hair BSDF (Cycles' Chiang model)."""
+    """hairlod HairParams of the material's Principled Hair BSDF (Chiang or Huang model)."""
     from ..hair_params import from_principled_hair
 
     return from_principled_hair(**principled_hair_inputs(material))

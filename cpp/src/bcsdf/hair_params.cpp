@@ -41,6 +41,10 @@ void HairParams::validate() const {
     require(std::isfinite(weight_r) && weight_r >= 0.0, "weight_r", weight_r, "must be finite and >= 0");
     require(std::isfinite(weight_tt) && weight_tt >= 0.0, "weight_tt", weight_tt, "must be finite and >= 0");
     require(std::isfinite(weight_trt) && weight_trt >= 0.0, "weight_trt", weight_trt, "must be finite and >= 0");
+    require(std::isfinite(microfacet_roughness) && microfacet_roughness >= 1e-3 && microfacet_roughness <= 1.0,
+            "microfacet_roughness", microfacet_roughness, "must be in [0.001, 1]");
+    require(std::isfinite(aspect_ratio) && aspect_ratio >= 0.1 && aspect_ratio <= 1.0, "aspect_ratio", aspect_ratio,
+            "must be in [0.1, 1] (minor over major axis)");
 }
 
 double primary_roughness(const HairParams& params) {

@@ -11,18 +11,20 @@ namespace hairlod::bcsdf {
 
 BcsdfModel parse_bcsdf_model(std::string_view name) {
     if (name == "chiang") return BcsdfModel::Chiang;
+    if (name == "huang") return BcsdfModel::Huang;
     if (name == "marschner") return BcsdfModel::Marschner;
     if (name == "marschner_cg") return BcsdfModel::MarschnerCircularGaussian;
     if (name == "fiber_rtd") return BcsdfModel::FiberRtd;
     if (name == "realtime") return BcsdfModel::Realtime;
     if (name == "aggregated") return BcsdfModel::Aggregated;
     throw Error("unknown BCSDF model '" + std::string(name) +
-                "' (expected chiang, marschner, marschner_cg, fiber_rtd, realtime or aggregated)");
+                "' (expected chiang, huang, marschner, marschner_cg, fiber_rtd, realtime or aggregated)");
 }
 
 std::unique_ptr<FiberBcsdf> make_bcsdf(BcsdfModel model, const HairParams& params, const ModelOptions& options) {
     switch (model) {
         case BcsdfModel::Chiang: return std::make_unique<ChiangBcsdf>(params);
+        case BcsdfModel::Huang: return std::make_unique<HuangBcsdf>(params, options.huang_residual_samples);
         case BcsdfModel::Marschner: return std::make_unique<MarschnerBcsdf>(params, options.marschner_caustic);
         case BcsdfModel::MarschnerCircularGaussian:
             return std::make_unique<CircularGaussianMarschner>(MarschnerBcsdf(params, options.marschner_caustic),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "hairlod/bcsdf/chiang_fit.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {
@@ -29,10 +30,11 @@ glm::dvec3 melanin_absorption(const PrincipledHairInputs& inputs, double beta_n)
 
 HairParams params_from_principled_hair(const PrincipledHairInputs& inputs) {
     HairParams params;
+    const bool huang = inputs.model == PrincipledModel::Huang;
     params.eta = inputs.ior;
     params.beta_m = std::clamp(inputs.roughness, 1e-3, 1.0);
-    params.beta_n = std::clamp(inputs.radial_roughness, 1e-3, 1.0);
-    params.coat = unit_socket("coat", inputs.coat);
+    params.beta_n = huang ? params.beta_m : std::clamp(inputs.radial_roughness, 1e-3, 1.0);
+    params.coat = huang ? 0.0 : unit_socket("coat", inputs.coat);
     params.alpha = inputs.offset;
     switch (inputs.parametrization) {
         case PrincipledParametrization::AbsorptionCoefficient:
@@ -45,8 +47,21 @@ HairParams params_from_principled_hair(const PrincipledHairInputs& inputs) {
             params.sigma_a = sigma_a_from_color(inputs.color, params.beta_n);
             break;
     }
+    if (!huang) {
+        params.validate();
+        return params;
+    }
+    params.fibre = FibreModel::Huang;
+    params.microfacet_roughness = params.beta_m;
+    if (!(inputs.aspect_ratio > 0.0))
+        throw Error("principled hair input aspect_ratio = " + std::to_string(inputs.aspect_ratio) + ": must be > 0");
+    params.aspect_ratio = inputs.aspect_ratio > 1.0 ? 1.0 / inputs.aspect_ratio : inputs.aspect_ratio;
+    // Cycles clamps the lobe multipliers at 0.
+    params.weight_r = std::max(inputs.reflection, 0.0);
+    params.weight_tt = std::max(inputs.transmission, 0.0);
+    params.weight_trt = std::max(inputs.secondary_reflection, 0.0);
     params.validate();
-    return params;
+    return fit_chiang_to_huang(params).params;
 }
 
 }  // namespace hairlod::bcsdf

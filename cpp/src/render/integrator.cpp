@@ -19,6 +19,7 @@
 #include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/fiber_frame.h"
 #include "hairlod/bcsdf/fiber_rtd.h"
+#include "hairlod/bcsdf/huang.h"
 #include "hairlod/bcsdf/longitudinal.h"
 #include "hairlod/core/error.h"
 #include "hairlod/render/chiang_sampling.h"
@@ -69,6 +70,17 @@ glm::dvec3 uniform_sphere(double u1, double u2) {
     return {r * std::cos(2.0 * kPi * u2), r * std::sin(2.0 * kPi * u2), z};
 }
 
+// The major axis of an elliptical fibre at a hit: Cycles' Huang closure without a normal attribute on
+// the curves takes the second vector of its fixed orthonormal basis around the tangent t (the first is
+// (1, 1, 1) x t normalised, or (-1, 1, 1) x t where t's components are all equal); the same here, so
+// that both renderers orient the ellipse alike.
+glm::dvec3 major_axis(const glm::dvec3& t) {
+    glm::dvec3 a = (t.x != t.y || t.x != t.z) ? glm::dvec3(t.z - t.y, t.x - t.z, t.y - t.x)
+                                             : glm::dvec3(t.z - t.y, t.x + t.z, -t.y - t.x);
+    a = glm::normalize(a);
+    return glm::cross(t, a);
+}
+
 double channel_max(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
 double channel_mean(const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; }
 
@@ -87,6 +99,16 @@ struct Vertex {
     // A thick hair that shadows its own hit (lod, lod-single; not lod-no-s): light reaches the hit
     // through the hair's other strands (HairScene::own_hair_passage), which rays leaving the hit skip.
     bool self_shadowed = false;
+    // Huang fibre: the frame turned about the tangent so that +y is the ellipse's major axis
+    // (cos, sin of the turn), and whether the ray passed beside the ellipse inside the round tube.
+    double ellipse_cos = 1.0, ellipse_sin = 0.0;
+    bool beside_fibre = false;
+    glm::dvec3 to_ellipse(const glm::dvec3& w) const {
+        return {w.x, ellipse_cos * w.y + ellipse_sin * w.z, -ellipse_sin * w.y + ellipse_cos * w.z};
+    }
+    glm::dvec3 from_ellipse(const glm::dvec3& w) const {
+        return {w.x, ellipse_cos * w.y - ellipse_sin * w.z, ellipse_sin * w.y + ellipse_cos * w.z};
+    }
 };
 
 class Shader {
@@ -99,6 +121,9 @@ public:
         }
         if (lod_aggregated) aggregated_ = std::make_unique<AggregatedBcsdf>(params, ClusterState{}, table_);
         if (method_ == Method::DualScattering) fiber_ = std::make_unique<FiberRtdBcsdf>(params);
+        // Strands are shaded with the material's fibre; dual scattering and the aggregated model use the
+        // Chiang fibre (for a Huang material, the one fitted to it: HairParams::beta_m, beta_n).
+        if (params.fibre == FibreModel::Huang) huang_ = std::make_unique<HuangBcsdf>(params);
     }
 
     Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world) const {
@@ -106,6 +131,17 @@ public:
         v.frame = fibre_frame(hit, wo_world, v.h);
         v.wo = v.frame.local(wo_world);
         v.self_shadowed = hit.kind == CurveKind::Thick && method_ != Method::LodNoShadowing;
+        if (huang_ && !(hit.kind == CurveKind::Thick && aggregated_)) {
+            if (huang_->params().aspect_ratio != 1.0) {
+                const glm::dvec3 major = major_axis(v.frame.x);
+                const double turn = std::atan2(glm::dot(major, v.frame.z), glm::dot(major, v.frame.y));
+                v.ellipse_cos = std::cos(turn);
+                v.ellipse_sin = std::sin(turn);
+            }
+            // Cycles' Huang closure: a hit on the round tube outside the ellipse's projected half-width
+            // is transparent.
+            v.beside_fibre = std::abs(v.h) >= huang_->projected_radius(v.to_ellipse(v.wo));
+        }
         if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
             // The first strand the ray met inside the hair, and the strands behind it (Huang 2025 Eq. 10's A_1+).
@@ -153,17 +189,22 @@ public:
         // The model at this hit's n and rho directly: one evaluation, no table of models to interpolate.
         if (v.aggregated)
             return aggregated_->eval_lobes(wi, v.wo, {v.hair_count, 1.0, true, crossings}).sum() * cos_i;
-        glm::dvec3 value = chiang_.eval_lobes(wi, v.wo, v.h).sum() * std::max(cos_i, kMinCos);
-        if (crossings > 0.0) {
-            // The single fibre behind `crossings` strands that each pass on a_f forwards (dual scattering,
-            // Zinke et al. 2008): E[a_f^k] = exp(-k (1 - a_f)) for a Poisson count k.
-            const glm::dvec3 a_f = table_->sample(fiber_direction(wi).theta).a_f;
-            value *= glm::exp(-crossings * (1.0 - glm::min(a_f, glm::dvec3(1.0))));
-        }
-        return value;
+        const glm::dvec3 fibre = huang_ ? huang_->eval(v.to_ellipse(wi), v.to_ellipse(v.wo)) : chiang_.eval_lobes(wi, v.wo, v.h).sum();
+        return fibre * std::max(cos_i, kMinCos) * shadowing(wi, crossings);
     }
 
+    // The single fibre behind `crossings` strands that each pass on a_f forwards (dual scattering,
+    // Zinke et al. 2008): E[a_f^k] = exp(-k (1 - a_f)) for a Poisson count k.
+    glm::dvec3 shadowing(const glm::dvec3& wi, double crossings) const {
+        if (!(crossings > 0.0)) return glm::dvec3(1.0);
+        const glm::dvec3 a_f = table_->sample(fiber_direction(wi).theta).a_f;
+        return glm::exp(-crossings * (1.0 - glm::min(a_f, glm::dvec3(1.0))));
+    }
+
+    // The Huang fibre has no closed-form density; as in Cycles, its samples carry their weight and its
+    // density reads 1 for both sampling strategies, which keeps the MIS weights summing to 1.
     double pdf(const Vertex& v, const glm::dvec3& wi) const {
+        if (!v.aggregated && huang_) return 1.0;
         if (!v.aggregated) return chiang_pdf(chiang_, wi, v.wo, v.h);
         return kAggregatedChiangFraction * chiang_far_field_pdf(chiang_, wi, v.wo) +
                (1.0 - kAggregatedChiangFraction) * kUniformSpherePdf;
@@ -173,6 +214,17 @@ public:
     template <typename Crossings>
     BcsdfSample sample(const Vertex& v, Random& rng, const Crossings& crossings) const {
         const std::array<double, 4> u{rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()};
+        if (!v.aggregated && huang_) {
+            std::array<double, 11> draw;
+            for (double& d : draw) d = rng.uniform();
+            const FibreSample f = huang_->sample(v.to_ellipse(v.wo), draw);
+            BcsdfSample s;
+            if (!(glm::dot(f.wi, f.wi) > 0.0)) return s;
+            s.wi = v.from_ellipse(f.wi);
+            s.pdf = 1.0;
+            s.value = f.weight * (v.self_shadowed ? shadowing(s.wi, crossings(s.wi)) : glm::dvec3(1.0));
+            return s;
+        }
         if (!v.aggregated) {
             BcsdfSample s = sample_chiang(chiang_, v.wo, v.h, u);
             if (v.self_shadowed && s.pdf > 0.0) s.value = eval(v, s.wi, crossings(s.wi));
@@ -219,6 +271,7 @@ public:
 
 private:
     ChiangBcsdf chiang_;
+    std::unique_ptr<HuangBcsdf> huang_;
     Method method_;
     std::shared_ptr<const AggregatedTable> table_;
     std::unique_ptr<AggregatedBcsdf> aggregated_;
@@ -288,6 +341,13 @@ struct Tracer {
             if (options.coverage_only) break;
             const glm::dvec3 wo = -glm::dvec3(direction);
             const Vertex v = shader.vertex(hit, wo);
+            if (v.beside_fibre) {
+                // Through the round tube beside the elliptical fibre, as if it were not there.
+                origin = hit.position;
+                from = scene.leaving(hit, direction);
+                --bounce;
+                continue;
+            }
             radiance += throughput * direct(v, hit, rng, rays);
             if (bounce >= options.max_bounces) break;
             const BcsdfSample s = shader.sample(v, rng, [&](const glm::dvec3& wi) {

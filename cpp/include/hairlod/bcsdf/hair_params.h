@@ -8,6 +8,13 @@
 
 namespace hairlod::bcsdf {
 
+// The single-fibre model that shades a strand in the path tracer. Chiang: d'Eon et al. 2011 /
+// Chiang et al. 2016 (Cycles 3.x's Principled Hair); Huang: the microfacet fibre of Huang et al.
+// 2022 (Blender 4.x's default), see huang.h. Every other model (dual scattering, the aggregated and
+// real-time BCSDFs, the bake) works on the Chiang fibre of beta_m / beta_n; for a Huang fibre those are
+// the Chiang fibre fitted to it (fit_chiang_to_huang).
+enum class FibreModel { Chiang, Huang };
+
 struct HairParams {
     double eta = 1.55;                                // index of refraction of the cortex
     glm::dvec3 sigma_a{0.245531, 0.52, 1.365};        // absorption per unit fibre radius (RGB)
@@ -19,6 +26,9 @@ struct HairParams {
     double weight_r = 1.0;                            // lobe multipliers (1 = physical)
     double weight_tt = 1.0;
     double weight_trt = 1.0;                          // TRT and every higher-order lobe (TRRT+, D)
+    FibreModel fibre = FibreModel::Chiang;
+    double microfacet_roughness = 0.3;                // Huang: GGX roughness of the cuticle, in [1e-3, 1]
+    double aspect_ratio = 1.0;                        // Huang: minor over major axis in [0.1, 1]
 
     // Throws hairlod::Error naming the first invalid parameter (eta <= 1, negative or NaN absorption,
     // beta outside (0, 1], coat outside [0, 1], eccentricity that makes Xu 2011 Eq. 24's eta* <= 1, ...).

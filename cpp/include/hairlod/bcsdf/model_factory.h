@@ -5,14 +5,15 @@
 
 #include "hairlod/bcsdf/aggregated.h"
 #include "hairlod/bcsdf/bcsdf.h"
+#include "hairlod/bcsdf/huang.h"
 #include "hairlod/bcsdf/marschner.h"
 #include "hairlod/bcsdf/realtime.h"
 
 namespace hairlod::bcsdf {
 
-enum class BcsdfModel { Chiang, Marschner, MarschnerCircularGaussian, FiberRtd, Realtime, Aggregated };
+enum class BcsdfModel { Chiang, Huang, Marschner, MarschnerCircularGaussian, FiberRtd, Realtime, Aggregated };
 
-// Parses "chiang", "marschner", "marschner_cg" (its circular Gaussian tier), "fiber_rtd", "realtime",
+// Parses "chiang", "huang", "marschner", "marschner_cg" (its circular Gaussian tier), "fiber_rtd", "realtime",
 // "aggregated"; throws Error naming the model otherwise.
 BcsdfModel parse_bcsdf_model(std::string_view name);
 
@@ -20,6 +21,7 @@ struct ModelOptions {
     MarschnerCaustic marschner_caustic{};
     RealtimeTT realtime_tt = RealtimeTT::Tafuri;
     ClusterState cluster{};
+    int huang_residual_samples = HuangBcsdf::kDefaultResidualSamples;
 };
 
 // A model over validated parameters (throws Error naming the bad parameter).

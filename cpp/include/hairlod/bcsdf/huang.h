@@ -1,0 +1,55 @@
+#pragma once
+// The microfacet hair fibre of Huang, Hullin and Hanika 2022 ("A Microfacet-based Hair Scattering
+// Model"), the default of Blender 4.x's Principled Hair BSDF, written to behave as Cycles' does:
+// an elliptical fibre (major axis 1 along the frame's +y, minor axis aspect_ratio along +z, tangent
+// +x) whose cuticle is a rough GGX dielectric tilted by alpha. R is integrated over the fibre's visible
+// width; TT and TRT follow microfacet-refracted paths through the interior (absorption along the
+// elliptical chords), each interface scaled by the inverse directional albedo of a rough dielectric
+// (microfacet.h); TRRT+ is the geometric series of the last interactions with Chiang et al. 2016's
+// longitudinal lobe (variance 4 x roughness) and a uniform azimuth. Far field: the whole width a
+// pixel sees, which is what a renderer sees of a fibre thinner than a pixel.
+#include <array>
+#include <span>
+
+#include "hairlod/bcsdf/bcsdf.h"
+
+namespace hairlod::bcsdf {
+
+// A direction drawn for the light from wo, with the throughput S cos(theta_i) / pdf. As Cycles
+// does, the sample carries its weight and no usable density (the model has no closed-form pdf).
+struct FibreSample {
+    glm::dvec3 wi{0.0};
+    glm::dvec3 weight{0.0};
+};
+
+class HuangBcsdf final : public FiberBcsdf {
+public:
+    // residual_samples: visible-normal samples per width node for the TT / TRT paths (a fixed
+    // stratified set, so that the value is deterministic; Cycles draws one at random per node).
+    explicit HuangBcsdf(const HairParams& params, int residual_samples = kDefaultResidualSamples);
+
+    // Lobes R, TT, TRT, TRRT+ of S(wi, wo), far field.
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    // Chiang et al. 2016's shapes of the fitted Chiang fibre (beta_m): what Zinke's averages use.
+    std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
+    std::string_view name() const override { return "huang"; }
+
+    // Draws wi for wo from 11 uniforms in [0, 1): the offset h across the width, one visible normal
+    // per interface, the lobe by the energies of the four paths so drawn, and the TRRT+ direction from
+    // its longitudinal lobe and a uniform azimuth. weight is 0 when no path leaves towards wi.
+    FibreSample sample(const glm::dvec3& wo, const std::array<double, 11>& u) const;
+
+    // Half the fibre's width seen from w (in units of the major semi-axis): sqrt(cos^2 phi + b^2 sin^2 phi).
+    double projected_radius(const glm::dvec3& w) const;
+
+    const HairParams& params() const { return params_; }
+
+    static constexpr int kDefaultResidualSamples = 8;
+
+private:
+    HairParams params_;
+    std::array<LongitudinalLobe, 4> lobes_;
+    int residual_samples_;
+};
+
+}  // namespace hairlod::bcsdf
