@@ -84,17 +84,17 @@ def _chiang_brute_force(wi, wo, nodes=64):
 def _huang_rows(wi, wo, run, row):
     # Huang et al. 2022's microfacet fibre (Blender 4.x's default): its deterministic residual quadrature
     # against one with 8x the visible-normal samples, then the tiers every other model is built on for a
-    # Huang material, the Chiang fibre fitted to it (exact, real-time, and the R/TT/D fibre of the
+    # Huang material, the Chiang fibre standing in for it (exact, real-time, and the R/TT/D fibre of the
     # dual-scattering and aggregated tables), against the Huang fibre itself.
-    huang = {**BROWN, "fibre": "huang"}
+    huang = {"fibre": "huang", "huang_sigma_a": BROWN["sigma_a"]}
     reference = bcsdf.evaluate("huang", huang, wi, wo, residual_samples=64)
     values, ns = run("huang", huang)
     row("huang", "exact (8 normals per node)", values, reference, "64 visible normals per node", ns,
         _energy("huang"))
-    fitted = hair_params.fit_chiang(huang)[0]
-    for model, tier, inputs in (("chiang", "fitted chiang fibre", {}), ("fiber_rtd", "fitted r/tt/d fibre (luts)", {}),
-                                ("realtime", "fitted real-time (tafuri)", {"tt": "tafuri"})):
-        values, ns = run(model, fitted, **inputs)
+    stand_in = hair_params.chiang_stand_in(huang)[0]
+    for model, tier, inputs in (("chiang", "chiang stand-in", {}), ("fiber_rtd", "stand-in r/tt/d fibre (luts)", {}),
+                                ("realtime", "stand-in real-time (tafuri)", {"tt": "tafuri"})):
+        values, ns = run(model, stand_in, **inputs)
         row("huang", tier, values, reference, "huang exact", ns, _energy(model, **inputs))
 
 

@@ -11,7 +11,8 @@ from . import _core
 HairParams = _core.HairParams
 
 FIELDS = ("eta", "sigma_a", "beta_m", "beta_n", "alpha", "coat", "eccentricity", "weight_r", "weight_tt", "weight_trt",
-          "fibre", "microfacet_roughness", "aspect_ratio")
+          "fibre", "microfacet_roughness", "aspect_ratio", "huang_sigma_a")
+_RGB_FIELDS = ("sigma_a", "huang_sigma_a")
 FIBRES = ("chiang", "huang")
 
 # Principled Hair BSDF sockets (snake case) and their Cycles defaults (the Huang sockets: Blender 4.0+).
@@ -41,7 +42,7 @@ _PRINCIPLED_IGNORED = {"random_color", "random_roughness", "random", "weight"}
 def params_to_dict(params):
     """The fields of a HairParams as a plain dict (sigma_a as a list)."""
     params = as_params(params)
-    return {name: list(params.sigma_a) if name == "sigma_a" else getattr(params, name) for name in FIELDS}
+    return {name: list(getattr(params, name)) if name in _RGB_FIELDS else getattr(params, name) for name in FIELDS}
 
 
 def as_params(params=None):
@@ -57,7 +58,7 @@ def as_params(params=None):
         result = HairParams()
         for name, value in params.items():
             try:
-                setattr(result, name, as_rgb(value, name) if name == "sigma_a" else
+                setattr(result, name, as_rgb(value, name) if name in _RGB_FIELDS else
                         value if name == "fibre" else float(value))
             except (TypeError, ValueError) as error:
                 raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
@@ -86,8 +87,9 @@ def from_principled_hair(**node_inputs):
     ``parametrization`` ('ABSORPTION', 'MELANIN' or 'COLOR') and ``model`` ('CHIANG', the only model
     before Blender 4.0, or 'HUANG'), the node's enums. Missing inputs take the node's defaults;
     ``random_color``, ``random_roughness``, ``random`` and ``weight`` are ignored. A Huang material gives
-    ``fibre = 'huang'`` with beta_m, beta_n of the Chiang fibre fitted to it (fit_chiang); the fit takes
-    about 0.2 s and is cached per set of inputs.
+    ``fibre = 'huang'`` with its absorption in ``huang_sigma_a`` and sigma_a, beta_m, beta_n of the Chiang
+    fibre that stands in for it (chiang_stand_in); matching the albedos takes about 0.1 s and is cached
+    per set of inputs.
     """
     unknown = sorted(set(node_inputs) - set(_PRINCIPLED_DEFAULTS) - _PRINCIPLED_IGNORED)
     if unknown:
@@ -107,15 +109,17 @@ def from_principled_hair(**node_inputs):
 
 @functools.lru_cache(maxsize=64)
 def _converted(items):
-    # Cached: a Huang material's Chiang fit costs ~0.2 s, and the preview asks again on every change.
+    # Cached: a Huang material's stand-in costs ~0.1 s, and the preview asks again on every redraw.
     return _core.params_from_principled_hair(**dict(items))
 
 
-def fit_chiang(params):
-    """The Chiang fibre closest to a Huang fibre (hairlod/bcsdf/chiang_fit.h): returns (params with
-    beta_m, beta_n set to the fit, the fit's relative error, the error of beta_m = beta_n = the
-    microfacet roughness)."""
-    return _core.fit_chiang_to_huang(as_params(params))
+def chiang_stand_in(params):
+    """The Chiang fibre standing in for a Huang fibre (hairlod/bcsdf/chiang_stand_in.h): the same
+    roughness, and the absorption that gives the light through its interior the Huang fibre's energy.
+    Returns (params with sigma_a, beta_m, beta_n set to the stand-in's, the Huang fibre's albedo, the
+    stand-in's albedo), each albedo a dict of RGB arrays 'surface' (R) and 'interior', view-averaged."""
+    params, huang, stand_in = _core.chiang_stand_in(as_params(params))
+    return params, *({k: np.array(v) for k, v in a.items()} for a in (huang, stand_in))
 
 
 def sigma_a_from_color(color, beta_n):
@@ -128,5 +132,5 @@ def sigma_a_from_melanin(eumelanin, pheomelanin=0.0):
     return np.array(_core.sigma_a_from_melanin(float(eumelanin), float(pheomelanin)))
 
 
-__all__ = ["FIBRES", "FIELDS", "HairParams", "PRINCIPLED_MODELS", "as_params", "as_rgb", "fit_chiang", "from_principled_hair",
+__all__ = ["FIBRES", "FIELDS", "HairParams", "PRINCIPLED_MODELS", "as_params", "as_rgb", "chiang_stand_in", "from_principled_hair",
            "params_to_dict", "sigma_a_from_color", "sigma_a_from_melanin"]

@@ -13,7 +13,7 @@
 #include "numpy_arrays.h"
 #include "hairlod/bcsdf/bake.h"
 #include "hairlod/bcsdf/chiang.h"
-#include "hairlod/bcsdf/chiang_fit.h"
+#include "hairlod/bcsdf/chiang_stand_in.h"
 #include "hairlod/bcsdf/dual_scattering.h"
 #include "hairlod/bcsdf/exr_writer.h"
 #include "hairlod/bcsdf/fiber_rtd.h"
@@ -103,7 +103,8 @@ coat            [0, 1]: R-lobe roughness is (1 - coat) beta_m (Cycles)
 eccentricity    Marschner's a in (1/sqrt(2), sqrt(2)); 1 is circular
 weight_r, weight_tt, weight_trt   lobe multipliers (TRT includes every higher order)
 fibre           'chiang' or 'huang': the fibre the path tracer shades strands with
-microfacet_roughness, aspect_ratio   the Huang fibre's GGX roughness [0.001, 1] and minor/major axis [0.1, 1])doc")
+microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughness [0.001, 1], minor/major
+                axis [0.1, 1] and absorption (sigma_a, beta_m, beta_n are then its Chiang stand-in's))doc")
         .def(py::init<>())
         .def_readwrite("eta", &HairParams::eta)
         .def_property(
@@ -122,6 +123,9 @@ microfacet_roughness, aspect_ratio   the Huang fibre's GGX roughness [0.001, 1] 
             [](HairParams& p, const std::string& name) { p.fibre = parse_fibre(name); })
         .def_readwrite("microfacet_roughness", &HairParams::microfacet_roughness)
         .def_readwrite("aspect_ratio", &HairParams::aspect_ratio)
+        .def_property(
+            "huang_sigma_a", [](const HairParams& p) { return to_array(p.huang_sigma_a); },
+            [](HairParams& p, const std::array<double, 3>& v) { p.huang_sigma_a = to_dvec3(v); })
         .def("validate", &HairParams::validate, "Raises ValueError naming the first invalid parameter.");
 
     m.def("sigma_a_from_color",
@@ -162,18 +166,22 @@ microfacet_roughness, aspect_ratio   the Huang fibre's GGX roughness [0.001, 1] 
         py::arg("reflection") = 1.0, py::arg("transmission") = 1.0, py::arg("secondary_reflection") = 1.0);
 
     m.def(
-        "fit_chiang_to_huang",
+        "chiang_stand_in",
         [](const HairParams& params) {
-            ChiangFit fit;
+            ChiangStandIn stand_in;
             {
                 py::gil_scoped_release release;
-                fit = fit_chiang_to_huang(params);
+                stand_in = chiang_stand_in(params);
             }
-            return py::make_tuple(fit.params, fit.relative_error, fit.start_error);
+            const auto albedo = [](const FibreAlbedo& a) {
+                return py::dict(py::arg("surface") = to_array(a.surface), py::arg("interior") = to_array(a.interior));
+            };
+            return py::make_tuple(stand_in.params, albedo(stand_in.huang), albedo(stand_in.stand_in));
         },
         py::arg("params"),
-        "(params with beta_m, beta_n of the Chiang fibre closest to the Huang fibre, relative error of the fit, "
-        "relative error of beta_m = beta_n = microfacet_roughness).");
+        "(params with sigma_a, beta_m, beta_n of the Chiang fibre standing in for the Huang fibre, the Huang "
+        "fibre's albedo, the stand-in's albedo); each albedo a dict of RGB 'surface' (R) and 'interior' parts, "
+        "averaged over views.");
 
     m.def(
         "huang_sample",

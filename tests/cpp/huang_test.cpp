@@ -7,7 +7,10 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "hairlod/bcsdf/chiang_fit.h"
+#include "hairlod/bcsdf/chiang.h"
+#include "hairlod/bcsdf/chiang_stand_in.h"
+#include "hairlod/bcsdf/furnace.h"
+#include "hairlod/bcsdf/quadrature.h"
 
 namespace hairlod::bcsdf {
 namespace {
@@ -19,7 +22,7 @@ HairParams huang(double roughness, double aspect_ratio, double sigma) {
     p.fibre = FibreModel::Huang;
     p.microfacet_roughness = roughness;
     p.aspect_ratio = aspect_ratio;
-    p.sigma_a = glm::dvec3(sigma);
+    p.huang_sigma_a = glm::dvec3(sigma);
     return p;
 }
 
@@ -150,19 +153,59 @@ TEST(Huang, LosslessSamplesConserveEnergy) {
             }
 }
 
-// The Chiang fibre fitted to a Huang fibre is closer to it than the same roughness, and its betas lie
-// inside the search range.
-TEST(Huang, ChiangFitImprovesOnTheSameRoughness) {
+// The Chiang stand-in has the Huang fibre's roughness and the energy of its interior paths: its
+// absorption is found per channel, and the Huang fibre is left as it was.
+TEST(Huang, ChiangStandInMatchesTheAlbedo) {
     for (double b : {1.0, 0.85}) {
-        const ChiangFit fit = fit_chiang_to_huang(huang(0.3, b, 0.4));
-        EXPECT_LT(fit.relative_error, fit.start_error);
-        EXPECT_GT(fit.params.beta_m, 0.02);
-        EXPECT_LT(fit.params.beta_m, 1.0);
-        EXPECT_GT(fit.params.beta_n, 0.02);
-        EXPECT_LT(fit.params.beta_n, 1.0);
-        EXPECT_EQ(fit.params.fibre, FibreModel::Huang);
-        EXPECT_EQ(fit.params.microfacet_roughness, 0.3);
+        HairParams p = huang(0.3, b, 0.0);
+        p.huang_sigma_a = {0.1, 0.3, 0.8};
+        const ChiangStandIn stand_in = chiang_stand_in(p);
+        EXPECT_EQ(stand_in.params.fibre, FibreModel::Huang);
+        EXPECT_EQ(stand_in.params.huang_sigma_a, p.huang_sigma_a);
+        EXPECT_EQ(stand_in.params.beta_m, 0.3);
+        EXPECT_EQ(stand_in.params.beta_n, 0.3);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GT(stand_in.huang.interior[c], 0.05);
+            EXPECT_NEAR(stand_in.stand_in.interior[c], stand_in.huang.interior[c], 1e-6);
+            EXPECT_GT(stand_in.huang.surface[c], 0.02);  // R, which absorption does not touch
+        }
+        // Higher absorption, lower albedo: the channels keep their order.
+        EXPECT_LT(stand_in.params.sigma_a[0], stand_in.params.sigma_a[1]);
+        EXPECT_LT(stand_in.params.sigma_a[1], stand_in.params.sigma_a[2]);
     }
+    // Black hair: almost nothing comes through either interior; the absorptions stay alike.
+    const ChiangStandIn dark = chiang_stand_in(huang(0.3, 1.0, 50.0));
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_LT(dark.huang.interior[c], 1e-3);
+        EXPECT_LT(dark.stand_in.interior[c], 1e-3);
+        EXPECT_GT(dark.params.sigma_a[c], 5.0);
+    }
+}
+
+// Brute force: the view averages of the albedos are the same Gauss-Legendre sum over sin(theta_o) of
+// the Chiang fibre's white furnace (adaptive quadrature of its evaluated S) and of the mean of the
+// Huang fibre's samples.
+TEST(Huang, AlbedosAreTheirFurnacesAveragedOverViews) {
+    HairParams chiang;
+    chiang.sigma_a = {0.2, 0.6, 1.5};
+    const HairParams h = huang(0.3, 1.0, 0.5);  // round: the view's azimuth does not matter
+    const ChiangBcsdf chiang_model(chiang);
+    const HuangBcsdf huang_model(h);
+    glm::dvec3 chiang_sum(0.0);
+    double huang_sum = 0.0;
+    for (size_t k = 0; k < kGaussLegendre8Nodes.size(); ++k)
+        for (double sign : {-1.0, 1.0}) {
+            const double sin_theta = 0.5 * (1.0 + sign * kGaussLegendre8Nodes[k]), weight = 0.5 * kGaussLegendre8Weights[k];
+            const glm::dvec3 wo(sin_theta, std::sqrt(1.0 - sin_theta * sin_theta), 0.0);
+            chiang_sum += weight * white_furnace(chiang_model, wo, {1e-5, 1e-4, 30});
+            huang_sum += weight * energies(huang_model, wo, 1, 40000).sampled;
+        }
+    const glm::dvec3 chiang_albedo_value = chiang_albedo(chiang).total();
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(chiang_albedo_value[c], chiang_sum[c], 1e-3 * chiang_sum[c]) << c;
+    EXPECT_NEAR(huang_albedo(h).total().y, huang_sum, 0.02 * huang_sum);
+    HairParams lossless;
+    lossless.sigma_a = glm::dvec3(0.0);
+    EXPECT_NEAR(chiang_albedo(lossless).total().x, 1.0, 1e-3);  // Chiang's fibre conserves energy
 }
 
 }  // namespace

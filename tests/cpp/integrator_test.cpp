@@ -92,7 +92,7 @@ TEST(Integrator, PathTracerWhiteFurnaceWithTheHuangFibre) {
     lights.environment = Environment(glm::vec3(1.0f));
     bcsdf::HairParams params;
     params.fibre = bcsdf::FibreModel::Huang;
-    params.sigma_a = glm::dvec3(0.0);
+    params.huang_sigma_a = glm::dvec3(0.0);
     const Rendered r = render_with(scene, lights, params, Method::PathTrace, 16);
     double sum = 0.0;
     for (const glm::vec3& p : r.image.pixels) sum += p.x + p.y + p.z;
@@ -109,7 +109,7 @@ TEST(Integrator, FlatHuangFibresLetRaysPassBesideThem) {
     lights.environment = Environment(glm::vec3(1.0f));
     bcsdf::HairParams params;
     params.fibre = bcsdf::FibreModel::Huang;
-    params.sigma_a = glm::dvec3(50.0);
+    params.huang_sigma_a = glm::dvec3(50.0);
     params.weight_r = 0.0;
     const auto mean = [&](double aspect_ratio) {
         params.aspect_ratio = aspect_ratio;

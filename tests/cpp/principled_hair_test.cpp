@@ -95,7 +95,7 @@ namespace {
 
 // Huang mode (Blender 4.x): the microfacet roughness is Roughness (also the colour's radial roughness),
 // Radial Roughness and Coat are unused, an aspect ratio above 1 is its inverse, the lobe multipliers
-// are clamped at 0, and beta_m / beta_n hold the fitted Chiang fibre.
+// are clamped at 0, and sigma_a / beta_m / beta_n hold the Chiang stand-in.
 TEST(PrincipledHair, HuangModeReadsItsOwnInputs) {
     PrincipledHairInputs in;
     in.model = PrincipledModel::Huang;
@@ -117,8 +117,11 @@ TEST(PrincipledHair, HuangModeReadsItsOwnInputs) {
     EXPECT_EQ(p.weight_tt, 0.0);
     EXPECT_EQ(p.weight_trt, 2.0);
     const glm::dvec3 sigma = sigma_a_from_color(in.color, 0.4);
-    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(p.sigma_a[c], sigma[c]);
-    EXPECT_NE(p.beta_m, 0.4);  // fitted, not copied
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(p.huang_sigma_a[c], sigma[c]);
+    // The Chiang stand-in: the same roughness, its own absorption (the Huang fibre's albedo).
+    EXPECT_DOUBLE_EQ(p.beta_m, 0.4);
+    EXPECT_DOUBLE_EQ(p.beta_n, 0.4);
+    EXPECT_NE(p.sigma_a, p.huang_sigma_a);
     in.aspect_ratio = 0.0;
     EXPECT_THROW(params_from_principled_hair(in), Error);
     // Chiang mode ignores the Huang inputs.

@@ -72,21 +72,25 @@ def test_principled_hair_modes():
 
 
 def test_from_principled_hair_huang_mode():
-    # Blender 4.x's default model: the Huang fibre with the Chiang fibre fitted to it; cached per input,
-    # every call a copy of its own.
+    # Blender 4.x's default model: the Huang fibre with its Chiang stand-in; cached per input, every
+    # call a copy of its own.
     params = hair_params.from_principled_hair(model="HUANG", roughness=0.25, aspect_ratio=0.9, transmission=0.5,
                                               radial_roughness=0.8, coat=0.5, weight=1.0)
     assert params.fibre == "huang" and params.microfacet_roughness == pytest.approx(0.25)
     assert params.aspect_ratio == pytest.approx(0.9) and params.weight_tt == pytest.approx(0.5)
-    assert params.coat == 0.0 and 0.02 < params.beta_n < 1.0
+    assert params.coat == 0.0 and params.beta_m == params.beta_n == pytest.approx(0.25)
+    # The node's default Direct Coloring, with the microfacet roughness as the radial one (as Cycles).
+    assert list(params.huang_sigma_a) == pytest.approx(list(hair_params.sigma_a_from_color((0.017513, 0.005763, 0.002059), 0.25)))
     again = hair_params.from_principled_hair(model="HUANG", roughness=0.25, aspect_ratio=0.9, transmission=0.5,
                                              radial_roughness=0.8, coat=0.5, weight=1.0)
     params.weight_tt = 2.0
     assert again.weight_tt == pytest.approx(0.5)
     assert hair_params.params_to_dict(again)["fibre"] == "huang"
     assert hair_params.as_params(hair_params.params_to_dict(again)).fibre == "huang"
-    fitted, error, start = hair_params.fit_chiang(again)
-    assert error < start and fitted.beta_m == pytest.approx(again.beta_m)
+    stand_in, huang_albedo, stand_in_albedo = hair_params.chiang_stand_in(again)
+    assert list(stand_in.sigma_a) == pytest.approx(list(again.sigma_a))
+    assert np.allclose(huang_albedo["interior"], stand_in_albedo["interior"], rtol=1e-6)
+    assert np.all(huang_albedo["surface"] + huang_albedo["interior"] < 1.0)
     with pytest.raises(ValueError, match="fibre"):
         hair_params.as_params({"fibre": "marschner"})
 
@@ -94,7 +98,7 @@ def test_from_principled_hair_huang_mode():
 def test_huang_samples():
     wo = np.tile([[0.1, 0.9, 0.2]], (500, 1))
     u = np.random.default_rng(1).random((500, 11))
-    wi, weight = bcsdf.huang_sample({"fibre": "huang", "sigma_a": [0.3, 0.5, 1.0]}, wo, u)
+    wi, weight = bcsdf.huang_sample({"fibre": "huang", "huang_sigma_a": [0.3, 0.5, 1.0]}, wo, u)
     assert wi.shape == (500, 3) and weight.shape == (500, 3)
     assert np.all(np.isfinite(weight)) and np.all(weight >= 0.0) and weight.mean() > 0.05
     assert np.allclose(np.linalg.norm(wi[weight[:, 0] > 0], axis=1), 1.0)
@@ -272,9 +276,9 @@ def test_bench_bcsdf_reports_every_tier(tmp_path):
     assert ("aggregated", "lut 128 (table 257)") in tiers
     # The Huang fibre: its quadrature against a finer one, and the fitted tiers against it.
     huang = {r["tier"]: r for r in result["rows"] if r["model"] == "huang"}
-    assert set(huang) == {"exact (8 normals per node)", "fitted chiang fibre", "fitted r/tt/d fibre (luts)",
-                          "fitted real-time (tafuri)"}
-    assert huang["exact (8 normals per node)"]["mean_rel_error"] < huang["fitted chiang fibre"]["mean_rel_error"]
+    assert set(huang) == {"exact (8 normals per node)", "chiang stand-in", "stand-in r/tt/d fibre (luts)",
+                          "stand-in real-time (tafuri)"}
+    assert huang["exact (8 normals per node)"]["mean_rel_error"] < huang["chiang stand-in"]["mean_rel_error"]
     assert all(r["ns_per_eval"] > 0 for r in result["rows"])
     # Every tier with a furnace reports it, the Karis real-time tier included.
     energy = {r["tier"]: r["energy_error"] for r in result["rows"] if r["model"] in ("marschner", "fiber_rtd")}

@@ -43,6 +43,10 @@ void HairParams::validate() const {
     require(std::isfinite(weight_trt) && weight_trt >= 0.0, "weight_trt", weight_trt, "must be finite and >= 0");
     require(std::isfinite(microfacet_roughness) && microfacet_roughness >= 1e-3 && microfacet_roughness <= 1.0,
             "microfacet_roughness", microfacet_roughness, "must be in [0.001, 1]");
+    const char* huang_names[3] = {"huang_sigma_a[0]", "huang_sigma_a[1]", "huang_sigma_a[2]"};
+    for (int c = 0; c < 3; ++c)
+        require(std::isfinite(huang_sigma_a[c]) && huang_sigma_a[c] >= 0.0, huang_names[c], huang_sigma_a[c],
+                "absorption must be finite and >= 0");
     require(std::isfinite(aspect_ratio) && aspect_ratio >= 0.1 && aspect_ratio <= 1.0, "aspect_ratio", aspect_ratio,
             "must be in [0.1, 1] (minor over major axis)");
 }

@@ -115,7 +115,7 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
     const Setup s{params_.aspect_ratio, 1.0 - params_.aspect_ratio * params_.aspect_ratio, -params_.alpha,
                   params_.eta, params_.microfacet_roughness,
                   params_.microfacet_roughness * params_.microfacet_roughness,
-                  std::sqrt(params_.microfacet_roughness), params_.sigma_a};
+                  std::sqrt(params_.microfacet_roughness), params_.huang_sigma_a};
     // Huang's I is the view (our wo), O the light (our wi).
     glm::dvec3 I = to_model(glm::normalize(wo_fibre)), O = to_model(glm::normalize(wi_fibre));
     if (s.b == 1.0) {
@@ -304,7 +304,7 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
         const glm::dvec3 wtr = reflect_about(wt, wh2);
         const double cos_mi2 = glm::dot(-wt, wmt);
         if (cos_mi2 > 0.0 && visible(-wt, wmi_macro, wh1) && visible(-wt, wmt_macro, wh2)) {
-            const glm::dvec3 a_t = chord_absorption(params_.sigma_a, cos_theta(wt),
+            const glm::dvec3 a_t = chord_absorption(params_.huang_sigma_a, cos_theta(wt),
                                                     glm::length(ellipse_point(gamma_mi, b) - ellipse_point(gamma_mt + kPi, b)));
             double cos_t2 = 0.0;
             const double cos_hi2 = glm::dot(-wt, wh2);
@@ -327,7 +327,7 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
             const double r3 = fresnel_dielectric_general(cos_hi3, inv_eta, cos_t3);
             const double cos_mi3 = glm::dot(wmtr, wtr);
             if (cos_mi3 > 0.0) {
-                const glm::dvec3 a_tr = chord_absorption(params_.sigma_a, cos_theta(wtr),
+                const glm::dvec3 a_tr = chord_absorption(params_.huang_sigma_a, cos_theta(wtr),
                                                          glm::length(ellipse_point(gamma_mt, b) - ellipse_point(gamma_mtr, b)));
                 const glm::dvec3 tr = t1 * r2 * scale2 * a_t * a_tr * ggx_dielectric_energy_scale(sqrt_alpha, cos_mi3, inv_eta) *
                                       ggx_shadowing_given_visible(a2, cos_mi2, glm::dot(wmt, -wtr));
@@ -362,15 +362,19 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
     if (pick < e_r) {
         w = wr;
         result.weight = glm::dvec3(total);
+        result.lobe = 0;
     } else if (pick < e_r + e_tt) {
         w = w_tt;
         result.weight = tt / e_tt * total;
+        result.lobe = 1;
     } else if (pick < e_r + e_tt + e_trt) {
         w = w_trt;
         result.weight = trt / e_trt * total;
+        result.lobe = 2;
     } else {
         w = w_trrt;
         result.weight = trrt / e_trrt * total;
+        result.lobe = 3;
     }
     result.wi = from_model(b == 1.0 ? turn.undo(w) : w);
     return result;

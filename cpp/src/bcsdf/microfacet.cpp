@@ -54,7 +54,7 @@ struct EnergyTables {
                 const double alpha = std::max(sqrt_alpha * sqrt_alpha, kMinTableAlpha);
                 const double cos_i = std::max(double(ic) / (kTableSize - 1), kMinTableCos);
                 const double eta = eta_of_z(double(iz) / (kTableSize - 1), inside == 1);
-                table[index] = 1.0 / std::max(ggx_dielectric_albedo(alpha, cos_i, eta, 48), 1e-6);
+                table[index] = 1.0 / std::max(ggx_dielectric_albedo(alpha, cos_i, eta, 32), 1e-6);
             });
         }
     }

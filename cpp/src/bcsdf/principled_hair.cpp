@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "hairlod/bcsdf/chiang_fit.h"
+#include "hairlod/bcsdf/chiang_stand_in.h"
 #include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {
@@ -60,8 +60,9 @@ HairParams params_from_principled_hair(const PrincipledHairInputs& inputs) {
     params.weight_r = std::max(inputs.reflection, 0.0);
     params.weight_tt = std::max(inputs.transmission, 0.0);
     params.weight_trt = std::max(inputs.secondary_reflection, 0.0);
+    params.huang_sigma_a = params.sigma_a;
     params.validate();
-    return fit_chiang_to_huang(params).params;
+    return chiang_stand_in(params).params;
 }
 
 }  // namespace hairlod::bcsdf

@@ -11,8 +11,9 @@ namespace hairlod::bcsdf {
 // The single-fibre model that shades a strand in the path tracer. Chiang: d'Eon et al. 2011 /
 // Chiang et al. 2016 (Cycles 3.x's Principled Hair); Huang: the microfacet fibre of Huang et al.
 // 2022 (Blender 4.x's default), see huang.h. Every other model (dual scattering, the aggregated and
-// real-time BCSDFs, the bake) works on the Chiang fibre of beta_m / beta_n; for a Huang fibre those are
-// the Chiang fibre fitted to it (fit_chiang_to_huang).
+// real-time BCSDFs, the bake) works on the Chiang fibre of sigma_a, beta_m, beta_n; for a Huang fibre
+// those are the Chiang fibre that stands in for it (chiang_stand_in.h), and the Huang fibre's own
+// absorption is huang_sigma_a.
 enum class FibreModel { Chiang, Huang };
 
 struct HairParams {
@@ -29,6 +30,7 @@ struct HairParams {
     FibreModel fibre = FibreModel::Chiang;
     double microfacet_roughness = 0.3;                // Huang: GGX roughness of the cuticle, in [1e-3, 1]
     double aspect_ratio = 1.0;                        // Huang: minor over major axis in [0.1, 1]
+    glm::dvec3 huang_sigma_a{0.245531, 0.52, 1.365};  // Huang: absorption per unit fibre radius (RGB)
 
     // Throws hairlod::Error naming the first invalid parameter (eta <= 1, negative or NaN absorption,
     // beta outside (0, 1], coat outside [0, 1], eccentricity that makes Xu 2011 Eq. 24's eta* <= 1, ...).

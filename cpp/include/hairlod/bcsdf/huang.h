@@ -7,7 +7,8 @@
 // elliptical chords), each interface scaled by the inverse directional albedo of a rough dielectric
 // (microfacet.h); TRRT+ is the geometric series of the last interactions with Chiang et al. 2016's
 // longitudinal lobe (variance 4 x roughness) and a uniform azimuth. Far field: the whole width a
-// pixel sees, which is what a renderer sees of a fibre thinner than a pixel.
+// pixel sees, which is what a renderer sees of a fibre thinner than a pixel. Its absorption is
+// HairParams::huang_sigma_a (sigma_a is the Chiang stand-in's, chiang_stand_in.h).
 #include <array>
 #include <span>
 
@@ -20,6 +21,7 @@ namespace hairlod::bcsdf {
 struct FibreSample {
     glm::dvec3 wi{0.0};
     glm::dvec3 weight{0.0};
+    int lobe = -1;  // 0 R, 1 TT, 2 TRT, 3 TRRT+; -1 when no path leaves
 };
 
 class HuangBcsdf final : public FiberBcsdf {
@@ -30,7 +32,7 @@ public:
 
     // Lobes R, TT, TRT, TRRT+ of S(wi, wo), far field.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
-    // Chiang et al. 2016's shapes of the fitted Chiang fibre (beta_m): what Zinke's averages use.
+    // Chiang et al. 2016's shapes of the stand-in Chiang fibre (beta_m): what Zinke's averages use.
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "huang"; }
 

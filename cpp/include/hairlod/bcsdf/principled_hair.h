@@ -37,8 +37,9 @@ struct PrincipledHairInputs {
 // Roughnesses are clamped to [1e-3, 1] as Cycles does. Huang mode (Cycles 4.x): Roughness is the
 // microfacet roughness and stands in for the radial roughness in the colour parametrizations, Radial
 // Roughness and Coat are unused, an Aspect Ratio above 1 is read as its inverse (Cycles swaps the
-// axes), Reflection / Transmission / Secondary Reflection weight R / TT / TRT, and beta_m, beta_n are
-// the fitted Chiang fibre (chiang_fit.h). The result is validated.
+// axes), Reflection / Transmission / Secondary Reflection weight R / TT / TRT; the colour becomes
+// huang_sigma_a, and sigma_a, beta_m, beta_n the Chiang stand-in's (chiang_stand_in.h). The result is
+// validated.
 HairParams params_from_principled_hair(const PrincipledHairInputs& inputs);
 
 }  // namespace hairlod::bcsdf
