@@ -46,7 +46,9 @@ def params_to_dict(params):
 
 
 def as_params(params=None):
-    """A validated HairParams from a HairParams, a dict of its fields, or None (the defaults)."""
+    """A validated HairParams from a HairParams, a dict of its fields, or None (the defaults). A dict
+    with ``fibre = "huang"`` that sets none of sigma_a, beta_m, beta_n gets them from the Huang fibre's
+    Chiang stand-in (chiang_stand_in), as from_principled_hair gives them."""
     if params is None:
         result = HairParams()
     elif isinstance(params, HairParams):
@@ -62,6 +64,9 @@ def as_params(params=None):
                         value if name == "fibre" else float(value))
             except (TypeError, ValueError) as error:
                 raise ValueError(f"hair parameter {name} = {value!r}: {error}") from None
+        if result.fibre == "huang" and not {"sigma_a", "beta_m", "beta_n"} & set(params):
+            result.validate()
+            return chiang_stand_in(result)[0]
     else:
         raise ValueError(f"params must be a HairParams or a dict, got {type(params).__name__}")
     result.validate()

@@ -93,6 +93,11 @@ def test_from_principled_hair_huang_mode():
     assert np.all(huang_albedo["surface"] + huang_albedo["interior"] < 1.0)
     with pytest.raises(ValueError, match="fibre"):
         hair_params.as_params({"fibre": "marschner"})
+    # A Huang fibre written by hand (a --params file) gets its stand-in unless it sets the Chiang fields.
+    by_hand = hair_params.as_params({"fibre": "huang", "huang_sigma_a": list(again.huang_sigma_a),
+                                     "microfacet_roughness": 0.25, "aspect_ratio": 0.9, "weight_tt": 0.5})
+    assert list(by_hand.sigma_a) == pytest.approx(list(again.sigma_a)) and by_hand.beta_m == pytest.approx(0.25)
+    assert hair_params.as_params({"fibre": "huang", "beta_m": 0.5}).sigma_a == hair_params.HairParams().sigma_a
 
 
 def test_huang_samples():
