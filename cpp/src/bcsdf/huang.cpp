@@ -109,6 +109,10 @@ double HuangBcsdf::projected_radius(const glm::dvec3& w) const {
 }
 
 LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& wo_fibre) const {
+    return eval_lobes(wi_fibre, wo_fibre, glm::dvec2(0.0));
+}
+
+LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& wo_fibre, const glm::dvec2& rotation) const {
     LobeValues lobes;
     lobes.count = 4;
     if (glm::dot(wi_fibre, wi_fibre) <= 0.0 || glm::dot(wo_fibre, wo_fibre) <= 0.0) return lobes;
@@ -179,8 +183,8 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
             const double cos_mi1 = glm::dot(I, wmi);
             for (int k = 0; k < samples; ++k) {
                 const double index = double(i * samples + k);
-                const glm::dvec3 wh1 = sample_ggx_visible_normal(s.alpha, I, wmi, frac(0.5 + index * kGolden2a),
-                                                                 frac(0.5 + index * kGolden2b));
+                const glm::dvec3 wh1 = sample_ggx_visible_normal(s.alpha, I, wmi, frac(0.5 + index * kGolden2a + rotation.x),
+                                                                 frac(0.5 + index * kGolden2b + rotation.y));
                 const double cos_hi1 = glm::dot(I, wh1);
                 if (!(cos_hi1 > 0.0)) continue;
                 double cos_t1 = 0.0;
@@ -219,8 +223,8 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
 
                 if (params_.weight_trt <= 0.0) continue;
                 const double index2 = index + 104729.0;
-                const glm::dvec3 wh2 = sample_ggx_visible_normal(s.alpha, -wt, wmt, frac(0.5 + index2 * kGolden2a),
-                                                                 frac(0.5 + index2 * kGolden2b));
+                const glm::dvec3 wh2 = sample_ggx_visible_normal(s.alpha, -wt, wmt, frac(0.5 + index2 * kGolden2a + rotation.x),
+                                                                 frac(0.5 + index2 * kGolden2b + rotation.y));
                 const double cos_hi2 = glm::dot(-wt, wh2);
                 if (!(cos_hi2 > 0.0)) continue;
                 double cos_t2 = 0.0;

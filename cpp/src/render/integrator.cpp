@@ -36,6 +36,10 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // sphere, which keeps the mixture density positive wherever the aggregated lobes are.
 constexpr double kAggregatedChiangFraction = 0.7;
 constexpr double kUniformSpherePdf = 1.0 / (4.0 * kPi);
+// Visible normals per width node of the Huang fibre's TT / TRT quadrature in the path tracer, at a
+// random rotation per shading point: unbiased, and the noise averages out over the pixel's samples
+// (Cycles also draws one).
+constexpr int kPathTracedHuangNormals = 1;
 
 // The fibre frame at a hit seen from wo: x = tangent, z = wo's component normal to the fibre, y =
 // z x x (pbrt's curve frame), and the offset h in [-1, 1] of the hit across the fibre along y.
@@ -103,6 +107,7 @@ struct Vertex {
     // (cos, sin of the turn), and whether the ray passed beside the ellipse inside the round tube.
     double ellipse_cos = 1.0, ellipse_sin = 0.0;
     bool beside_fibre = false;
+    glm::dvec2 normal_rotation{0.0};  // of the Huang fibre's visible normals at this point
     glm::dvec3 to_ellipse(const glm::dvec3& w) const {
         return {w.x, ellipse_cos * w.y + ellipse_sin * w.z, -ellipse_sin * w.y + ellipse_cos * w.z};
     }
@@ -123,10 +128,10 @@ public:
         if (method_ == Method::DualScattering) fiber_ = std::make_unique<FiberRtdBcsdf>(params);
         // Strands are shaded with the material's fibre; dual scattering and the aggregated model use the
         // Chiang fibre (for a Huang material, the one fitted to it: HairParams::beta_m, beta_n).
-        if (params.fibre == FibreModel::Huang) huang_ = std::make_unique<HuangBcsdf>(params);
+        if (params.fibre == FibreModel::Huang) huang_ = std::make_unique<HuangBcsdf>(params, kPathTracedHuangNormals);
     }
 
-    Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world) const {
+    Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world, Random& rng) const {
         Vertex v;
         v.frame = fibre_frame(hit, wo_world, v.h);
         v.wo = v.frame.local(wo_world);
@@ -141,6 +146,7 @@ public:
             // Cycles' Huang closure: a hit on the round tube outside the ellipse's projected half-width
             // is transparent.
             v.beside_fibre = std::abs(v.h) >= huang_->projected_radius(v.to_ellipse(v.wo));
+            v.normal_rotation = {rng.uniform(), rng.uniform()};
         }
         if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
@@ -189,7 +195,8 @@ public:
         // The model at this hit's n and rho directly: one evaluation, no table of models to interpolate.
         if (v.aggregated)
             return aggregated_->eval_lobes(wi, v.wo, {v.hair_count, 1.0, true, crossings}).sum() * cos_i;
-        const glm::dvec3 fibre = huang_ ? huang_->eval(v.to_ellipse(wi), v.to_ellipse(v.wo)) : chiang_.eval_lobes(wi, v.wo, v.h).sum();
+        const glm::dvec3 fibre = huang_ ? huang_->eval_lobes(v.to_ellipse(wi), v.to_ellipse(v.wo), v.normal_rotation).sum()
+                                        : chiang_.eval_lobes(wi, v.wo, v.h).sum();
         return fibre * std::max(cos_i, kMinCos) * shadowing(wi, crossings);
     }
 
@@ -340,7 +347,7 @@ struct Tracer {
             }
             if (options.coverage_only) break;
             const glm::dvec3 wo = -glm::dvec3(direction);
-            const Vertex v = shader.vertex(hit, wo);
+            const Vertex v = shader.vertex(hit, wo, rng);
             if (v.beside_fibre) {
                 // Through the round tube beside the elliptical fibre, as if it were not there.
                 origin = hit.position;
@@ -375,7 +382,7 @@ struct Tracer {
         ++rays;
         if (!scene.intersect(origin, direction, kInfinity, {}, hit))
             return glm::dvec3(lights.environment.radiance(direction));
-        const Vertex v = shader.vertex(hit, -glm::dvec3(direction));
+        const Vertex v = shader.vertex(hit, -glm::dvec3(direction), rng);
         const glm::vec3 p = hit.position;
         glm::dvec3 sum(0.0);
         auto gather = [&](const glm::vec3& wi, float distance, const glm::dvec3& radiance) {

@@ -12,6 +12,8 @@
 #include <array>
 #include <span>
 
+#include <glm/vec2.hpp>
+
 #include "hairlod/bcsdf/bcsdf.h"
 
 namespace hairlod::bcsdf {
@@ -32,6 +34,10 @@ public:
 
     // Lobes R, TT, TRT, TRRT+ of S(wi, wo), far field.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
+    // The same with the set of visible normals shifted by `rotation` (both in [0, 1), modulo 1): with a
+    // uniformly random rotation each normal is uniformly distributed, so the value is an unbiased
+    // estimate whatever the number of normals (a path tracer's choice: Cycles draws one per node).
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const glm::dvec2& rotation) const;
     // Chiang et al. 2016's shapes of the stand-in Chiang fibre (beta_m): what Zinke's averages use.
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "huang"; }
