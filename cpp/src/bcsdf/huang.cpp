@@ -7,6 +7,7 @@
 #include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 
 #include "hairlod/bcsdf/fiber_frame.h"
 
@@ -27,7 +28,9 @@ constexpr double kRangeInset = 1e-3;
 // Light leaving the fibre must make at least this cosine with the internal direction (1 / eta),
 // less this slack, or total internal reflection keeps it inside.
 constexpr double kEscapeSlack = 1e-5;
-constexpr double kGolden2a = 0.7548776662466927, kGolden2b = 0.5698402909980532;  // R2 sequence
+// The Kronecker sequence of the generalised golden ratio in 4 dimensions (x^5 = x + 1): well spread
+// pairs of normals, the first interface's in dimensions 0-1, the second's in 2-3, independent.
+constexpr double kKronecker4[4] = {0.8566748838545029, 0.7338918566271260, 0.6287067210378086, 0.5385972572236101};
 
 // The model's own frame (Huang et al. 2022, Fig. 5): X the major axis, Y the tangent, Z the minor axis.
 glm::dvec3 to_model(const glm::dvec3& w) { return {w.y, w.x, w.z}; }
@@ -109,10 +112,10 @@ double HuangBcsdf::projected_radius(const glm::dvec3& w) const {
 }
 
 LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& wo_fibre) const {
-    return eval_lobes(wi_fibre, wo_fibre, glm::dvec2(0.0));
+    return eval_lobes(wi_fibre, wo_fibre, glm::dvec4(0.0));
 }
 
-LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& wo_fibre, const glm::dvec2& rotation) const {
+LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& wo_fibre, const glm::dvec4& rotation) const {
     LobeValues lobes;
     lobes.count = 4;
     if (glm::dot(wi_fibre, wi_fibre) <= 0.0 || glm::dot(wo_fibre, wo_fibre) <= 0.0) return lobes;
@@ -183,8 +186,8 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
             const double cos_mi1 = glm::dot(I, wmi);
             for (int k = 0; k < samples; ++k) {
                 const double index = double(i * samples + k);
-                const glm::dvec3 wh1 = sample_ggx_visible_normal(s.alpha, I, wmi, frac(0.5 + index * kGolden2a + rotation.x),
-                                                                 frac(0.5 + index * kGolden2b + rotation.y));
+                const glm::dvec3 wh1 = sample_ggx_visible_normal(s.alpha, I, wmi, frac(0.5 + index * kKronecker4[0] + rotation.x),
+                                                                 frac(0.5 + index * kKronecker4[1] + rotation.y));
                 const double cos_hi1 = glm::dot(I, wh1);
                 if (!(cos_hi1 > 0.0)) continue;
                 double cos_t1 = 0.0;
@@ -222,9 +225,8 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
                 }
 
                 if (params_.weight_trt <= 0.0) continue;
-                const double index2 = index + 104729.0;
-                const glm::dvec3 wh2 = sample_ggx_visible_normal(s.alpha, -wt, wmt, frac(0.5 + index2 * kGolden2a + rotation.x),
-                                                                 frac(0.5 + index2 * kGolden2b + rotation.y));
+                const glm::dvec3 wh2 = sample_ggx_visible_normal(s.alpha, -wt, wmt, frac(0.5 + index * kKronecker4[2] + rotation.z),
+                                                                 frac(0.5 + index * kKronecker4[3] + rotation.w));
                 const double cos_hi2 = glm::dot(-wt, wh2);
                 if (!(cos_hi2 > 0.0)) continue;
                 double cos_t2 = 0.0;

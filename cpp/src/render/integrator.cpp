@@ -40,6 +40,10 @@ constexpr double kUniformSpherePdf = 1.0 / (4.0 * kPi);
 // random rotation per shading point: unbiased, and the noise averages out over the pixel's samples
 // (Cycles also draws one).
 constexpr int kPathTracedHuangNormals = 1;
+// Passes of one ray beside elliptical fibres (through their round tubes) before the path is ended: a
+// ray grazing along a strand meets its tube segment after segment, and two tubes through the same
+// point can hand the ray to each other without it moving on (a pixel of the wavy test hair never ended).
+constexpr int kMaxPassesBeside = 256;
 
 // The fibre frame at a hit seen from wo: x = tangent, z = wo's component normal to the fibre, y =
 // z x x (pbrt's curve frame), and the offset h in [-1, 1] of the hit across the fibre along y.
@@ -107,7 +111,7 @@ struct Vertex {
     // (cos, sin of the turn), and whether the ray passed beside the ellipse inside the round tube.
     double ellipse_cos = 1.0, ellipse_sin = 0.0;
     bool beside_fibre = false;
-    glm::dvec2 normal_rotation{0.0};  // of the Huang fibre's visible normals at this point
+    glm::dvec4 normal_rotation{0.0};  // of the Huang fibre's visible normals at this point
     glm::dvec3 to_ellipse(const glm::dvec3& w) const {
         return {w.x, ellipse_cos * w.y + ellipse_sin * w.z, -ellipse_sin * w.y + ellipse_cos * w.z};
     }
@@ -146,7 +150,7 @@ public:
             // Cycles' Huang closure: a hit on the round tube outside the ellipse's projected half-width
             // is transparent.
             v.beside_fibre = std::abs(v.h) >= huang_->projected_radius(v.to_ellipse(v.wo));
-            v.normal_rotation = {rng.uniform(), rng.uniform()};
+            v.normal_rotation = {rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()};
         }
         if (hit.kind == CurveKind::Thick && aggregated_) {
             v.aggregated = true;
@@ -336,6 +340,7 @@ struct Tracer {
         glm::dvec3 radiance(0.0), throughput(1.0);
         RayOrigin from;
         double previous_pdf = 0.0;  // of the BCSDF sample that made this ray; 0 for the camera ray
+        int passes_beside = 0;
         for (int bounce = 0;; ++bounce) {
             SurfaceHit hit;
             ++rays;
@@ -350,6 +355,7 @@ struct Tracer {
             const Vertex v = shader.vertex(hit, wo, rng);
             if (v.beside_fibre) {
                 // Through the round tube beside the elliptical fibre, as if it were not there.
+                if (++passes_beside > kMaxPassesBeside) break;
                 origin = hit.position;
                 from = scene.leaving(hit, direction);
                 --bounce;

@@ -12,7 +12,7 @@
 #include <array>
 #include <span>
 
-#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 
 #include "hairlod/bcsdf/bcsdf.h"
 
@@ -29,15 +29,17 @@ struct FibreSample {
 class HuangBcsdf final : public FiberBcsdf {
 public:
     // residual_samples: visible-normal samples per width node for the TT / TRT paths (a fixed
-    // stratified set, so that the value is deterministic; Cycles draws one at random per node).
+    // low-discrepancy set in the 4 dimensions of the two interfaces' normals, so that the value is
+    // deterministic; Cycles draws one at random per node).
     explicit HuangBcsdf(const HairParams& params, int residual_samples = kDefaultResidualSamples);
 
     // Lobes R, TT, TRT, TRRT+ of S(wi, wo), far field.
     LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const override;
-    // The same with the set of visible normals shifted by `rotation` (both in [0, 1), modulo 1): with a
-    // uniformly random rotation each normal is uniformly distributed, so the value is an unbiased
-    // estimate whatever the number of normals (a path tracer's choice: Cycles draws one per node).
-    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const glm::dvec2& rotation) const;
+    // The same with the set of visible normals shifted by `rotation` (each in [0, 1), modulo 1): with a
+    // uniformly random rotation each pair of normals (first and second interface) is uniformly and
+    // independently distributed, so the value is an unbiased estimate whatever the number of normals
+    // (a path tracer's choice: Cycles draws one per node).
+    LobeValues eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const glm::dvec4& rotation) const;
     // Chiang et al. 2016's shapes of the stand-in Chiang fibre (beta_m): what Zinke's averages use.
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "huang"; }
