@@ -61,23 +61,30 @@ Rendered render_with(const HairScene& scene, const Lights& lights, const bcsdf::
     return r;
 }
 
-// White furnace: a lossless fibre (sigma_a = 0) in a uniform environment of radiance 1 returns
-// radiance 1 at every pixel, hair or background, within the noise of MIS between sampling and NEE.
-TEST(Integrator, PathTracerWhiteFurnace) {
+// The tuft path-traced at 16 spp in a uniform white environment (radiance 1), no other light.
+Rendered tuft_in_white(const bcsdf::HairParams& params) {
     HairScene scene(std::make_shared<Device>());
     scene.add_strands(tuft(60, 0.02f));
     scene.commit();
     Lights lights;
     lights.environment = Environment(glm::vec3(1.0f));
+    return render_with(scene, lights, params, Method::PathTrace, 16);
+}
+
+double mean_radiance(const Image& image) {
+    double sum = 0.0;
+    for (const glm::vec3& p : image.pixels) sum += p.x + p.y + p.z;
+    return sum / (3.0 * image.pixels.size());
+}
+
+// White furnace: a lossless fibre (sigma_a = 0) in a uniform environment of radiance 1 returns
+// radiance 1 at every pixel, hair or background, within the noise of MIS between sampling and NEE.
+TEST(Integrator, PathTracerWhiteFurnace) {
     bcsdf::HairParams params;
     params.sigma_a = glm::dvec3(0.0);
-    const Rendered r = render_with(scene, lights, params, Method::PathTrace, 16);
-    double sum = 0.0;
-    for (const glm::vec3& p : r.image.pixels) {
-        EXPECT_NEAR(p.x, 1.0f, 0.35f);  // 16 spp noise
-        sum += p.x + p.y + p.z;
-    }
-    EXPECT_NEAR(sum / (3.0 * r.image.pixels.size()), 1.0, 0.01);
+    const Rendered r = tuft_in_white(params);
+    for (const glm::vec3& p : r.image.pixels) EXPECT_NEAR(p.x, 1.0f, 0.35f);  // 16 spp noise
+    EXPECT_NEAR(mean_radiance(r.image), 1.0, 0.01);
     EXPECT_GT(r.stats.rays, r.image.pixels.size() * 16u);
 }
 
@@ -85,38 +92,22 @@ TEST(Integrator, PathTracerWhiteFurnace) {
 // density of 1 for MIS, as in Cycles; the lossless fibre's sampled throughput stays within a few
 // percent of 1 (huang_test.cpp), so the image does too.
 TEST(Integrator, PathTracerWhiteFurnaceWithTheHuangFibre) {
-    HairScene scene(std::make_shared<Device>());
-    scene.add_strands(tuft(60, 0.02f));
-    scene.commit();
-    Lights lights;
-    lights.environment = Environment(glm::vec3(1.0f));
     bcsdf::HairParams params;
     params.fibre = bcsdf::FibreModel::Huang;
     params.huang_sigma_a = glm::dvec3(0.0);
-    const Rendered r = render_with(scene, lights, params, Method::PathTrace, 16);
-    double sum = 0.0;
-    for (const glm::vec3& p : r.image.pixels) sum += p.x + p.y + p.z;
-    EXPECT_NEAR(sum / (3.0 * r.image.pixels.size()), 1.0, 0.04);
+    EXPECT_NEAR(mean_radiance(tuft_in_white(params).image), 1.0, 0.04);
 }
 
 // Cycles' Huang closure lets a ray through where it meets the round tube outside the elliptical
 // fibre's projected width: black hair in a white environment covers less of the image when flat.
 TEST(Integrator, FlatHuangFibresLetRaysPassBesideThem) {
-    HairScene scene(std::make_shared<Device>());
-    scene.add_strands(tuft(60, 0.02f));
-    scene.commit();
-    Lights lights;
-    lights.environment = Environment(glm::vec3(1.0f));
     bcsdf::HairParams params;
     params.fibre = bcsdf::FibreModel::Huang;
     params.huang_sigma_a = glm::dvec3(50.0);
     params.weight_r = 0.0;
     const auto mean = [&](double aspect_ratio) {
         params.aspect_ratio = aspect_ratio;
-        const Rendered r = render_with(scene, lights, params, Method::PathTrace, 16);
-        double sum = 0.0;
-        for (const glm::vec3& p : r.image.pixels) sum += p.y;
-        return sum / r.image.pixels.size();
+        return mean_radiance(tuft_in_white(params).image);
     };
     const double round = mean(1.0), flat = mean(0.3);
     EXPECT_LT(round, 0.97);  // the hair is in view and dark
