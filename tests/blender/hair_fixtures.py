@@ -72,6 +72,11 @@ def _triangles(mesh):
     uv = np.empty(len(mesh.loops) * 2, np.float32)
     mesh.uv_layers.active.data.foreach_get("uv", uv)
     uv = uv.reshape(-1, 2)
+    # Blender 3.4 numbers a new UV sphere's loops in a different order from run to run (the same
+    # triangles, reordered): order them by their vertices so the hair grown on them is the same.
+    vertices = np.sort(vertex_of_loop[loops].reshape(count, 3), axis=1)
+    order = np.lexsort(vertices.T[::-1])
+    loops = loops.reshape(count, 3)[order].ravel()
     corners = positions[vertex_of_loop[loops]].reshape(count, 3, 3)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
