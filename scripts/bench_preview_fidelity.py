@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
-SUN_IRRADIANCE, WORLD = 3.0, 0.15
+SUN_IRRADIANCE = 3.0
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
 DELAY = 1.0
 
@@ -44,6 +44,7 @@ def parse_args():
     parser.add_argument("--scale", type=float, default=0.25)
     parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--views", default="mid,near")
+    parser.add_argument("--world", type=float, default=0.15, help="the uniform world's colour (grey)")
     parser.add_argument("--cycles-samples", type=int, default=0,
                         help="also render the view with Cycles at this many samples (tests/blender/cycles_scene.py)")
     parser.add_argument("--out")
@@ -83,7 +84,7 @@ def unmixed(image, alpha, background):
     return (image - (1.0 - alpha[..., None]) * background) / np.maximum(alpha[..., None], 1e-6)
 
 
-def cycles_image(strands, camera, sun_direction, samples):
+def cycles_image(strands, camera, sun_direction, samples, world):
     """The view rendered by Cycles (a headless Blender running tests/blender/cycles_scene.py) with the
     Principled Hair BSDF of the preview's default hair: linear RGB [H, W, 3], rows top-down."""
     import subprocess
@@ -98,7 +99,7 @@ def cycles_image(strands, camera, sun_direction, samples):
     io.write(hair, strands)
     spec = {"addon": os.path.join(REPO_ROOT, "addon"), "hair": hair,
             "camera": {key: (list(map(float, value)) if isinstance(value, list) else value) for key, value in camera.items()},
-            "sun": {"direction": list(map(float, sun_direction)), "irradiance": SUN_IRRADIANCE}, "world": WORLD,
+            "sun": {"direction": list(map(float, sun_direction)), "irradiance": SUN_IRRADIANCE}, "world": world,
             "node": {"parametrization": "MELANIN", "melanin": 0.5, "melanin_redness": 0.3, "roughness": 0.3,
                      "radial_roughness": 0.3},
             "spp": samples, "seed": 5, "max_bounces": 70}
@@ -137,9 +138,9 @@ def steps(args):
     scene.view_settings.view_transform = 'Standard'
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
-    scene.world.color = (WORLD, WORLD, WORLD)
+    scene.world.color = (args.world, args.world, args.world)
     if scene.world.use_nodes:
-        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (WORLD, WORLD, WORLD, 1.0)
+        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (args.world, args.world, args.world, 1.0)
         scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
 
     # The screen's response to written values (the framebuffer's encoding, as measured).
@@ -218,7 +219,7 @@ def steps(args):
                              "target": list(target), "up": list(up), "fov_y": float(fov_y), "width": width,
                              "height": height}
             lights = {"directional": [(tuple(sun_direction), (SUN_IRRADIANCE,) * 3)], "points": [],
-                      "environment": np.full(3, WORLD, np.float32)}
+                      "environment": np.full(3, args.world, np.float32)}
             start = time.perf_counter()
             params = object_hair_params(holder)  # the hair the preview shades
             traced = render.render(strands, "pt", spp=args.spp, camera=traced_camera, lights=lights, params=params,
@@ -230,15 +231,15 @@ def steps(args):
             # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage. The
             # preview draws its strands at least a pixel wide, so its hair pixels are the hair's alone.
             covered = alpha > 0.05
-            hair_radiance = unmixed(traced, alpha, WORLD)
+            hair_radiance = unmixed(traced, alpha, args.world)
             entry = {"preview": summary(preview_linear, mask),
                      "path_traced": summary(hair_radiance, covered, weights=alpha),
                      "render_seconds": time.perf_counter() - start, "spp": args.spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
             if args.cycles_samples:
-                cycles = cycles_image(strands, traced_camera, sun_direction, args.cycles_samples)[::-1]
-                entry["cycles"] = summary(unmixed(cycles, alpha, WORLD), covered, weights=alpha)
+                cycles = cycles_image(strands, traced_camera, sun_direction, args.cycles_samples, args.world)[::-1]
+                entry["cycles"] = summary(unmixed(cycles, alpha, args.world), covered, weights=alpha)
                 entry["cycles_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["cycles"]["mean"])).tolist()
                 entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
                                                     np.array(entry["cycles"]["mean"])).tolist()

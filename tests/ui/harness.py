@@ -40,6 +40,28 @@ def screenshot(window, area, name, whole_window=False):
     return pixels
 
 
+def plain_view(area):
+    """The 3D view `area` without the overlays that would draw over hair (floor, axes, cursor,
+    selection outline, gizmos); returns (area, its RegionView3D)."""
+    space = area.spaces.active
+    space.overlay.show_floor = space.overlay.show_axis_x = space.overlay.show_axis_y = False
+    space.overlay.show_cursor = space.overlay.show_outline_selected = False
+    space.show_gizmo = False
+    return area, space.region_3d
+
+
+def background_then_preview(window, area, obj, name, delay):
+    """A generator step (``background = yield from ...``): screenshots the view without `obj` as
+    OUT_DIR/name, then shows `obj` with its LoD preview on; returns the background pixels."""
+    obj.hide_set(True)
+    area.tag_redraw()
+    yield delay
+    background = screenshot(window, area, name)
+    obj.hide_set(False)
+    obj.hairlod_lod_preview.enabled = True
+    return background
+
+
 def crop(pixels, window, region):
     """The pixels of `region` in a whole-window screenshot (which may be scaled from window to image size)."""
     scale_y, scale_x = pixels.shape[0] / window.height, pixels.shape[1] / window.width

@@ -61,11 +61,7 @@ def follow(window, scene, obj, name, size, view_location):
 
     settings = obj.hairlod_lod_preview
     preview = lod_preview.preview_of(obj)
-    area, region_3d = view3d(window)
-    space = area.spaces.active
-    space.overlay.show_floor = space.overlay.show_axis_x = space.overlay.show_axis_y = False
-    space.overlay.show_cursor = space.overlay.show_outline_selected = False
-    space.show_gizmo = False
+    area, region_3d = harness.plain_view(view3d(window)[0])
     region_3d.view_perspective = 'ORTHO'
     region_3d.view_rotation = (0.5, 0.5, 0.5, 0.5)  # from the side: the nod turns the image
     region_3d.view_location = view_location

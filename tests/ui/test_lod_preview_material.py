@@ -45,22 +45,14 @@ def steps():
     settings = obj.hairlod_lod_preview
     check(preview is not None and settings.use_material, "the preview is attached and shades with the material")
 
-    area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
-    space, region_3d = area.spaces.active, area.spaces.active.region_3d
-    space.overlay.show_floor = space.overlay.show_axis_x = space.overlay.show_axis_y = False
-    space.overlay.show_cursor = space.overlay.show_outline_selected = False
-    space.show_gizmo = False
+    area, region_3d = harness.plain_view(next(a for a in window.screen.areas if a.type == 'VIEW_3D'))
     size = float(np.linalg.norm(strands.points.max(axis=0) - strands.points.min(axis=0)))
     region_3d.view_perspective = 'PERSP'
     region_3d.view_location = strands.points.mean(axis=0)
     region_3d.view_distance = 1.5 * size
 
-    obj.hide_set(True)
-    area.tag_redraw()
-    yield REDRAW_DELAY
-    background = screenshot(window, area, "lod_material_background.png")
-    obj.hide_set(False)
-    settings.enabled = True
+    background = yield from harness.background_then_preview(window, area, obj, "lod_material_background.png",
+                                                            REDRAW_DELAY)
 
     materials = {"chiang_dark": {"parametrization": "MELANIN", "melanin": 0.6},
                  "chiang_light": {"parametrization": "MELANIN", "melanin": 0.15}}

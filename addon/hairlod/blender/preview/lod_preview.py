@@ -26,10 +26,10 @@ from bpy.app.handlers import persistent
 import numpy as np
 from mathutils import Vector
 
-from ... import lod, preview_buffers, self_shadow
+from ... import lod, opacity_map, preview_buffers, self_shadow
 from .shaders import glsl_source
 from ..principled_hair import material_params, object_hair_params
-from . import view_transform
+from . import opacity_maps, view_transform
 from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -38,7 +38,7 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
-_shaders = {}      # "thick" / "strand" -> GPUShader, built on first draw
+_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity") -> GPUShader, built on first draw
 _view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
 # Custom property of an object whose drawing the preview replaces: its own display type, to restore.
 SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
@@ -77,32 +77,41 @@ struct HairFrame {{
   vec4 hair_axes;
   vec4 light_vectors[{MAX_LIGHTS}];
   vec4 light_colours[{MAX_LIGHTS}];
+  vec4 shadow;
+  mat4 light_view_projection[{opacity_map.MAX_SHADOWED_LIGHTS}];
+  vec4 light_shadow[{opacity_map.MAX_SHADOWED_LIGHTS}];
 }};
 """
 
 
 def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours,
-                hair_volume, shadow_strength):
+                hair_volume, shadow_strength, strand_radius, shadows):
     """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them).
-    hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow)."""
+    hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow) of the
+    lights without an opacity map; shadow = (the strands' radius in world units, 0, strength, 0) and
+    the mapped lights' views (opacity_maps.LightShadows) those of the maps."""
     model = np.asarray(model, np.float64)
     data = np.concatenate([model.T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
                            np.linalg.inv(model).T.ravel(), np.asarray(camera, np.float32), (*viewport, 0.0, 0.0),
                            np.asarray(ambient, np.float32), (float(light_count), 0.0, 0.0, 0.0),
                            (*hair_volume.centre, shadow_strength * hair_volume.extinction), (*hair_volume.semi_axes, 0.0),
-                           light_vectors.ravel(), light_colours.ravel()])
+                           light_vectors.ravel(), light_colours.ravel(), (strand_radius, 0.0, shadow_strength, 0.0),
+                           np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel()])
     data = np.ascontiguousarray(data, dtype=np.float32)
     return gpu.types.GPUUniformBuf(gpu.types.Buffer('FLOAT', data.size, data))
 
 
-def _create_shader(kind):
+def _create_shader(kind, purpose="shade"):
+    """The program drawing a level of `kind` ("thick" or "strand") for `purpose`: "shade" (the
+    viewport), or a light's pass of the opacity maps, "depth" or "opacity"."""
     from . import bcsdf_textures, world_srbf
 
-    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_interface")
+    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_interface")
     interface.smooth('VEC3', "v_position")
     interface.smooth('VEC3', "v_tangent")
     interface.smooth('VEC3', "v_to_camera")
     interface.smooth('FLOAT', "v_across")
+    interface.smooth('FLOAT', "v_widen")
     interface.flat('VEC3', "v_ellipse")
     interface.flat('VEC2', "v_cluster")
     interface.flat('INT', "v_select_cluster")
@@ -111,35 +120,45 @@ def _create_shader(kind):
     # Per-frame data in a uniform block (push constants are limited to 128 bytes).
     info.typedef_source(FRAME_BLOCK + world_srbf.WORLD_BLOCK)
     info.uniform_buf(0, "HairFrame", "frame")
-    world_srbf.declare(info)
-    info.push_constant('VEC4', "level_colour")
-    info.push_constant('INT', "shading_mode")
     info.push_constant('INT', "draw_level")
     info.sampler(SELECTION_SLOT, 'FLOAT_2D', "selection_levels")
     info.sampler(SKIN_SLOT, 'FLOAT_2D', "skin_maps")
-    bcsdf_textures.declare(info)
-    view_transform.declare(info)
+    if purpose == "shade":
+        world_srbf.declare(info)
+        info.push_constant('VEC4', "level_colour")
+        info.push_constant('INT', "shading_mode")
+        bcsdf_textures.declare(info)
+        view_transform.declare(info)
+        opacity_maps.declare(info)
+    else:
+        info.push_constant('INT', "shadow_light")
+        opacity_maps.declare(info, depth=purpose == "opacity", opacity=False)
     for slot, (name, length) in enumerate(_attributes(kind)):
         info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
-    info.fragment_source(view_transform.GLSL_CONSTANTS + glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl",
-                                                                     "self_shadow.glsl", "view_transform.glsl",
-                                                                     "hair.frag.glsl"))
+    if purpose == "shade":
+        info.fragment_source(view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
+                             glsl_source("selection.glsl", "aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
+                                         "opacity_map.glsl", "view_transform.glsl", "hair.frag.glsl"))
+    else:
+        info.fragment_source(opacity_maps.glsl_constants(purpose == "opacity") +
+                             glsl_source("selection.glsl", "opacity_map.glsl", "opacity_pass.frag.glsl"))
     return gpu.shader.create_from_info(info)
 
 
-def shader(kind):
-    if kind not in _shaders:
-        _shaders[kind] = _create_shader(kind)
-    return _shaders[kind]
+def shader(kind, purpose="shade"):
+    if (kind, purpose) not in _shaders:
+        _shaders[kind, purpose] = _create_shader(kind, purpose)
+    return _shaders[kind, purpose]
 
 
 def compile_shaders():
     """Builds the preview's shaders now (once a session), so that a first frame does not wait for them."""
     for kind in ("thick", "strand"):
-        shader(kind)
+        for purpose in ("shade", "depth", "opacity"):
+            shader(kind, purpose)
 
 
 def _attributes(kind):
@@ -220,6 +239,10 @@ class LodPreview:
         self.rest_volume = None     # (HairVolume of the rest strands, bounding box of the rest clusters)
         self.follow_status = ""     # why the preview does not follow the hair, when it does not
         self.follow_stats = {}
+        self.pose_version = 0       # counts the poses skinned to (the opacity maps are drawn per pose)
+        self.strand_radius = 0.0    # mean strand radius, object space
+        self.opacity = None         # opacity_maps.OpacityMaps, made at the first shaded draw
+        self.shadow_selection = None  # (level, selection texture drawing every cluster at that level) of the maps
 
     @property
     def level_count(self):
@@ -245,6 +268,8 @@ class LodPreview:
         self.blocks.append(LevelBlocks("strand", buffers[-1], item_first, control_points))
         self.vertex_buffers = buffers
         self.hair_volume = self_shadow.strands_volume(strands)
+        self.strand_radius = float(np.mean(strands.radius, dtype=np.float64))
+        self.pose_version += 1
         self.skinning = self.asset.frame_skinning()
         self.rest_volume = (self.hair_volume, _spheres_box(self.skinning.selection_geometry()["cluster_bounds"]))
         self.skin_texture = skin_texture(self.skinning.maps)
@@ -293,6 +318,7 @@ class LodPreview:
         rest_volume, rest_box = self.rest_volume
         self.hair_volume = self_shadow.moved_volume(rest_volume, rest_box, _spheres_box(geometry["cluster_bounds"]))
         self.guides = guides
+        self.pose_version += 1
         self.follow_stats.update(skin_ms=1e3 * (skinned - start), upload_ms=1e3 * (uploaded - skinned))
 
     def view_state(self, key):
@@ -334,6 +360,62 @@ class LodPreview:
         for block in np.flatnonzero(state.to_draw[level]):
             if batches[block] is not None:
                 batches[block].draw(program)
+
+    @property
+    def shadow_level(self):
+        """The level the opacity maps draw (opacity_map.shadow_level of the levels' segment counts)."""
+        segments = [len(level.n_total) * (self.asset.control_points - 1) for level in self.asset.levels]
+        segments.append(self.asset.strand_count * (self.asset.control_points - 1))
+        return opacity_map.shadow_level(segments)
+
+    def render_opacity_maps(self, obj, state, light_count, light_vectors, strength):
+        """The lights' deep opacity maps (opacity_maps), drawn again only when the lights, the object's
+        matrix or the pose changed; returns the LightShadows the shading reads and the strands' radius
+        in world units."""
+        model = np.asarray(obj.matrix_world, np.float64)
+        scale = abs(float(np.linalg.det(model[:3, :3]))) ** (1.0 / 3.0)
+        strand_radius = self.strand_radius * scale
+        centre, radius = _world_sphere(self.hair_volume, model)
+        if strength <= 0.0 or not radius > 0.0:
+            return opacity_maps.LightShadows(), strand_radius
+        shadows = opacity_maps.light_shadows(light_count, light_vectors, centre, radius)
+        mapped = shadows.mapped
+        if not mapped.size:
+            return shadows, strand_radius
+        if self.opacity is None:
+            self.opacity = opacity_maps.OpacityMaps()
+        level = self.shadow_level
+        if self.shadow_selection is None or self.shadow_selection[0] != level:
+            values = np.full((state.texture.height, state.texture.width), float(level), np.float32)
+            self.shadow_selection = (level, gpu.types.GPUTexture((state.texture.width, state.texture.height), format='R32F',
+                                                                 data=gpu.types.Buffer('FLOAT', values.size, values.ravel())))
+        key = (shadows.view_projection.tobytes(), shadows.light_shadow.tobytes(), model.tobytes(), self.pose_version, level)
+        no_colours = np.zeros((MAX_LIGHTS, 4), np.float32)
+        tiles = [(int(k), frame_block(obj.matrix_world, shadows.view_projection[k], light_vectors[k],
+                                      (float(opacity_map.TILE), float(opacity_map.TILE)), (0.0, 0.0, 0.0, 0.0), light_count,
+                                      light_vectors, no_colours, self.hair_volume, strength, strand_radius, shadows))
+                 for k in mapped]
+        kind = "thick" if level < self.level_count - 1 else "strand"
+
+        def pass_program(purpose):
+            def bind(index, frame):
+                program = shader(kind, purpose)
+                program.bind()
+                program.uniform_block("frame", frame)
+                program.uniform_int("draw_level", level)
+                program.uniform_int("shadow_light", index)
+                program.uniform_sampler("selection_levels", self.shadow_selection[1])
+                program.uniform_sampler("skin_maps", self.skin_texture)
+                return program
+            return bind
+
+        def draw_all(program):
+            for batch in self.blocks[level].batches:
+                if batch is not None:
+                    batch.draw(program)
+
+        self.opacity.render(key, tiles, (pass_program("depth"), pass_program("opacity")), draw_all)
+        return shadows, strand_radius
 
     def bcsdf_textures(self, obj, settings):
         """The BCSDF tables for the hair's current parameters, baked again only when they change;
@@ -417,10 +499,13 @@ class LodPreview:
         light_count, light_vectors, light_colours = scene_lights(bpy.context.scene, camera)
         world = bpy.context.scene.world
         ambient = (*(world.color if world is not None else (0.05, 0.05, 0.05)), 0.0)
+        shaded = settings.overlay == 'SHADED'
+        shadows, strand_radius = self.render_opacity_maps(obj, state, light_count, light_vectors,
+                                                          settings.self_shadowing if shaded else 0.0)
         # Kept referenced until the batches are drawn.
         frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
-                            light_colours, self.hair_volume, settings.self_shadowing)
+                            light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows)
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
         for level in range(self.level_count):
@@ -430,12 +515,14 @@ class LodPreview:
             program.bind()
             program.uniform_block("frame", frame)
             program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))
-            program.uniform_int("shading_mode", 0 if settings.overlay == 'SHADED' else 1)
+            program.uniform_int("shading_mode", 0 if shaded else 1)
             program.uniform_int("draw_level", level)
             program.uniform_sampler("selection_levels", state.texture)
             program.uniform_sampler("skin_maps", self.skin_texture)
-            if settings.overlay == 'SHADED':
+            if shaded:
                 textures.bind(program)
+                if self.opacity is not None:
+                    self.opacity.bind(program)
                 program.uniform_block("hair_world", world_block)
                 program.uniform_sampler("srbf_lut", world_texture)
                 program.uniform_sampler("view_lut", view_lut)
@@ -459,6 +546,15 @@ def _gpu_finish():
     deprecated in 4.x and gone in 5.x)."""
     framebuffer = gpu.state.active_framebuffer_get()
     return lambda: framebuffer.read_color(0, 0, 1, 1, 4, 0, 'UBYTE')
+
+
+def _world_sphere(volume, model):
+    """(centre, radius) in world space of a sphere holding the hair volume's box (object space) under
+    the 4 x 4 matrix `model`."""
+    corners = volume.centre + volume.semi_axes * np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    world = corners @ model[:3, :3].T + model[:3, 3]
+    centre = world.mean(axis=0)
+    return centre, float(np.linalg.norm(world - centre, axis=1).max())
 
 
 def _spheres_box(spheres):

@@ -3,8 +3,9 @@
  * space: light_vectors[k] = (unit direction towards a sun, 0) or (position of a point light, 1);
  * light_colours[k].rgb = the sun's irradiance, or the point light's intensity (its power over 4 pi)
  * that falls off with the squared distance, each times its self-shadowing transmittance through the
- * hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the object-space
- * ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
+ * hair: through the light's deep opacity map (opacity_map.glsl) for the first lights, for the others
+ * through the hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the
+ * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
  * as the lights (hair_world_transmittance, averaged over 14 directions): as SRBF lights
  * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
  * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
@@ -14,11 +15,8 @@
 
 void main()
 {
-  /* Only the segments Huang 2025 Eq. 16 selected at this batch's level: the selection texture holds the level
-   * per segment (x) and L0 cluster (y), -1 for culled clusters. v_select_point runs from k to k + 1
-   * along segment k. */
-  int segment = clamp(int(floor(v_select_point)), 0, textureSize(selection_levels, 0).x - 1);
-  if (int(texelFetch(selection_levels, ivec2(segment, v_select_cluster), 0).r) != draw_level) {
+  /* Only the segments Huang 2025 Eq. 16 selected at this batch's level (selection.glsl). */
+  if (!selected_at_draw_level()) {
     discard;
   }
   float across = clamp(v_across, -1.0, 1.0);
@@ -39,28 +37,47 @@ void main()
   }
   vec3 radiance = vec3(0.0);
   vec3 p_object = (frame.model_inverse * vec4(v_position, 1.0)).xyz;
-  /* The world reaches p through the hair volume as the lights do (object space, as the volume). The
-   * strands on the way pass a_f of the light on forwards (dual scattering, Zinke et al. 2008): over an
-   * optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per channel, the world's at
-   * normal incidence (applied to the average over its directions). */
-  vec3 world_shadow = pow(vec3(hair_world_transmittance(p_object, frame.hair_centre.xyz, frame.hair_axes.xyz,
-                                                        frame.hair_centre.w)),
+  /* The world reaches the hair through the hair volume as the lights do (object space, as the volume),
+   * at the mean depth where the camera's first strand lies (as visible_transmittance, opacity_map.glsl:
+   * the mean free path 1 / sigma into the hair; sigma the density under the first mapped light's lit
+   * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
+   * Zinke et al. 2008): over an optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per
+   * channel, the world's at normal incidence (applied to the average over its directions). */
+  float first_density = frame.light_shadow[0].w > 0.5 ? light_side_density(0, v_position) : 0.0;
+  float visible_density = frame.light_shadow[0].w > 0.5 ? first_density : frame.hair_centre.w;
+  vec3 into_object = (frame.model_inverse * vec4(-wo, 0.0)).xyz;
+  float reach = frame.light_shadow[0].w > 0.5 ? 8.0 * frame.light_shadow[0].z
+                                              : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
+  float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
+  float world_light = hair_world_transmittance(p_object + world_depth * into_object, frame.hair_centre.xyz,
+                                               frame.hair_axes.xyz, frame.hair_centre.w);
+  vec3 world_shadow = pow(vec3(world_light),
                           vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - v_position * frame.light_vectors[k].w;
     /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */
     vec3 to_light_object = (frame.model_inverse * frame.light_vectors[k]).xyz - p_object * frame.light_vectors[k].w;
-    float shadow = hair_transmittance(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
-                                      frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w);
     float distance2 = frame.light_vectors[k].w > 0.0 ? max(dot(to_light, to_light), 1e-20) : 1.0;
     vec3 wi = normalize(to_light);
     float sin_i = dot(wi, t);
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
-    /* The forward-scattered share passes, coloured (a_f at the light's inclination): T^(1 - a_f). */
-    vec3 pass_forward = clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI),
-                              0.0, 1.0);
-    radiance += pow(vec3(shadow), vec3(1.0) - pass_forward) * frame.light_colours[k].rgb / distance2 *
-                aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
+    /* The strands on the light's way pass a_f of it on forwards, coloured (dual scattering, Zinke et al.
+     * 2008; a_f at the light's inclination): over an optical depth tau the light keeps exp(-tau (1 - a_f)). */
+    vec3 keep = vec3(1.0) - clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI),
+                                  0.0, 1.0);
+    vec3 shadow;
+    if (k < OPACITY_MAX_LIGHTS && frame.light_shadow[k].w > 0.5) {
+      /* The light's deep opacity map (opacity_map.glsl), over the depths where the camera's first strand
+       * lies, read a pixel nearer the light than each (past the hair's own sample). */
+      shadow = visible_transmittance(k, v_position, -wo, k == 0 ? first_density : light_side_density(k, v_position),
+                                     light_pixel_size(k, light_depth(k, v_position)), frame.shadow.z * keep,
+                                     8.0 * frame.light_shadow[k].z);
+    }
+    else {
+      shadow = pow(vec3(hair_transmittance(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
+                                           frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w)), keep);
+    }
+    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
   }
   if (hair_world.constant.w > 0.5) {
     radiance += srbf_world(wo, t) * aggregated_lookup(0, 0.0, n) * world_shadow;

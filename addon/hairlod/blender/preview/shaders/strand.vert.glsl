@@ -10,6 +10,7 @@ void main()
   v_to_camera = frame.camera.xyz - world * frame.camera.w;
   v_across = 0.0;
   v_ellipse = vec3(0.0);
+  v_widen = 1.0;
   v_cluster = vec2(1.0, 1.0);  /* one hair: n = 1, rho = 1 */
   v_select_cluster = int(select_key.x + 0.5);
   v_select_point = select_key.y;

@@ -33,6 +33,7 @@ void main()
   /* The fragment's offset across the true silhouette, in [-1, 1] inside it. */
   v_across = across * drawn_half_width / max(half_width, 1e-20);
   v_ellipse = vec3(length(major_w), length(minor_w), half_width);
+  v_widen = drawn_half_width / max(half_width, 1e-20);
   v_cluster = cluster;
   v_select_cluster = int(select_key.x + 0.5);
   v_select_point = select_key.y;
