@@ -28,12 +28,16 @@ void main()
   vec3 t = normalize(v_tangent);
   vec3 wo = normalize(v_to_camera);
   float n = 1.0, rho = v_cluster.y;
+  /* Where the hair the camera sees begins: a strand's line, or the near side of a thick hair's ellipse
+   * (the strip lies on its centre line), half the view ray's chord nearer. */
+  vec3 seen = v_position;
   if (v_ellipse.z > 0.0) {
     /* Sec. 4: the view ray's chord through the ellipse at this offset from its centre line;
      * 2 r_A r_B / w through the middle, w the silhouette half-width, longer as the ray tilts along t. */
     float along = sqrt(max(1.0 - dot(wo, t) * dot(wo, t), 0.05 * 0.05));
     float chord = 2.0 * v_ellipse.x * v_ellipse.y / max(v_ellipse.z, 1e-20) * sqrt(max(1.0 - across * across, 0.0)) / along;
     n = min(hairs_crossed(rho, chord, v_cluster.x, v_ellipse.x, v_ellipse.y), lut_constants.y);
+    seen += min(0.5 * chord, v_ellipse.x) * wo;
   }
   vec3 radiance = vec3(0.0);
   vec3 p_object = (frame.model_inverse * vec4(v_position, 1.0)).xyz;
@@ -43,13 +47,14 @@ void main()
    * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
    * Zinke et al. 2008): over an optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per
    * channel, the world's at normal incidence (applied to the average over its directions). */
-  float first_density = frame.light_shadow[0].w > 0.5 ? light_side_density(0, v_position) : 0.0;
+  float first_density = frame.light_shadow[0].w > 0.5 ? light_side_density(0, seen) : 0.0;
   float visible_density = frame.light_shadow[0].w > 0.5 ? first_density : frame.hair_centre.w;
   vec3 into_object = (frame.model_inverse * vec4(-wo, 0.0)).xyz;
   float reach = frame.light_shadow[0].w > 0.5 ? 8.0 * frame.light_shadow[0].z
                                               : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
   float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
-  float world_light = hair_world_transmittance(p_object + world_depth * into_object, frame.hair_centre.xyz,
+  vec3 seen_object = (frame.model_inverse * vec4(seen, 1.0)).xyz;
+  float world_light = hair_world_transmittance(seen_object + world_depth * into_object, frame.hair_centre.xyz,
                                                frame.hair_axes.xyz, frame.hair_centre.w);
   vec3 world_shadow = pow(vec3(world_light),
                           vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
@@ -69,8 +74,8 @@ void main()
     if (k < OPACITY_MAX_LIGHTS && frame.light_shadow[k].w > 0.5) {
       /* The light's deep opacity map (opacity_map.glsl), over the depths where the camera's first strand
        * lies, read a pixel nearer the light than each (past the hair's own sample). */
-      shadow = visible_transmittance(k, v_position, -wo, k == 0 ? first_density : light_side_density(k, v_position),
-                                     light_pixel_size(k, light_depth(k, v_position)), frame.shadow.z * keep,
+      shadow = visible_transmittance(k, seen, -wo, k == 0 ? first_density : light_side_density(k, seen),
+                                     light_pixel_size(k, light_depth(k, seen)), frame.shadow.z * keep,
                                      8.0 * frame.light_shadow[k].z);
     }
     else {
