@@ -50,8 +50,9 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
     radial_roughness: FloatProperty(name="Radial Roughness", description="Azimuthal roughness", default=0.3,
                                     min=0.01, max=1.0, subtype='FACTOR', update=_redraw)
     self_shadowing: FloatProperty(name="Shadowing", description="Self-shadowing of the lights and the world through the "
-                                  "hair volume: the strands' geometric extinction times this, each strand passing its "
-                                  "forward-scattered light on (1: the strands' own; 0 disables)",
+                                  "hair: the optical depth of the strands on the way (a deep opacity map per light for "
+                                  "the first four lights) times this, each strand passing its forward-scattered light "
+                                  "on (1: the strands' own; 0 disables)",
                                   default=1.0, min=0.0, soft_max=2.0, update=_redraw)
     world_lighting: EnumProperty(name="World", description="How the scene's world lights the shaded preview",
                                  items=(('SRBF', "SRBF", "The world fitted by SRBF lights (Xu et al. 2011) where "
