@@ -13,6 +13,7 @@ import numpy as np
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
 OUT_DIR = os.environ.get("HAIRLOD_UI_OUT", os.path.join(REPO_ROOT, "out", "ui"))
+HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")  # the bundled hair mesh
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 
 
@@ -38,6 +39,22 @@ def screenshot(window, area, name, whole_window=False):
         pixels = _x_display_pixels(window, None if whole_window else area)
         _save_rgb(pixels, path)
     return pixels
+
+
+def generated_hair_object(count, vertices, seed, name="Hair"):
+    """(strands, Curves object): the scene emptied of objects, then hair generated from the bundled
+    wavy cap hair mesh as the object `name`, active and selected."""
+    import hairlod
+    from hairlod import hairmesh
+    from hairlod.blender.curves import strands_to_curves
+
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=count, vertices=vertices, seed=seed)
+    obj = strands_to_curves(strands, name)
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    return strands, obj
 
 
 def plain_view(area):

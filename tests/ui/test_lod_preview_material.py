@@ -16,9 +16,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
-from harness import REPO_ROOT, check, screenshot  # noqa: E402
+from harness import check, screenshot  # noqa: E402
 
-HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 REDRAW_DELAY = 1.0
 HAS_HUANG = bpy.app.version >= (4, 0, 0)
 
@@ -28,18 +27,10 @@ def steps():
 
     window = bpy.context.window_manager.windows[0]
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
-    import hairlod
-    from hairlod import hairmesh
-    from hairlod.blender.curves import strands_to_curves
     from hairlod.blender.preview import lod_preview
     from hairlod.blender.principled_hair import new_hair_material, object_hair_params
 
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=5000, vertices=17, seed=3)
-    obj = strands_to_curves(strands, "Hair")
-    bpy.context.view_layer.objects.active = obj
-    obj.select_set(True)
+    strands, obj = harness.generated_hair_object(count=5000, vertices=17, seed=3)
     check(bpy.ops.hairlod.build_lod(guides=48, levels=5, control_points=12, seed=0) == {'FINISHED'}, "LoD built")
     preview = lod_preview.preview_of(obj)
     settings = obj.hairlod_lod_preview

@@ -9,12 +9,10 @@ import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
-from harness import REPO_ROOT, check  # noqa: E402
+from harness import check  # noqa: E402
 
-HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
 REDRAW_DELAY = 1.0
-
 
 
 def view3d_area():
@@ -34,16 +32,7 @@ def steps():
     import addon_utils
 
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
-    import hairlod
-    from hairlod import hairmesh
-    from hairlod.blender.curves import strands_to_curves
-
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=4000, vertices=9, seed=2)
-    hair = strands_to_curves(strands, "Hair")
-    bpy.context.view_layer.objects.active = hair
-    hair.select_set(True)
+    _, hair = harness.generated_hair_object(count=4000, vertices=9, seed=2)
     window, area = view3d_area()
     region = next(r for r in area.regions if r.type == 'WINDOW')
     with bpy.context.temp_override(window=window, area=area, region=region):
