@@ -106,6 +106,14 @@ class LodAsset:
         (centres, tangents, major/minor semi-axes, corners) and 'cluster_bounds' [C, 4]."""
         return self._core.skin(np.asarray(deformed_guides, dtype=np.float32))
 
+    def preview_vertices(self):
+        """Rest-pose vertex arrays of the viewport preview, in the layout preview_buffers describes
+        (made in one parallel C++ pass): dict with 'levels' (per thick level: position, tangent,
+        major, minor [2 H n_c, 3], cluster (n_total, rho) and select_key (L0 cluster, control point)
+        [2 H n_c, 2]), 'strands' (position, tangent [S n_c, 3], select_key [S n_c, 2], hierarchy
+        order) and 'rest_strands' (Strands at n_c points, input order)."""
+        return self._core.preview_vertices()
+
     def select(self, view, projection, viewport_size, width_px=DEFAULT_WIDTH_PX, previous=None, guides=None):
         """LoD selection from column-major-convention 4x4 matrices (numpy rows are matrix rows,
         as Blender's Matrix converts): the initial selection, or Huang 2025 Eq. 16 from `previous`."""

@@ -12,13 +12,14 @@ Every table comes straight from the C++ bake (cpp/src/bcsdf/bake.cpp), so the sh
 ``hairlod.bcsdf_bake.bake`` read the same numbers.
 """
 
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import _core
 from .bcsdf_bake import DEFAULT_TABLE_SAMPLES
-from .hair_params import as_params
+from .hair_params import as_params, params_to_dict
 
 __all__ = ["ShaderTables", "SrbfTables", "shader_tables", "srbf_tables", "theta_nodes"]
 
@@ -42,6 +43,31 @@ class ShaderTables:
         return self.fiber.nbytes + self.dual.nbytes + self.aggregated.nbytes
 
 
+# The tables of the last few (parameters, sampling) pairs, shared by every preview in the process: an LoD
+# built again, its preview switched off and on, or another object with the same material draws its
+# first frame without baking again (the BCSDF tables and the world's response took 0.1-0.25 s each of
+# the first frame after a 100k-strand build in Blender). The arrays are read-only, since callers share them.
+CACHED_TABLES = 8
+_cache = OrderedDict()
+
+
+def _cached(key, make):
+    """make()'s value for `key`, made once while it stays among the CACHED_TABLES last used."""
+    if key in _cache:
+        _cache.move_to_end(key)
+        return _cache[key]
+    value = make()
+    _cache[key] = value
+    while len(_cache) > CACHED_TABLES:
+        _cache.popitem(last=False)
+    return value
+
+
+def _read_only(array):
+    array.setflags(write=False)
+    return array
+
+
 def _rows(table, quantities):
     """[rows, width, 4]: each RGB quantity of a baked table as rows (alpha 1), blocks of the table's
     height per quantity."""
@@ -58,17 +84,22 @@ def _rows(table, quantities):
 def shader_tables(params, max_hair_count=64.0, theta_samples=64, hair_count_samples=64,
                   table_samples=DEFAULT_TABLE_SAMPLES):
     """Bakes the aggregated BCSDF's tables for `params` (a HairParams or dict) for hair counts up to
-    `max_hair_count` and returns them in the shader's layout."""
+    `max_hair_count` and returns them in the shader's layout (cached: see CACHED_TABLES)."""
     params = as_params(params)
+    sampling = (float(max_hair_count), int(theta_samples), int(hair_count_samples), int(table_samples))
+    return _cached(("shader", repr(params_to_dict(params)), sampling), lambda: _bake_shader_tables(params, *sampling))
+
+
+def _bake_shader_tables(params, max_hair_count, theta_samples, hair_count_samples, table_samples):
     tables = {table["name"]: table for table in _core.bcsdf_bake(
-        params, theta_samples=int(theta_samples), hair_count_samples=int(hair_count_samples),
-        max_hair_count=float(max_hair_count), table_samples=int(table_samples), tables=["aggregated"])}
+        params, theta_samples=theta_samples, hair_count_samples=hair_count_samples,
+        max_hair_count=max_hair_count, table_samples=table_samples, tables=["aggregated"])}
     lobes = _core.fiber_rtd_lobes(params)
     n_axis = tables["aggregated_attenuation"]["axes"][1]
     return ShaderTables(
-        fiber=_rows(tables["fiber_attenuation"], _ROWS["fiber_attenuation"]),
-        dual=_rows(tables["dual_scattering"], _ROWS["dual_scattering"]),
-        aggregated=_rows(tables["aggregated_attenuation"], _ROWS["aggregated_attenuation"]),
+        fiber=_read_only(_rows(tables["fiber_attenuation"], _ROWS["fiber_attenuation"])),
+        dual=_read_only(_rows(tables["dual_scattering"], _ROWS["dual_scattering"])),
+        aggregated=_read_only(_rows(tables["aggregated_attenuation"], _ROWS["aggregated_attenuation"])),
         lobe_shapes=(lobes["r_shift"], lobes["r_variance"], lobes["tt_shift"], lobes["tt_variance"]),
         lut_constants=(lobes["tt_azimuthal_variance"], float(n_axis["range"][1])))
 
@@ -106,10 +137,7 @@ def srbf_tables(params, lam, samples=20, lobes=True):
     normal plane's azimuth), so any lobe direction is a lookup. About 1 s at 20 samples, where trilinear
     interpolation stays within about 3% of the peak response (tests/ui/test_bcsdf_shader.py).
     Without `lobes` (a world of its uniform term alone) only the last row is computed, in about 0.05 s,
-    and the lobes' rows hold zeros, which a world with no lobes never reads."""
-    from .bcsdf import srbf_single_scattering
-    from .world_lighting import UNIFORM_BANDWIDTH
-
+    and the lobes' rows hold zeros, which a world with no lobes never reads. Cached: see CACHED_TABLES."""
     params = as_params(params)
     lam = float(lam)
     if not (np.isfinite(lam) and lam > 0.0):
@@ -117,6 +145,14 @@ def srbf_tables(params, lam, samples=20, lobes=True):
     samples = int(samples)
     if samples < 2:
         raise ValueError(f"srbf table samples must be >= 2, got {samples}")
+    return _cached(("srbf", repr(params_to_dict(params)), lam, samples, bool(lobes)),
+                   lambda: _tabulate_srbf(params, lam, samples, bool(lobes)))
+
+
+def _tabulate_srbf(params, lam, samples, lobes):
+    from .bcsdf import srbf_single_scattering
+    from .world_lighting import UNIFORM_BANDWIDTH
+
     theta = theta_nodes(samples)
     phi = np.linspace(0.0, np.pi, samples)
     theta_o, delta_phi = np.meshgrid(theta, phi, indexing="ij")
@@ -133,4 +169,4 @@ def srbf_tables(params, lam, samples=20, lobes=True):
     uniform = {"directions": [[0.0, 1.0, 0.0]], "lambdas": [UNIFORM_BANDWIDTH], "coefficients": [[1.0, 1.0, 1.0]]}
     wo_uniform = np.stack([np.sin(theta), np.cos(theta), np.zeros_like(theta)], axis=1)
     response[-1, :, :3] = srbf_single_scattering(params, uniform, wo_uniform)
-    return SrbfTables(response=np.ascontiguousarray(response), lam=lam)
+    return SrbfTables(response=_read_only(np.ascontiguousarray(response)), lam=lam)

@@ -11,6 +11,7 @@
 #include "numpy_arrays.h"
 #include "hairlod/core/error.h"
 #include "hairlod/lod/lod_asset.h"
+#include "hairlod/lod/preview_vertices.h"
 #include "hairlod/lod/selection.h"
 #include "hairlod/lod/skinning.h"
 #include "hairlod/lod/view_selection.h"
@@ -275,6 +276,40 @@ void bind_lod(py::module_& m) {
             }
             return geometry_dict(a, std::move(geometry));
         }, py::arg("deformed_guides"), "Skinned strands and thick hairs for guides [G, n_c, 3].")
+        .def("preview_vertices", [](const LodAsset& a) {
+            PreviewVertices v;
+            {
+                py::gil_scoped_release release;
+                v = preview_vertices(a);
+            }
+            auto rows = [](auto& values) {
+                using Value = std::decay_t<decltype(values[0])>;
+                const py::ssize_t count = as_size(values.size());
+                return moved_to_numpy<float>(std::move(values), {count, static_cast<py::ssize_t>(Value::length())});
+            };
+            py::list levels;
+            for (ThickStripVertices& level : v.levels) {
+                py::dict d;
+                d["position"] = rows(level.position);
+                d["tangent"] = rows(level.tangent);
+                d["major"] = rows(level.major);
+                d["minor"] = rows(level.minor);
+                d["cluster"] = rows(level.cluster);
+                d["select_key"] = rows(level.select_key);
+                levels.append(d);
+            }
+            py::dict strands;
+            strands["position"] = rows(v.strands.position);
+            strands["tangent"] = rows(v.strands.tangent);
+            strands["select_key"] = rows(v.strands.select_key);
+            py::dict d;
+            d["levels"] = levels;
+            d["strands"] = strands;
+            d["rest_strands"] = py::cast(std::move(v.rest_strands));
+            return d;
+        }, "Rest-pose vertex arrays of the viewport preview (lod/preview_vertices.h): per thick level strip "
+           "vertices (position, tangent, major, minor, cluster, select_key), the strands' line vertices in "
+           "hierarchy order (position, tangent, select_key), and the decoded rest strands.")
         .def("resample_guides", [](const LodAsset& a, const StrandSet& curves) {
             std::vector<glm::vec3> points;
             {

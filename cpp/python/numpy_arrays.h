@@ -50,4 +50,18 @@ pybind11::array_t<Scalar> to_numpy(const Scalar* data, std::vector<pybind11::ssi
     return result;
 }
 
+// A numpy array with `shape` over the data of `values`, which it takes over (no copy: for arrays of
+// tens of MB made once, where the copy costs as much as computing them). Throws hairlod::Error when
+// the shape does not hold exactly that many Scalars.
+template <typename Scalar, typename T>
+pybind11::array_t<Scalar> moved_to_numpy(std::vector<T>&& values, std::vector<pybind11::ssize_t> shape) {
+    pybind11::ssize_t size = 1;
+    for (pybind11::ssize_t extent : shape) size *= extent;
+    if (static_cast<size_t>(size) * sizeof(Scalar) != values.size() * sizeof(T))
+        throw Error("moved_to_numpy: the shape does not match the data");
+    auto* owner = new std::vector<T>(std::move(values));
+    const pybind11::capsule release(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+    return pybind11::array_t<Scalar>(shape, reinterpret_cast<const Scalar*>(owner->data()), release);
+}
+
 }  // namespace hairlod::python

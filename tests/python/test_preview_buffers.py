@@ -20,40 +20,68 @@ def asset_and_strands():
     return lod.build_lod(strands, guides=10, levels=4, control_points=6, seed=2), strands
 
 
-def test_polyline_tangents_are_unit_and_follow_the_curve():
-    points = np.array([[[0, 0, 0], [1, 0, 0], [1, 1, 0], [1, 1, 0]]], np.float32)
-    tangents = preview_buffers.polyline_tangents(points)
-    np.testing.assert_allclose(np.linalg.norm(tangents, axis=2), 1.0, rtol=1e-6)
-    np.testing.assert_allclose(tangents[0, 0], [1, 0, 0])
-    np.testing.assert_allclose(tangents[0, 1], np.array([1, 1, 0]) / np.sqrt(2), rtol=1e-6)
-    # The last stretch has zero length: a fixed unit tangent, not NaN.
-    np.testing.assert_allclose(tangents[0, 3], [0, 0, 1])
-    with pytest.raises(ValueError, match="points must have shape"):
-        preview_buffers.polyline_tangents(np.zeros((3, 1, 3)))
+def _central_tangents(points):
+    """Oracle: unit tangents of polylines [items, n, 3] by central differences, one-sided at the ends,
+    (0, 0, 1) for a stretch without length."""
+    steps = np.empty_like(points)
+    steps[:, 1:-1] = points[:, 2:] - points[:, :-2]
+    steps[:, 0] = points[:, 1] - points[:, 0]
+    steps[:, -1] = points[:, -1] - points[:, -2]
+    length = np.linalg.norm(steps, axis=2, keepdims=True)
+    return np.where(length > 1e-30, steps / np.where(length > 1e-30, length, 1.0), np.array([0.0, 0.0, 1.0]))
 
 
 def test_thick_strip_vertices_duplicate_each_control_point(asset_and_strands):
     asset, _ = asset_and_strands
     geometry = asset.skin(asset.rest_guides)
-    level, geometry_level = asset.levels[1], geometry["levels"][1]
-    arrays = preview_buffers.thick_strip_vertices(geometry_level, level.n_total, level.density)
-    hairs, control_points = level.centres.shape[:2]
-    for name in ("position", "tangent", "major", "minor", "cluster"):
-        assert arrays[name].shape[0] == 2 * hairs * control_points and arrays[name].dtype == np.float32
-        np.testing.assert_array_equal(arrays[name][0::2], arrays[name][1::2])
-    np.testing.assert_allclose(arrays["position"][0::2].reshape(hairs, control_points, 3), geometry_level["centres"])
-    np.testing.assert_array_equal(arrays["cluster"][0::2, 0].reshape(hairs, control_points)[:, 0], level.n_total)
+    vertices = asset.preview_vertices()
+    n_c = asset.control_points
+    assert len(vertices["levels"]) == len(asset.levels)
+    for index, (level, geometry_level, arrays) in enumerate(zip(asset.levels, geometry["levels"], vertices["levels"])):
+        hairs = level.centres.shape[0]
+        for name, components in (("position", 3), ("tangent", 3), ("major", 3), ("minor", 3), ("cluster", 2),
+                                 ("select_key", 2)):
+            assert arrays[name].shape == (2 * hairs * n_c, components) and arrays[name].dtype == np.float32
+            np.testing.assert_array_equal(arrays[name][0::2], arrays[name][1::2])
+        for name, skinned in (("position", "centres"), ("tangent", "tangents"), ("major", "major"), ("minor", "minor")):
+            np.testing.assert_array_equal(arrays[name][0::2].reshape(hairs, n_c, 3), geometry_level[skinned])
+        cluster = arrays["cluster"][0::2].reshape(hairs, n_c, 2)
+        np.testing.assert_array_equal(cluster[..., 0], np.repeat(level.n_total[:, None], n_c, axis=1))
+        np.testing.assert_array_equal(cluster[..., 1], level.density)
+        # Each hair's L0 cluster and control point, from the level's cluster ranges.
+        key = arrays["select_key"][0::2].reshape(hairs, n_c, 2)
+        first = preview_buffers.cluster_items(asset, index)
+        np.testing.assert_array_equal(key[..., 0], np.repeat((np.searchsorted(first, np.arange(hairs), side="right") - 1)[:, None], n_c, axis=1))
+        np.testing.assert_array_equal(key[..., 1], np.tile(np.arange(n_c), (hairs, 1)))
 
 
 def test_strand_lines_follow_the_hierarchy_order(asset_and_strands):
     asset, _ = asset_and_strands
     rest = asset.skin(asset.rest_guides)["strands"]
+    vertices = asset.preview_vertices()
     order = asset.arrays()["strand_order"]
-    arrays = preview_buffers.strand_line_vertices(rest, order, asset.control_points)
     n_c = asset.control_points
-    np.testing.assert_array_equal(arrays["position"][:n_c], rest.points[order[0] * n_c:(order[0] + 1) * n_c])
-    with pytest.raises(ValueError, match="expected"):
-        preview_buffers.strand_line_vertices(rest, order[:-1], n_c)
+    lines = vertices["strands"]
+    ordered = rest.points.reshape(-1, n_c, 3)[order]
+    np.testing.assert_array_equal(lines["position"], ordered.reshape(-1, 3))
+    np.testing.assert_allclose(lines["tangent"], _central_tangents(ordered.astype(np.float64)).reshape(-1, 3), atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(lines["tangent"], axis=1), 1.0, rtol=1e-6)
+    first = preview_buffers.cluster_items(asset, len(asset.levels))
+    strand = np.arange(len(order))
+    np.testing.assert_array_equal(lines["select_key"][:, 0], np.repeat(np.searchsorted(first, strand, side="right") - 1, n_c))
+    np.testing.assert_array_equal(lines["select_key"][:, 1], np.tile(np.arange(n_c), len(order)))
+    np.testing.assert_array_equal(vertices["rest_strands"].points, rest.points)
+    np.testing.assert_array_equal(vertices["rest_strands"].radius, rest.radius)
+
+
+def test_strand_tangents_of_a_stretch_without_length_are_fixed_not_nan():
+    # Two strands whose resampled points all coincide with their root: every stretch has no length.
+    points = np.zeros((2 * 4, 3), np.float32)
+    points[4:] = (1.0, 0.0, 0.0)
+    strands = hairlod.Strands.from_counts(points, np.full(2, 4), np.full(8, 0.01, np.float32))
+    asset = lod.build_lod(strands, guides=2, levels=2, control_points=4, seed=0)
+    tangents = asset.preview_vertices()["strands"]["tangent"]
+    np.testing.assert_array_equal(tangents, np.tile([0.0, 0.0, 1.0], (len(tangents), 1)))
 
 
 def test_view_selection_indices_address_the_vertex_buffers(asset_and_strands):
@@ -79,19 +107,17 @@ def test_view_selection_indices_address_the_vertex_buffers(asset_and_strands):
         view_selection.indices(0, "points")
 
 
-def test_selection_keys_name_each_vertex_cluster_and_point(asset_and_strands):
+def test_cluster_items_are_ranges_of_each_level(asset_and_strands):
     asset, _ = asset_and_strands
-    n_c = asset.control_points
     for level in range(len(asset.levels) + 1):
         first = preview_buffers.cluster_items(asset, level)
         items = len(asset.levels[level].n_total) if level < len(asset.levels) else asset.strand_count
         assert first[0] == 0 and first[-1] == items and len(first) == asset.cluster_count + 1
-        per_point = 2 if level < len(asset.levels) else 1
-        keys = preview_buffers.selection_keys(first, n_c, per_point)
-        assert keys.shape == (items * n_c * per_point, 2) and keys.dtype == np.float32
-        item = np.arange(len(keys)) // (n_c * per_point)
-        np.testing.assert_array_equal(keys[:, 1], (np.arange(len(keys)) // per_point) % n_c)
-        np.testing.assert_array_equal(keys[:, 0], np.searchsorted(first, item, side="right") - 1)
+        assert np.all(np.diff(first) >= 0)
+    # The strands' ranges are the stored L0 hairs' member ranges taken per cluster.
+    stored = asset.arrays()["levels"][0]
+    np.testing.assert_array_equal(preview_buffers.cluster_items(asset, len(asset.levels)),
+                                  stored["member_first"][stored["cluster_first"]])
 
 
 def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and_strands):
@@ -126,3 +152,17 @@ def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and
             assert to_draw[block] == wanted
     with pytest.raises(ValueError, match="primitive"):
         preview_buffers.block_indices(first, 0, 1, n_c, "points")
+
+
+def test_blocks_are_runs_of_the_whole_levels_elements(asset_and_strands):
+    # The preview cuts one element array of a whole level into its blocks' rows (lod_preview.LevelBlocks).
+    asset, _ = asset_and_strands
+    n_c = asset.control_points
+    for level, primitive, rows_per_segment in ((0, "strips", 2), (len(asset.levels), "lines", 1)):
+        first = preview_buffers.cluster_items(asset, level)
+        bounds = preview_buffers.cluster_blocks(first, n_c, max_segments=5 * (n_c - 1))
+        whole = preview_buffers.block_indices(first, 0, len(first) - 1, n_c, primitive)
+        row_first = first * (n_c - 1) * rows_per_segment
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            np.testing.assert_array_equal(whole[row_first[a]:row_first[b]],
+                                          preview_buffers.block_indices(first, a, b, n_c, primitive))

@@ -4,7 +4,7 @@ and hairlod.preview_luts.srbf_tables, the response table the viewport preview re
 import numpy as np
 import pytest
 
-from hairlod import bcsdf, preview_luts, world_lighting
+from hairlod import bcsdf, hair_params, preview_luts, world_lighting
 
 
 def sphere_samples(height=24, width=48):
@@ -134,3 +134,26 @@ def test_srbf_table_of_a_world_without_lobes_holds_its_uniform_row_alone():
     uniform = preview_luts.srbf_tables(params, lam, samples=6, lobes=False)
     np.testing.assert_array_equal(uniform.response[-1], full.response[-1])
     assert np.all(uniform.response[:-1, :, :3] == 0.0) and uniform.response.shape == full.response.shape
+
+
+def test_preview_tables_are_made_once_per_material_and_shared_read_only():
+    params = {"sigma_a": (0.3, 0.6, 1.2), "beta_m": 0.3, "beta_n": 0.3}
+    lam = world_lighting.lobe_bandwidth(16)
+    srbf = preview_luts.srbf_tables(params, lam, samples=5)
+    # The same material as a HairParams, and the same sampling: the same tables, not made again.
+    assert preview_luts.srbf_tables(hair_params.as_params(params), lam, samples=5) is srbf
+    shader = preview_luts.shader_tables(params, max_hair_count=8.0, theta_samples=8, hair_count_samples=4)
+    assert preview_luts.shader_tables(params, max_hair_count=8.0, theta_samples=8, hair_count_samples=4) is shader
+    for array in (srbf.response, shader.fiber, shader.dual, shader.aggregated):
+        with pytest.raises(ValueError, match="read-only"):
+            array[0, 0, 0] = 1.0
+    # Another material, bandwidth or range: other tables.
+    darker = dict(params, sigma_a=(1.0, 2.0, 3.0))
+    assert preview_luts.srbf_tables(darker, lam, samples=5) is not srbf
+    assert not np.array_equal(preview_luts.srbf_tables(darker, lam, samples=5).response, srbf.response)
+    assert preview_luts.srbf_tables(params, 2.0 * lam, samples=5) is not srbf
+    assert preview_luts.shader_tables(params, max_hair_count=16.0, theta_samples=8, hair_count_samples=4) is not shader
+    # Only the last CACHED_TABLES are kept: the first is made again after as many others.
+    for k in range(preview_luts.CACHED_TABLES):
+        preview_luts.srbf_tables(params, lam * (3.0 + k), samples=4, lobes=False)
+    assert preview_luts.srbf_tables(params, lam, samples=5) is not srbf

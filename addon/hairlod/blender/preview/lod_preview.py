@@ -198,10 +198,14 @@ class LevelBlocks:
     def __init__(self, kind, buffers, item_first, control_points):
         self.bounds = preview_buffers.cluster_blocks(item_first, control_points, BLOCK_SEGMENTS)
         primitive = "strips" if kind == "thick" else "lines"
+        # Every segment's elements at once, cut per block: item-major, so a block's clusters are one
+        # run of rows (2 triangles per strip segment, 1 line per strand segment).
+        elements = preview_buffers.block_indices(item_first, 0, len(item_first) - 1, control_points, primitive)
+        row_first = np.asarray(item_first, np.int64) * (control_points - 1) * (2 if kind == "thick" else 1)
         self.batches = []
         for first, end in zip(self.bounds[:-1], self.bounds[1:]):
-            elements = preview_buffers.block_indices(item_first, first, end, control_points, primitive)
-            self.batches.append(_batch(kind, buffers, elements) if elements.size else None)
+            rows = elements[row_first[first]:row_first[end]]
+            self.batches.append(_batch(kind, buffers, rows) if rows.size else None)
 
 
 class ViewState:
@@ -249,22 +253,17 @@ class LodPreview:
         return len(self.asset.levels) + 1
 
     def _build_vertex_buffers(self):
-        geometry = self.asset.skin(self.asset.rest_guides)
+        vertices = self.asset.preview_vertices()
         control_points = self.asset.control_points
         self.blocks = []
         buffers = []
-        for index, (level, geometry_level) in enumerate(zip(self.asset.levels, geometry["levels"])):
-            arrays = preview_buffers.thick_strip_vertices(geometry_level, level.n_total, level.density)
+        for index, arrays in enumerate(vertices["levels"]):
             item_first = preview_buffers.cluster_items(self.asset, index)
-            arrays["select_key"] = preview_buffers.selection_keys(item_first, control_points, 2)
             buffers.append(_vertex_buffers("thick", arrays))
             self.blocks.append(LevelBlocks("thick", buffers[-1], item_first, control_points))
-        strands = geometry["strands"]
-        strand_order = self.asset.arrays()["strand_order"]
-        arrays = preview_buffers.strand_line_vertices(strands, strand_order, control_points)
+        strands = vertices["rest_strands"]
         item_first = preview_buffers.cluster_items(self.asset, len(self.asset.levels))
-        arrays["select_key"] = preview_buffers.selection_keys(item_first, control_points, 1)
-        buffers.append(_vertex_buffers("strand", arrays))
+        buffers.append(_vertex_buffers("strand", vertices["strands"]))
         self.blocks.append(LevelBlocks("strand", buffers[-1], item_first, control_points))
         self.vertex_buffers = buffers
         self.hair_volume = self_shadow.strands_volume(strands)
