@@ -47,9 +47,11 @@ def test_lod_frames_follow_the_hair(hair):
     asset = lod.build_lod(hair, guides=12, levels=4, control_points=8, seed=1)
     turned = moved(hair, 0.5)
     camera = render.frame_view(hair.points, "mid", 48)
-    truth = render.render(turned, "pt", width=48, spp=4, camera=camera)["image"]
-    stale = render.render(turned, "lod", width=48, spp=4, asset=asset, camera=camera)["image"]
-    followed = render.render(turned, "lod", width=48, spp=4, asset=asset, camera=camera,
+    # 16 spp: at 4 the noise alone caps the blurred PSNR near 47-49 dB, within a dB or two of the stale
+    # image's; at 16 the followed image is 53-55 dB against the stale 45-47.
+    truth = render.render(turned, "pt", width=48, spp=16, camera=camera)["image"]
+    stale = render.render(turned, "lod", width=48, spp=16, asset=asset, camera=camera)["image"]
+    followed = render.render(turned, "lod", width=48, spp=16, asset=asset, camera=camera,
                              guides=lod.frame_guides(asset, turned))["image"]
     assert render.blurred_psnr(followed, truth) > render.blurred_psnr(stale, truth) + 3.0
 
