@@ -1,9 +1,10 @@
 """Benchmarks the viewport LoD preview in a real Blender window (run under Xvfb).
 
 Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_lod_preview.py
-     [-- --count 100000 --frames 24 --guides 256 --out FILE.json]
+     [-- --count 100000 --frames 24 --guides 256 --shadowing S --out FILE.json]
 Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their LoD (--guides guides, 6
-levels) and previews it on an empty, lit by a sun. A camera dolly from 0.7x to 30x the hair's size
+levels) and previews it on an empty, lit by a sun (--shadowing: the panel's Shadowing, else its default;
+0 turns the self-shadowing and the opacity maps off). A camera dolly from 0.7x to 30x the hair's size
 over --frames frames (one redraw per frame) is captured twice: with the LoD at
 eps_w = 2 px and with every strand. Prints one JSON object: per frame the segments drawn, the
 selection + selection-texture upload time, the PSNR of the LoD frame against the all-strand frame, and the
@@ -35,6 +36,7 @@ def parse_args():
     parser.add_argument("--count", type=int, default=100000)
     parser.add_argument("--frames", type=int, default=24)
     parser.add_argument("--guides", type=int, default=256)
+    parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -55,6 +57,8 @@ def run(args):
     centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
 
     _, settings, preview = preview_on_an_empty(asset)
+    if args.shadowing is not None:
+        settings.self_shadowing = args.shadowing
     add_sun(bpy.context.scene)
 
     window, area, region, region_3d = bare_viewport(size)
