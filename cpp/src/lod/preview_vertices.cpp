@@ -7,7 +7,7 @@ namespace hairlod {
 
 namespace {
 
-// The smallest tangent length taken as a direction (the Python layout's threshold).
+// The smallest tangent length taken as a direction; shorter stretches get the fixed (0, 0, 1).
 constexpr float kMinTangentLength = 1e-30f;
 
 void resize_thick(ThickStripVertices& v, size_t vertices) {

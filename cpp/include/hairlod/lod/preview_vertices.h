@@ -4,8 +4,8 @@
 // ViewSelection::indices addresses (item-major, n_c control points per item; two strip vertices per
 // control point; strands in hierarchy order). Each vertex carries its L0 cluster and control point,
 // which the shader looks the frame's selected level up with. Built once per asset in one parallel
-// pass, where the Python add-on's numpy passes made the first preview frame wait (0.6 s for 100k
-// strands inside Blender).
+// pass (234 ms against 287 ms for the former numpy passes on 100k strands in a plain process; inside
+// Blender the first touch of the ~70 MB they fill dominates either way).
 #include <vector>
 
 #include <glm/vec2.hpp>
