@@ -402,10 +402,13 @@ def bench_lod(strands=100_000, points=32, guides=None, levels=6, control_points=
     }
 
 
-def _skinned_coverage(asset, geometry):
+def _skinned_coverage(asset, geometry, points=None):
     """Per thick level: the fraction of member control points inside their skinned ellipse, each
-    point projected onto the plane of the ellipse's skinned axes (least squares on the two axes)."""
-    points = geometry["strands"].points.reshape(asset.strand_count, asset.control_points, 3).astype(np.float64)
+    point projected onto the plane of the ellipse's skinned axes (least squares on the two axes).
+    `points` [strands, n_c, 3]: the strands as they really moved (default: as skinned)."""
+    if points is None:
+        points = geometry["strands"].points.reshape(asset.strand_count, asset.control_points, 3)
+    points = np.asarray(points, np.float64)
     coverage = []
     for level, skinned in zip(asset.levels, geometry["levels"]):
         hair = level.membership
@@ -425,8 +428,8 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
     the maps and the selection geometry, the maps' copy for upload, Huang 2025 Eq. 16 on the moved
     geometry) against a static frame's selection in the same run, and the CPU skin of every strand and
     thick hair (export, rendering). Accuracy: the skinned strands against every strand moved by the
-    same rigid turn and by a non-rigid bend, and the thick hairs' coverage after the bend. No
-    assertions: a benchmark, not a test."""
+    same rigid turn and by a non-rigid bend, and the skinned thick hairs' coverage of the skinned and of
+    the truly bent strands. No assertions: a benchmark, not a test."""
     from . import lod, temporal
     from .camera import look_at, perspective
 
@@ -495,5 +498,7 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
         "bend": lod.following_error(bent_points, temporal.bend(rest, bend_angle), radius, size),
         "gpu_path_vs_cpu_skin_max_of_size": float(np.abs(gpu_points - bent_points).max()) / size,
         "coverage_rest": [level.coverage for level in asset.levels],
+        # The skinned thick hairs against the skinned strands, and against the strands really bent.
         "coverage_bent": _skinned_coverage(asset, bent),
+        "coverage_of_bent_strands": _skinned_coverage(asset, bent, temporal.bend(rest, bend_angle)),
     }

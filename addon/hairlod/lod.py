@@ -64,6 +64,7 @@ class LodAsset:
         self.levels = [ThickLevel(**level) for level in core_asset.thick_levels()]
         # Index of each thick level in the full hierarchy it was built as (scene_levels may drop some).
         self.level_ids = list(range(len(self.levels))) if level_ids is None else list(level_ids)
+        self._skinning_rest = None  # derived from the rest pose on the first skin (affine_stencil.h)
 
     guide_count = property(lambda self: self._core.guide_count)
     cluster_count = property(lambda self: self._core.cluster_count)
@@ -101,10 +102,16 @@ class LodAsset:
             raise ValueError(f"levels to keep must be a non-empty subset of 0..{len(self.levels) - 1}")
         return LodAsset(self._core.with_levels(kept), [self.level_ids[level] for level in kept], self.timings)
 
+    def _rest(self):
+        # What skinning derives from the rest pose (about 0.1 s for 10^5 strands), kept for later frames.
+        if self._skinning_rest is None:
+            self._skinning_rest = self._core.skinning_rest()
+        return self._skinning_rest
+
     def skin(self, deformed_guides):
         """Strands and thick hairs for guides [G, n_c, 3]: dict with 'strands' (Strands), 'levels'
         (centres, tangents, major/minor semi-axes, corners) and 'cluster_bounds' [C, 4]."""
-        return self._core.skin(np.asarray(deformed_guides, dtype=np.float32))
+        return self._core.skin(np.asarray(deformed_guides, dtype=np.float32), self._rest())
 
     def preview_vertices(self):
         """Rest-pose vertex arrays of the viewport preview, in the layout preview_buffers describes
@@ -119,7 +126,7 @@ class LodAsset:
         as Blender's Matrix converts): the initial selection, or Huang 2025 Eq. 16 from `previous`."""
         guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
         return self._core.select(guides, np.asarray(view, dtype=np.float32), np.asarray(projection, dtype=np.float32),
-                                 tuple(float(v) for v in viewport_size), float(width_px), previous)
+                                 tuple(float(v) for v in viewport_size), float(width_px), previous, self._rest())
 
     def view_selection(self, guides=None, skinning=None):
         """Per-view selection state for drawing (initial selection, then one Huang 2025 Eq. 16 step per
@@ -322,8 +329,10 @@ def _header(asset):
 ANIMATION_MEANING = ("guides[f, g, k] (float32 [frames, guides, n_c, 3], object space): control point k of guide g "
                      "(the order of guide_strands) at frame frames[f]. Every strand and thick hair follows by the "
                      "linear skinning of hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 4: LodAsset.skin(guides[f]) "
-                     "in hairlod, or per L0 cluster c and control point k the frame of its cluster_guides "
-                     "(frame_kinds) applied to the stored offsets.")
+                     "in hairlod: per L0 cluster c and control point k one affine map applied to the stored "
+                     "offsets, the least-squares affine fit over the cluster's rest strand points of a quadratic "
+                     "field fitted to the nearest guides' points (hairlod's affine_stencil.h), which the frame of "
+                     "its cluster_guides (frame_kinds) settles where the guides leave directions open.")
 
 
 def check_animation(asset, frames, guides):

@@ -267,15 +267,20 @@ void bind_lod(py::module_& m) {
                     "Rebuilds an asset from scalars() and arrays(); raises ValueError naming an inconsistent array.")
         .def("with_levels", [](const LodAsset& a, const std::vector<size_t>& kept) { return a.with_levels(kept); },
              py::arg("kept"), "A copy keeping the thick levels at positions `kept` (increasing), parents composed.")
-        .def("skin", [](const LodAsset& a, const FloatArray& guides) {
+        .def("skinning_rest", [](const LodAsset& a) {
+            py::gil_scoped_release release;
+            return skinning_rest(a);
+        }, "What skinning derives once from the rest pose (prism frames, stencils), for skin(..., rest).")
+        .def("skin", [](const LodAsset& a, const FloatArray& guides, const SkinningRest* rest) {
             const std::vector<glm::vec3> points = guides_from(guides, a);
             LodGeometry geometry;
             {
                 py::gil_scoped_release release;
-                geometry = a.skin(points);
+                geometry = rest != nullptr ? skin_geometry(a, *rest, points) : a.skin(points);
             }
             return geometry_dict(a, std::move(geometry));
-        }, py::arg("deformed_guides"), "Skinned strands and thick hairs for guides [G, n_c, 3].")
+        }, py::arg("deformed_guides"), py::arg("rest") = py::none(),
+           "Skinned strands and thick hairs for guides [G, n_c, 3]; `rest` from skinning_rest() saves deriving it.")
         .def("preview_vertices", [](const LodAsset& a) {
             PreviewVertices v;
             {
@@ -326,16 +331,19 @@ void bind_lod(py::module_& m) {
         }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx, py::arg("frames") = 100,
            "Median seconds of one Huang 2025 Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
         .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,
-                          std::pair<float, float> viewport, float width_px, const Selection* previous) {
+                          std::pair<float, float> viewport, float width_px, const Selection* previous, const SkinningRest* rest) {
             const std::vector<glm::vec3> points = guides_from(guides, a);
             const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
             py::gil_scoped_release release;
-            const LodGeometry geometry = a.skin(points);
+            const LodGeometry geometry = rest != nullptr ? skin_geometry(a, *rest, points) : a.skin(points);
             return previous ? select_deferred(a, geometry, camera, width_px, *previous)
                             : select_initial(a, geometry, camera, width_px);
         }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx,
-           py::arg("previous") = py::none(),
+           py::arg("previous") = py::none(), py::arg("rest") = py::none(),
            "Initial selection (Sec. 5.1 step 5), or Huang 2025 Eq. 16 from `previous`, for guides [G, n_c, 3].");
+
+    py::class_<SkinningRest>(m, "SkinningRest",
+                             "What skinning derives from an asset's rest pose (LodAsset.skinning_rest); opaque.");
 
     py::class_<FrameSkinning>(m, "FrameSkinning",
                               "Per-frame skinning for GPU renderers: the affine map of each L0 cluster and control point, "

@@ -185,6 +185,18 @@ TEST(LodAssetLevels, WithLevelsComposesParentsThroughDroppedLevels) {
         EXPECT_EQ(kept.thick_levels[1].parent[h], a.thick_levels[1].parent[static_cast<size_t>(fine.parent[h])]);
     EXPECT_EQ(kept.thick_levels[1].member_first, fine.member_first);
     EXPECT_NO_THROW(kept.validate());
+    // Without L0 the clusters still hold their own strands: the strands skin as in the full asset
+    // (a cluster's strands were once read as the first kept level's hair ranges).
+    const LodAsset without_l0 = build_lod(testing::wavy_hair(4000, 8, 9), {.guides = 24, .levels = 4, .control_points = 6})
+                                    .with_levels(std::vector<size_t>{1, 2});
+    const LodAsset full = build_lod(testing::wavy_hair(4000, 8, 9), {.guides = 24, .levels = 4, .control_points = 6});
+    const std::vector<glm::vec3> turned = [&] {
+        std::vector<glm::vec3> guides = full.rest_guides;
+        for (glm::vec3& p : guides) p = glm::vec3(-p.y, p.x, p.z + 0.5f);
+        return guides;
+    }();
+    EXPECT_EQ(without_l0.skin(turned).strands.points, full.skin(turned).strands.points);
+    EXPECT_EQ(without_l0.rest_geometry().strands.points, full.rest_geometry().strands.points);
     EXPECT_THROW(a.with_levels(std::vector<size_t>{}), Error);
     EXPECT_THROW(a.with_levels(std::vector<size_t>{2, 0}), Error);
     EXPECT_THROW(a.with_levels(std::vector<size_t>{0, a.thick_levels.size()}), Error);

@@ -233,6 +233,7 @@ def test_bench_skinning_json():
     assert report["gpu_path_vs_cpu_skin_max_of_size"] < 1e-5
     assert 0.0 < report["bend"]["mean_of_size"] < report["bend"]["p99_of_size"]
     assert len(report["coverage_bent"]) == len(report["coverage_rest"]) == report["built_levels"] - 1
+    assert len(report["coverage_of_bent_strands"]) == len(report["coverage_rest"])
 
 
 def test_render_and_bench_animation_take_frames(tmp_path):

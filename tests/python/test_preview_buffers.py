@@ -43,8 +43,10 @@ def test_thick_strip_vertices_duplicate_each_control_point(asset_and_strands):
                                  ("select_key", 2)):
             assert arrays[name].shape == (2 * hairs * n_c, components) and arrays[name].dtype == np.float32
             np.testing.assert_array_equal(arrays[name][0::2], arrays[name][1::2])
+        # skin() at the rest guides goes through the stencils (affine_stencil.h): the identity up to
+        # float rounding; the preview reads the decoded rest pose itself.
         for name, skinned in (("position", "centres"), ("tangent", "tangents"), ("major", "major"), ("minor", "minor")):
-            np.testing.assert_array_equal(arrays[name][0::2].reshape(hairs, n_c, 3), geometry_level[skinned])
+            np.testing.assert_allclose(arrays[name][0::2].reshape(hairs, n_c, 3), geometry_level[skinned], rtol=0, atol=1e-5)
         cluster = arrays["cluster"][0::2].reshape(hairs, n_c, 2)
         np.testing.assert_array_equal(cluster[..., 0], np.repeat(level.n_total[:, None], n_c, axis=1))
         np.testing.assert_array_equal(cluster[..., 1], level.density)

@@ -28,17 +28,20 @@ glm::vec3 unit_or_zero(const glm::vec3& v) {
 
 }  // namespace
 
-std::vector<GuideFrame> rest_frames(const LodAsset& asset) {
+SkinningRest skinning_rest(const LodAsset& asset) {
     const auto nc = static_cast<size_t>(asset.control_points);
-    std::vector<GuideFrame> frames(asset.cluster_count() * nc);
+    SkinningRest rest;
+    rest.frames.resize(asset.cluster_count() * nc);
     tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
-        const GuideSet rest = guide_set(asset.cluster_guides[c], asset.rest_guides.data(), asset.control_points);
-        for (size_t k = 0; k < nc; ++k) frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], rest, static_cast<int>(k));
+        const GuideSet guides = guide_set(asset.cluster_guides[c], asset.rest_guides.data(), asset.control_points);
+        for (size_t k = 0; k < nc; ++k)
+            rest.frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
     });
-    return frames;
+    rest.stencils = skinning_stencils(asset, rest.frames);
+    return rest;
 }
 
-std::vector<ClusterMap> cluster_maps(const LodAsset& asset, std::span<const GuideFrame> rest,
+std::vector<ClusterMap> cluster_maps(const LodAsset& asset, const SkinningRest& rest,
                                      std::span<const glm::vec3> deformed_guides) {
     const auto nc = static_cast<size_t>(asset.control_points);
     if (deformed_guides.size() != asset.rest_guides.size())
@@ -47,15 +50,21 @@ std::vector<ClusterMap> cluster_maps(const LodAsset& asset, std::span<const Guid
     for (const glm::vec3& p : deformed_guides)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             throw Error("skin: deformed guides contain NaN or infinite coordinates");
-    if (rest.size() != asset.cluster_count() * nc) throw Error("skin: rest frames do not belong to this asset");
+    if (rest.frames.size() != asset.cluster_count() * nc || rest.stencils.stencils.size() != rest.frames.size())
+        throw Error("skin: rest frames do not belong to this asset");
 
-    std::vector<ClusterMap> maps(rest.size());
+    std::vector<ClusterMap> maps(rest.frames.size());
     tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
         const GuideSet deformed = guide_set(asset.cluster_guides[c], deformed_guides.data(), asset.control_points);
         for (size_t k = 0; k < nc; ++k) {
             const size_t i = c * nc + k;
+            const GuideFrame& rest_frame = rest.frames[i];
             const GuideFrame frame = guide_frame(asset.frame_kinds[i], deformed, static_cast<int>(k));
-            maps[i] = ClusterMap{rest[i].origin, frame.origin, frame_map(rest[i], frame)};
+            const StencilMap map = stencil_map(rest.stencils, i, deformed_guides, rest_frame, frame, frame_map(rest_frame, frame));
+            // Stored offsets are relative to the rest frame origin: the map is anchored there.
+            const glm::dvec3 origin =
+                map.centroid_image + map.linear * (glm::dvec3(rest_frame.origin) - rest.stencils.stencils[i].centroid);
+            maps[i] = ClusterMap{rest_frame.origin, glm::vec3(origin), glm::mat3(map.linear)};
         }
     });
     return maps;
@@ -78,7 +87,7 @@ AffineRows affine_rows(const ClusterMap& map) {
     return rows;
 }
 
-FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset), rest_(rest_frames(asset)) {
+FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset), rest_(skinning_rest(asset)) {
     const auto nc = static_cast<size_t>(asset.control_points);
     const size_t clusters = asset.cluster_count();
     // The widest hair of each cluster and control point at rest, as LodAsset::skin measures it.
@@ -92,7 +101,7 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset), rest_(rest
             for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
                 for (size_t k = 0; k < nc; ++k) {
                     sections[k] = asset.section(l, static_cast<size_t>(h), k);
-                    centres[k] = rest_[c * nc + k].origin + sections[k].centre_offset;
+                    centres[k] = rest_.frames[c * nc + k].origin + sections[k].centre_offset;
                 }
                 for (size_t k = 0; k < nc; ++k) {
                     const size_t before = k == 0 ? 0 : k - 1, after = std::min(k + 1, nc - 1);
@@ -159,9 +168,36 @@ void FrameSkinning::update(std::span<const glm::vec3> deformed_guides) {
 }
 
 LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
+    return skin_geometry(*this, skinning_rest(*this), deformed_guides);
+}
+
+LodGeometry LodAsset::rest_geometry() const {
+    // The rest pose maps every point to itself: no stencils to derive.
     const auto nc = static_cast<size_t>(control_points);
-    const size_t clusters = cluster_count(), strands = strand_count();
-    const std::vector<ClusterMap> maps = cluster_maps(*this, rest_frames(*this), deformed_guides);
+    std::vector<ClusterMap> identity(cluster_count() * nc);
+    tbb::parallel_for(size_t{0}, cluster_count(), [&](size_t c) {
+        const GuideSet guides = guide_set(cluster_guides[c], rest_guides.data(), control_points);
+        for (size_t k = 0; k < nc; ++k) {
+            const glm::vec3 origin = guide_frame(frame_kinds[c * nc + k], guides, static_cast<int>(k)).origin;
+            identity[c * nc + k] = ClusterMap{origin, origin, glm::mat3(1.0f)};
+        }
+    });
+    return mapped_geometry(*this, identity);
+}
+
+LodGeometry skin_geometry(const LodAsset& asset, const SkinningRest& rest, std::span<const glm::vec3> deformed_guides) {
+    return mapped_geometry(asset, cluster_maps(asset, rest, deformed_guides));
+}
+
+LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> maps) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    const size_t clusters = asset.cluster_count(), strands = asset.strand_count();
+    const auto& strand_order = asset.strand_order;
+    const auto& offset_boxes = asset.offset_boxes;
+    const auto& strand_offset = asset.strand_offset;
+    const auto& strand_radius = asset.strand_radius;
+    const auto& thick_levels = asset.thick_levels;
+    const int radius_exponent = asset.radius_exponent;
 
     LodGeometry geometry;
     StrandSet& out = geometry.strands;
@@ -173,7 +209,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
     tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
         glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
         float widest = 0.0f;
-        const auto [first, end] = cluster_strands(c);
+        const auto [first, end] = asset.cluster_strands(c);
         for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
             const auto s = static_cast<size_t>(strand_order[i]);
             for (size_t k = 0; k < nc; ++k) {
@@ -204,7 +240,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
                 const size_t first = static_cast<size_t>(h) * nc;
                 for (size_t k = 0; k < nc; ++k) {
                     const size_t at = first + k;
-                    const RestSection rest = section(l, static_cast<size_t>(h), k);
+                    const RestSection rest = asset.section(l, static_cast<size_t>(h), k);
                     g.centre[at] = maps[c * nc + k].origin + maps[c * nc + k].linear * rest.centre_offset;
                     g.major[at] = maps[c * nc + k].linear * (rest.major_axis * rest.radii.x);
                     g.minor[at] = maps[c * nc + k].linear * (rest.minor_axis * rest.radii.y);

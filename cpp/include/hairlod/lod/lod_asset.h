@@ -146,7 +146,10 @@ struct LodAsset {
     size_t memory_bytes() const;
     // Positions of the strands of L0 cluster c: [first, second).
     std::pair<int32_t, int32_t> cluster_strands(size_t c) const {
-        return {thick_levels[0].member_first[c], thick_levels[0].member_first[c + 1]};
+        // Through cluster_first, so that it holds for any coarsest kept level (with_levels).
+        const ThickHairLevel& coarsest = thick_levels[0];
+        return {coarsest.member_first[static_cast<size_t>(coarsest.cluster_first[c])],
+                coarsest.member_first[static_cast<size_t>(coarsest.cluster_first[c + 1])]};
     }
     // Per input strand: the hair of thick level `level` holding it.
     std::vector<int32_t> strand_hairs(size_t level) const;
@@ -179,9 +182,12 @@ struct LodAsset {
     LodAsset with_levels(std::span<const size_t> kept) const;
 
     // Skins strands and thick hairs to `deformed_guides` ([guides * n_c] points, the guides in the
-    // order of guide_strands) by the linear skinning of Sec. 5.1 step 4 / Sec. 5.2.
+    // order of guide_strands) by the linear skinning of Sec. 5.1 step 4 / Sec. 5.2 (skinning.h;
+    // skin_geometry there keeps what this derives from the rest pose for a sequence of frames).
     LodGeometry skin(std::span<const glm::vec3> deformed_guides) const;
-    LodGeometry rest_geometry() const { return skin(rest_guides); }
+    // The decoded rest pose (the same as skin(rest_guides) up to float rounding, without deriving
+    // the stencils).
+    LodGeometry rest_geometry() const;
 };
 
 // The default guide count: one guide per kStrandsPerGuide strands, from kMinAutoGuides (or every

@@ -2,7 +2,8 @@
 // Per-frame linear skinning of an LoD asset to deformed guides (hair-lod-aggregated-bcsdf.txt
 // Sec. 5.1 step 4 and Sec. 5.2: "only the guides are simulated", strands and thick hairs follow
 // through the weights). Every skinned point of L0 cluster c at control point k moves by one affine
-// map: p' = o'_ck + M_ck (p - o_ck), o the frame origins and M = deformed axes x rest axes^-1.
+// map: p' = o'_ck + M_ck (p - o_ck), o the rest frame origin and its image, M the map that the
+// cluster's stencil (affine_stencil.h) makes of the deformed guides near it.
 // LodAsset::skin applies the maps to everything on the CPU (export, rendering); FrameSkinning
 // computes only the maps and what LoD selection reads, for a renderer that applies the maps to
 // rest-pose vertex buffers on the GPU: per frame it costs O(clusters x n_c), not O(points).
@@ -14,6 +15,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "hairlod/lod/affine_stencil.h"
 #include "hairlod/lod/guide_frame.h"
 #include "hairlod/lod/lod_asset.h"
 
@@ -27,14 +29,27 @@ struct ClusterMap {
     glm::mat3 linear{1.0f};
 };
 
-// The rest frames of every L0 cluster and control point [clusters * n_c] (what each map divides by).
-std::vector<GuideFrame> rest_frames(const LodAsset& asset);
+// What skinning derives once from the rest pose, per L0 cluster and control point [clusters * n_c]:
+// the prism frames of the cluster's guides (stored offsets are relative to their origins) and the
+// stencils that turn deformed guides into maps.
+struct SkinningRest {
+    std::vector<GuideFrame> frames;
+    SkinningStencils stencils;
+};
+SkinningRest skinning_rest(const LodAsset& asset);
 
 // The maps of every L0 cluster and control point [clusters * n_c] for `deformed_guides` ([guides *
-// n_c] points, the guides in the order of guide_strands), given the asset's rest_frames. Throws
+// n_c] points, the guides in the order of guide_strands), given the asset's skinning_rest. Throws
 // Error when the guides have the wrong size or a coordinate that is not finite.
-std::vector<ClusterMap> cluster_maps(const LodAsset& asset, std::span<const GuideFrame> rest,
+std::vector<ClusterMap> cluster_maps(const LodAsset& asset, const SkinningRest& rest,
                                      std::span<const glm::vec3> deformed_guides);
+
+// Strands and thick hairs skinned to `deformed_guides` (LodAsset::skin, with rest derived once by
+// the caller for a sequence of frames).
+LodGeometry skin_geometry(const LodAsset& asset, const SkinningRest& rest, std::span<const glm::vec3> deformed_guides);
+
+// Strands and thick hairs moved by `maps` ([clusters * n_c]).
+LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> maps);
 
 // The guides' control points [guides * n_c] from `guide_curves`: the asset's guide strands, in the
 // order of guide_strands, as they are now (moved or deformed, any point count), resampled as
@@ -77,7 +92,7 @@ private:
         glm::vec3 major, minor;           // rest semi-axis vectors at k
     };
     const LodAsset* asset_;
-    std::vector<GuideFrame> rest_;
+    SkinningRest rest_;
     std::vector<std::vector<WidestRest>> widest_rest_;  // per thick level [clusters * n_c]
     std::vector<float> widest_strand_radius_;          // per cluster
     std::vector<AffineRows> rows_;

@@ -1,0 +1,209 @@
+#include "hairlod/lod/affine_stencil.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "hairlod/lod/compact.h"
+#include "hairlod/lod/lod_asset.h"
+
+namespace hairlod {
+
+namespace {
+
+constexpr int kMonomials = 10;  // 1, x, y, z, x^2, y^2, z^2, xy, yz, zx
+constexpr int kPointsPerGuide = 3;  // control points k - 1, k, k + 1
+// The ridge towards the prism map, as a fraction of the fit's mean diagonal: directions the guides
+// determine this weakly (or not at all) follow the prism map instead of amplifying the field's
+// higher-order terms.
+constexpr double kRidge = 1e-6;
+// The weight of the faint stencil (6 points at +-h on the axes around the centroid) against the
+// cluster's strand points, in total: a direction in which the strands spread less than about
+// sqrt(kFaint) h takes the quadratic field's own slope at the centroid.
+constexpr double kFaint = 1e-3;
+
+using Monomials = std::array<double, kMonomials>;
+
+Monomials monomials(const glm::dvec3& x) {
+    return {1.0, x.x, x.y, x.z, x.x * x.x, x.y * x.y, x.z * x.z, x.x * x.y, x.y * x.z, x.z * x.x};
+}
+
+// Solves m x = b in place for a symmetric positive definite n x n m (row-major, lower triangle
+// read) and `columns` right-hand sides b [n x columns] (Cholesky). The matrices here are SPD by
+// construction (a ridge, a faint stencil), so a non-positive pivot only comes from rounding: it is
+// clamped to a tiny fraction of the diagonal rather than failing.
+template <int N>
+void solve_spd(std::array<double, N * N> m, double* b, int columns) {
+    double largest = 0.0;
+    for (int i = 0; i < N; ++i) largest = std::max(largest, m[i * N + i]);
+    for (int j = 0; j < N; ++j) {
+        double diagonal = m[j * N + j];
+        for (int p = 0; p < j; ++p) diagonal -= m[j * N + p] * m[j * N + p];
+        diagonal = std::sqrt(std::max(diagonal, 1e-300 + 1e-15 * largest));
+        m[j * N + j] = diagonal;
+        for (int i = j + 1; i < N; ++i) {
+            double sum = m[i * N + j];
+            for (int p = 0; p < j; ++p) sum -= m[i * N + p] * m[j * N + p];
+            m[i * N + j] = sum / diagonal;
+        }
+    }
+    for (int c = 0; c < columns; ++c) {
+        for (int i = 0; i < N; ++i) {  // L y = b
+            double sum = b[i * columns + c];
+            for (int p = 0; p < i; ++p) sum -= m[i * N + p] * b[p * columns + c];
+            b[i * columns + c] = sum / m[i * N + i];
+        }
+        for (int i = N - 1; i >= 0; --i) {  // L^T x = y
+            double sum = b[i * columns + c];
+            for (int p = i + 1; p < N; ++p) sum -= m[p * N + i] * b[p * columns + c];
+            b[i * columns + c] = sum / m[i * N + i];
+        }
+    }
+}
+
+}  // namespace
+
+SkinningStencils skinning_stencils(const LodAsset& asset, std::span<const GuideFrame> rest_frames) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    const size_t clusters = asset.cluster_count(), guides = asset.guide_count();
+    const int nearest = static_cast<int>(std::min<size_t>(kStencilGuides, guides));
+    const size_t stride = static_cast<size_t>(nearest) * kPointsPerGuide;
+    SkinningStencils out;
+    out.stencils.resize(clusters * nc);
+    out.terms.resize(clusters * nc * stride);
+    tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+        const auto [first, end] = asset.cluster_strands(c);
+        const auto members = static_cast<double>(end - first);
+        std::vector<std::pair<double, int32_t>> by_distance(guides);
+        for (size_t k = 0; k < nc; ++k) {
+            const size_t i = c * nc + k;
+            const GuideFrame& frame = rest_frames[i];
+            const QuantisationBox& box = asset.offset_boxes[i];
+            auto rest_point = [&](int32_t position) {
+                return glm::dvec3(frame.origin) + glm::dvec3(box.decode(asset.strand_offset[static_cast<size_t>(position) * nc + k]));
+            };
+            glm::dvec3 centroid(0.0);
+            for (int32_t s = first; s < end; ++s) centroid += rest_point(s);
+            centroid /= members;
+
+            // The nearest guides at k, and the field's length scale h: the farthest of them, or
+            // the guides' segment length when they crowd closer (so k +- 1 keep their weight).
+            for (size_t g = 0; g < guides; ++g)
+                by_distance[g] = {glm::distance(glm::dvec3(asset.rest_guides[g * nc + k]), centroid), static_cast<int32_t>(g)};
+            std::partial_sort(by_distance.begin(), by_distance.begin() + nearest, by_distance.end());
+            const size_t before = k == 0 ? 0 : k - 1, after = std::min(k + 1, nc - 1);
+            double segment = 0.0;
+            for (int n = 0; n < nearest; ++n) {
+                const size_t g = static_cast<size_t>(by_distance[static_cast<size_t>(n)].second);
+                segment += glm::distance(glm::dvec3(asset.rest_guides[g * nc + after]), glm::dvec3(asset.rest_guides[g * nc + before])) /
+                           static_cast<double>(std::max<size_t>(after - before, 1));
+            }
+            double h = std::max(by_distance[static_cast<size_t>(nearest) - 1].first, segment / nearest);
+            if (!(h > 0.0)) h = 1.0;  // every point coincides: only the constant is fitted, the prism map decides the rest
+
+            // Step 1: the weighted normal equations of the quadratic field, with the ridge.
+            StencilTerm* terms = out.terms.data() + i * stride;
+            std::array<double, kStencilGuides * kPointsPerGuide> weight{};
+            std::array<Monomials, kStencilGuides * kPointsPerGuide> basis{};
+            std::array<double, kMonomials * kMonomials> normal{};
+            int count = 0;
+            for (int n = 0; n < nearest; ++n) {
+                const size_t g = static_cast<size_t>(by_distance[static_cast<size_t>(n)].second);
+                for (size_t kk = before; kk <= after; ++kk) {
+                    const glm::dvec3 x = (glm::dvec3(asset.rest_guides[g * nc + kk]) - centroid) / h;
+                    weight[static_cast<size_t>(count)] = std::exp(-glm::dot(x, x));
+                    basis[static_cast<size_t>(count)] = monomials(x);
+                    terms[count].point = static_cast<int32_t>(g * nc + kk);
+                    for (int r = 0; r < kMonomials; ++r)
+                        for (int col = 0; col < kMonomials; ++col)
+                            normal[static_cast<size_t>(r * kMonomials + col)] +=
+                                weight[static_cast<size_t>(count)] * basis[static_cast<size_t>(count)][static_cast<size_t>(r)] *
+                                basis[static_cast<size_t>(count)][static_cast<size_t>(col)];
+                    ++count;
+                }
+            }
+            double trace = 0.0;
+            for (int r = 0; r < kMonomials; ++r) trace += normal[static_cast<size_t>(r * kMonomials + r)];
+            const double ridge = kRidge * trace / kMonomials;
+            for (int r = 0; r < kMonomials; ++r) normal[static_cast<size_t>(r * kMonomials + r)] += ridge;
+
+            // Step 2: the affine least squares over the strand points, X = (p - centroid, 1):
+            // [A | t] = q's coefficients^T S, S = sum b(x) X^T (sum X X^T)^-1.
+            std::array<double, kMonomials * 4> moments{};  // sum b(x) X^T
+            std::array<double, 16> gram{};                  // sum X X^T
+            auto add_point = [&](const glm::dvec3& offset, double w) {
+                const Monomials b = monomials(offset / h);
+                const double X[4] = {offset.x, offset.y, offset.z, 1.0};
+                for (int r = 0; r < kMonomials; ++r)
+                    for (int col = 0; col < 4; ++col) moments[static_cast<size_t>(r * 4 + col)] += w * b[static_cast<size_t>(r)] * X[col];
+                for (int r = 0; r < 4; ++r)
+                    for (int col = 0; col < 4; ++col) gram[static_cast<size_t>(r * 4 + col)] += w * X[r] * X[col];
+            };
+            for (int32_t s = first; s < end; ++s) add_point(rest_point(s) - centroid, 1.0);
+            for (int axis = 0; axis < 3; ++axis)
+                for (double sign : {-1.0, 1.0}) {
+                    glm::dvec3 offset(0.0);
+                    offset[axis] = sign * h;
+                    add_point(offset, kFaint * members / 6.0);
+                }
+            // S^T = gram^-1 moments^T (gram is symmetric).
+            std::array<double, 4 * kMonomials> s_transposed{};
+            for (int r = 0; r < 4; ++r)
+                for (int col = 0; col < kMonomials; ++col)
+                    s_transposed[static_cast<size_t>(r * kMonomials + col)] = moments[static_cast<size_t>(col * 4 + r)];
+            solve_spd<4>(gram, s_transposed.data(), kMonomials);
+            // Y = normal^-1 S, [kMonomials x 4].
+            std::array<double, kMonomials * 4> y{};
+            for (int r = 0; r < kMonomials; ++r)
+                for (int col = 0; col < 4; ++col)
+                    y[static_cast<size_t>(r * 4 + col)] = s_transposed[static_cast<size_t>(col * kMonomials + r)];
+            solve_spd<kMonomials>(normal, y.data(), 4);
+
+            auto y_row = [&](int r) {
+                return glm::dvec4(y[static_cast<size_t>(r * 4)], y[static_cast<size_t>(r * 4 + 1)], y[static_cast<size_t>(r * 4 + 2)],
+                                  y[static_cast<size_t>(r * 4 + 3)]);
+            };
+            for (int j = 0; j < count; ++j) {
+                glm::dvec4 w(0.0);
+                for (int r = 0; r < kMonomials; ++r) w += basis[static_cast<size_t>(j)][static_cast<size_t>(r)] * y_row(r);
+                terms[j].weight = weight[static_cast<size_t>(j)] * w;
+            }
+            AffineStencil& stencil = out.stencils[i];
+            stencil.centroid = centroid;
+            stencil.reference = static_cast<int32_t>(static_cast<size_t>(by_distance[0].second) * nc + k);
+            stencil.first_term = static_cast<int32_t>(i * stride);
+            stencil.term_count = count;
+            // The prism map's coefficients in the scaled monomials: constant c0, linear h M e_i.
+            stencil.prior[0] = ridge * y_row(0);
+            for (int axis = 0; axis < 3; ++axis) stencil.prior[1 + axis] = ridge * h * y_row(1 + axis);
+        }
+    });
+    return out;
+}
+
+StencilMap stencil_map(const SkinningStencils& stencils, size_t i, std::span<const glm::vec3> deformed_guides,
+                       const GuideFrame& rest_frame, const GuideFrame& deformed_frame, const glm::mat3& prism_map) {
+    const AffineStencil& stencil = stencils.stencils[i];
+    const glm::dvec3 reference(deformed_guides[static_cast<size_t>(stencil.reference)]);
+    glm::dmat3 linear(0.0);
+    glm::dvec3 translation(0.0);
+    auto add = [&](const glm::dvec3& v, const glm::dvec4& w) {  // [A | t] += v w^T
+        linear[0] += w.x * v;
+        linear[1] += w.y * v;
+        linear[2] += w.z * v;
+        translation += w.w * v;
+    };
+    const StencilTerm* terms = stencils.terms.data() + stencil.first_term;
+    for (int j = 0; j < stencil.term_count; ++j)
+        add(glm::dvec3(deformed_guides[static_cast<size_t>(terms[j].point)]) - reference, terms[j].weight);
+    const glm::dmat3 prism(prism_map);
+    add(glm::dvec3(deformed_frame.origin) - reference + prism * (stencil.centroid - glm::dvec3(rest_frame.origin)), stencil.prior[0]);
+    for (int axis = 0; axis < 3; ++axis) add(prism[axis], stencil.prior[1 + axis]);
+    return {reference + translation, linear};
+}
+
+}  // namespace hairlod
