@@ -28,15 +28,26 @@ glm::vec3 unit_or_zero(const glm::vec3& v) {
 
 }  // namespace
 
-SkinningRest skinning_rest(const LodAsset& asset) {
+std::vector<GuideFrame> rest_frames(const LodAsset& asset) {
     const auto nc = static_cast<size_t>(asset.control_points);
-    SkinningRest rest;
-    rest.frames.resize(asset.cluster_count() * nc);
+    std::vector<GuideFrame> frames(asset.cluster_count() * nc);
     tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
         const GuideSet guides = guide_set(asset.cluster_guides[c], asset.rest_guides.data(), asset.control_points);
         for (size_t k = 0; k < nc; ++k)
-            rest.frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
+            frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
     });
+    return frames;
+}
+
+std::vector<ClusterMap> identity_maps(std::span<const GuideFrame> rest_frames) {
+    std::vector<ClusterMap> maps(rest_frames.size());
+    for (size_t i = 0; i < maps.size(); ++i) maps[i] = ClusterMap{rest_frames[i].origin, rest_frames[i].origin, glm::mat3(1.0f)};
+    return maps;
+}
+
+SkinningRest skinning_rest(const LodAsset& asset) {
+    SkinningRest rest;
+    rest.frames = rest_frames(asset);
     rest.stencils = skinning_stencils(asset, rest.frames);
     return rest;
 }
@@ -87,7 +98,9 @@ AffineRows affine_rows(const ClusterMap& map) {
     return rows;
 }
 
-FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset), rest_(skinning_rest(asset)) {
+FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
+    // The stencils wait for the first update: a preview that never moves does not derive them.
+    rest_.frames = rest_frames(asset);
     const auto nc = static_cast<size_t>(asset.control_points);
     const size_t clusters = asset.cluster_count();
     // The widest hair of each cluster and control point at rest, as LodAsset::skin measures it.
@@ -130,11 +143,15 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset), rest_(skin
     geometry_.levels.resize(asset.thick_levels.size());
     for (ThickHairGeometry& level : geometry_.levels) level.widest.resize(clusters * nc);
     rows_.resize(clusters * nc);
-    update(asset.rest_guides);
+    set_maps(identity_maps(rest_.frames));
 }
 
 void FrameSkinning::update(std::span<const glm::vec3> deformed_guides) {
-    const std::vector<ClusterMap> maps = cluster_maps(*asset_, rest_, deformed_guides);
+    if (rest_.stencils.stencils.empty()) rest_.stencils = skinning_stencils(*asset_, rest_.frames);
+    set_maps(cluster_maps(*asset_, rest_, deformed_guides));
+}
+
+void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
     const auto nc = static_cast<size_t>(asset_->control_points);
     tbb::parallel_for(size_t{0}, asset_->cluster_count(), [&](size_t c) {
         glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
@@ -173,16 +190,7 @@ LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {
 
 LodGeometry LodAsset::rest_geometry() const {
     // The rest pose maps every point to itself: no stencils to derive.
-    const auto nc = static_cast<size_t>(control_points);
-    std::vector<ClusterMap> identity(cluster_count() * nc);
-    tbb::parallel_for(size_t{0}, cluster_count(), [&](size_t c) {
-        const GuideSet guides = guide_set(cluster_guides[c], rest_guides.data(), control_points);
-        for (size_t k = 0; k < nc; ++k) {
-            const glm::vec3 origin = guide_frame(frame_kinds[c * nc + k], guides, static_cast<int>(k)).origin;
-            identity[c * nc + k] = ClusterMap{origin, origin, glm::mat3(1.0f)};
-        }
-    });
-    return mapped_geometry(*this, identity);
+    return mapped_geometry(*this, identity_maps(rest_frames(*this)));
 }
 
 LodGeometry skin_geometry(const LodAsset& asset, const SkinningRest& rest, std::span<const glm::vec3> deformed_guides) {

@@ -38,6 +38,11 @@ struct SkinningRest {
 };
 SkinningRest skinning_rest(const LodAsset& asset);
 
+// The prism frames alone, and the maps that leave every point where it is (the rest pose) anchored
+// at them: what the rest pose needs, without the stencils.
+std::vector<GuideFrame> rest_frames(const LodAsset& asset);
+std::vector<ClusterMap> identity_maps(std::span<const GuideFrame> rest_frames);
+
 // The maps of every L0 cluster and control point [clusters * n_c] for `deformed_guides` ([guides *
 // n_c] points, the guides in the order of guide_strands), given the asset's skinning_rest. Throws
 // Error when the guides have the wrong size or a coordinate that is not finite.
@@ -70,8 +75,8 @@ public:
     // must outlive this object. Starts at the rest pose.
     explicit FrameSkinning(const LodAsset& asset);
 
-    // Skins to `deformed_guides` (as cluster_maps). Throws Error on bad guides and keeps the
-    // previous frame.
+    // Skins to `deformed_guides` (as cluster_maps; the first call derives the stencils). Throws
+    // Error on bad guides and keeps the previous frame.
     void update(std::span<const glm::vec3> deformed_guides);
 
     const LodAsset& asset() const { return *asset_; }
@@ -87,6 +92,7 @@ public:
     const LodGeometry& selection_geometry() const { return geometry_; }
 
 private:
+    void set_maps(std::span<const ClusterMap> maps);
     struct WidestRest {
         glm::vec3 before, centre, after;  // rest centres at control points k - 1, k, k + 1 (clamped)
         glm::vec3 major, minor;           // rest semi-axis vectors at k
