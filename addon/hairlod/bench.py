@@ -454,7 +454,7 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
         start = time.perf_counter()
         skinning.update(guides)
         skinned = time.perf_counter()
-        maps = np.ascontiguousarray(skinning.maps).ravel()
+        np.ascontiguousarray(skinning.maps).ravel()  # the copy an upload makes (FrameSkinning.maps copies)
         copied = time.perf_counter()
         moving.set_geometry(skinning)
         moving.update(view, projection, viewport)
@@ -475,8 +475,7 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
     bent = asset.skin(bent_guides)
     # The GPU path: the maps applied to the rest pose, as skinning.glsl does.
     skinning.update(bent_guides)
-    maps = skinning.maps.astype(np.float64)[asset.levels[0].membership]  # [strands, n_c, 3, 4]
-    gpu_points = np.einsum("sknj,skj->skn", maps[..., :3], rest.astype(np.float64)) + maps[..., 3]
+    gpu_points = lod.apply_maps(skinning.maps[asset.levels[0].membership], rest)  # maps [strands, n_c, texels, 4]
     bent_points = bent["strands"].points.reshape(-1, control_points, 3)
     return {
         "component": "skinning",

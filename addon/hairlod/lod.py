@@ -27,6 +27,7 @@ MIN_CONTROL_POINTS = _core.MIN_CONTROL_POINTS
 # Strands.resampled(n_c, LOD_ARC_LENGTH_SUBDIVISIONS) resamples as build_lod does: the rest pose the
 # asset's skinning reproduces.
 LOD_ARC_LENGTH_SUBDIVISIONS = _core.LOD_ARC_LENGTH_SUBDIVISIONS
+SKIN_MAP_TEXELS = _core.SKIN_MAP_TEXELS  # RGBA texels per skinning map (FrameSkinning.maps, skinning.glsl)
 
 __all__ = ["DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "check_animation", "curve_subset", "following_error", "frame_guides", "keep_scene_levels", "load",
            "load_animation", "pack",
@@ -64,7 +65,7 @@ class LodAsset:
         self.levels = [ThickLevel(**level) for level in core_asset.thick_levels()]
         # Index of each thick level in the full hierarchy it was built as (scene_levels may drop some).
         self.level_ids = list(range(len(self.levels))) if level_ids is None else list(level_ids)
-        self._skinning_rest = None  # derived from the rest pose on the first skin (affine_stencil.h)
+        self._skinning_rest = None  # derived from the rest pose on the first skin (quadratic_stencil.h)
 
     guide_count = property(lambda self: self._core.guide_count)
     cluster_count = property(lambda self: self._core.cluster_count)
@@ -140,8 +141,8 @@ class LodAsset:
 
     def frame_skinning(self):
         """Per-frame skinning for drawing on the GPU (Sec. 5.1 step 4): ``update(guides)`` computes
-        the affine map of every L0 cluster and control point (``maps`` [clusters, n_c, 3, 4], deformed
-        = maps[..., :3] @ rest + maps[..., 3]) and what selection reads, in O(clusters n_c)."""
+        the quadratic map of every L0 cluster and control point (``maps`` [clusters, n_c,
+        SKIN_MAP_TEXELS, 4], applied by ``apply_maps``) and what selection reads, in O(clusters n_c)."""
         return _core.FrameSkinning(self._core)
 
     def resample_guides(self, guide_curves):
@@ -181,6 +182,17 @@ def following_error(skinned, truth, strand_radius, size):
     stats = {"mean": float(distance.mean()), "p99": float(np.percentile(distance, 99)), "max": float(distance.max())}
     return {**{f"{k}_radii": v / strand_radius for k, v in stats.items()},
             **{f"{k}_of_size": v / size for k, v in stats.items()}}
+
+
+def apply_maps(maps, rest):
+    """Rest points [..., 3] moved by skinning maps [..., SKIN_MAP_TEXELS, 4] (FrameSkinning.maps, one
+    per point, broadcast), float64: what the preview's skinning.glsl computes."""
+    maps = np.asarray(maps, dtype=np.float64)
+    d = np.asarray(rest, dtype=np.float64) - maps[..., 0, :3]
+    products = np.stack([d[..., 0] * d[..., 1], d[..., 1] * d[..., 2], d[..., 2] * d[..., 0]], axis=-1)
+    return (np.einsum("...rj,...j->...r", maps[..., 1:4, :3], d) + maps[..., 1:4, 3]
+            + np.einsum("...rj,...j->...r", maps[..., 4:7, :3], d * d)
+            + np.einsum("...rj,...j->...r", maps[..., 7:10, :3], products))
 
 
 def strand_bytes(strands):
@@ -329,10 +341,9 @@ def _header(asset):
 ANIMATION_MEANING = ("guides[f, g, k] (float32 [frames, guides, n_c, 3], object space): control point k of guide g "
                      "(the order of guide_strands) at frame frames[f]. Every strand and thick hair follows by the "
                      "linear skinning of hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 4: LodAsset.skin(guides[f]) "
-                     "in hairlod: per L0 cluster c and control point k one affine map applied to the stored "
-                     "offsets, the least-squares affine fit over the cluster's rest strand points of a quadratic "
-                     "field fitted to the nearest guides' points (hairlod's affine_stencil.h), which the frame of "
-                     "its cluster_guides (frame_kinds) settles where the guides leave directions open.")
+                     "in hairlod: per L0 cluster c and control point k a quadratic field fitted to the nearest "
+                     "guides' points (hairlod's quadratic_stencil.h), applied to the stored offsets, which the "
+                     "frame of its cluster_guides (frame_kinds) settles where the guides leave directions open.")
 
 
 def check_animation(asset, frames, guides):

@@ -217,6 +217,7 @@ void bind_lod(py::module_& m) {
     // Strands.resampled(K, LOD_ARC_LENGTH_SUBDIVISIONS) resamples as build_lod does (the rest pose skinning reproduces).
     m.attr("LOD_ARC_LENGTH_SUBDIVISIONS") = LodOptions{}.arc_length_subdivisions;
     m.attr("MIN_WIDTH_PX") = kMinWidthPx;
+    m.attr("SKIN_MAP_TEXELS") = kMapTexels;
     py::class_<Selection>(m, "Selection", "LoD level per L0 cluster and segment, visibility and draw ranges.")
         .def_property_readonly("levels",
                                [](const Selection& s) {
@@ -346,7 +347,7 @@ void bind_lod(py::module_& m) {
                              "What skinning derives from an asset's rest pose (LodAsset.skinning_rest); opaque.");
 
     py::class_<FrameSkinning>(m, "FrameSkinning",
-                              "Per-frame skinning for GPU renderers: the affine map of each L0 cluster and control point, "
+                              "Per-frame skinning for GPU renderers: the quadratic map of each L0 cluster and control point, "
                               "and the geometry LoD selection reads (Sec. 5.1 step 4).")
         .def(py::init([](const LodAsset& a) {
                  py::gil_scoped_release release;
@@ -360,8 +361,8 @@ void bind_lod(py::module_& m) {
         }, py::arg("deformed_guides"), "Skins to guides [G, n_c, 3]; raises ValueError on bad guides (keeping the last frame).")
         .def_property_readonly("maps", [](const FrameSkinning& s) {
             const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);
-            return to_numpy<float>(s.maps(), {clusters, nc, 3, 4});
-        }, "float32 [clusters, n_c, 3, 4]: rows of the affine maps, deformed = rows[:, :3] @ rest + rows[:, 3].")
+            return to_numpy<float>(s.maps(), {clusters, nc, static_cast<py::ssize_t>(kMapTexels), 4});
+        }, "float32 [clusters, n_c, SKIN_MAP_TEXELS, 4]: the maps as the preview's shader reads them (hairlod.lod.apply_maps).")
         .def("selection_geometry", [](const FrameSkinning& s) {
             const LodGeometry& g = s.selection_geometry();
             const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);

@@ -39,13 +39,22 @@ std::vector<glm::vec3> moved(std::vector<glm::vec3> points, Map map) {
     return points;
 }
 
-glm::vec3 apply(const AffineRows& rows, const glm::vec3& p) {
-    const glm::vec4 h(p, 1.0f);
-    return {glm::dot(rows[0], h), glm::dot(rows[1], h), glm::dot(rows[2], h)};
+// The texels applied as skinning.glsl applies them: the point p, and a vector v at p.
+glm::vec3 apply_texels(const MapTexels& t, const glm::vec3& p) {
+    const glm::vec3 d = p - glm::vec3(t[0]);
+    const glm::vec4 h(d, 1.0f);
+    const glm::vec3 squares = d * d, products(d.x * d.y, d.y * d.z, d.z * d.x);
+    glm::vec3 out;
+    for (int r = 0; r < 3; ++r)
+        out[r] = glm::dot(t[1 + r], h) + glm::dot(glm::vec3(t[4 + r]), squares) + glm::dot(glm::vec3(t[7 + r]), products);
+    return out;
 }
 
-glm::vec3 apply_linear(const AffineRows& rows, const glm::vec3& v) {
-    return {glm::dot(glm::vec3(rows[0]), v), glm::dot(glm::vec3(rows[1]), v), glm::dot(glm::vec3(rows[2]), v)};
+glm::vec3 apply_vector(const MapTexels& t, const glm::vec3& p, const glm::vec3& v) {
+    // The directional derivative of apply at p along v: a central difference is exact for a
+    // quadratic map, up to rounding.
+    const float step = 1e-2f;
+    return (apply_texels(t, p + step * v) - apply_texels(t, p - step * v)) / (2.0f * step);
 }
 
 class SkinningTest : public ::testing::Test {
@@ -74,8 +83,8 @@ TEST_F(SkinningTest, MapsAppliedToTheRestPoseEqualTheCpuSkin) {
         const float scale = 4.0f;  // the hair's size: tolerances are relative to it
         for (size_t s = 0; s < a.strand_count(); ++s)
             for (size_t k = 0; k < nc; ++k) {
-                const AffineRows& rows = skinning.maps()[static_cast<size_t>(strand_cluster[s]) * nc + k];
-                ASSERT_LT(glm::distance(apply(rows, rest.strands.points[s * nc + k]), expected.strands.points[s * nc + k]),
+                const MapTexels& rows = skinning.maps()[static_cast<size_t>(strand_cluster[s]) * nc + k];
+                ASSERT_LT(glm::distance(apply_texels(rows, rest.strands.points[s * nc + k]), expected.strands.points[s * nc + k]),
                           2e-6f * scale);
             }
         for (size_t l = 0; l < a.thick_levels.size(); ++l) {
@@ -83,11 +92,14 @@ TEST_F(SkinningTest, MapsAppliedToTheRestPoseEqualTheCpuSkin) {
             for (size_t c = 0; c < a.cluster_count(); ++c)
                 for (auto h = static_cast<size_t>(level.cluster_first[c]); h < static_cast<size_t>(level.cluster_first[c + 1]); ++h)
                     for (size_t k = 0; k < nc; ++k) {
-                        const AffineRows& rows = skinning.maps()[c * nc + k];
+                        const MapTexels& rows = skinning.maps()[c * nc + k];
                         const size_t at = h * nc + k;
-                        ASSERT_LT(glm::distance(apply(rows, rest.levels[l].centre[at]), expected.levels[l].centre[at]), 2e-6f * scale);
-                        ASSERT_LT(glm::distance(apply_linear(rows, rest.levels[l].major[at]), expected.levels[l].major[at]),
-                                  1e-5f * glm::length(expected.levels[l].major[at]) + 1e-9f);
+                        ASSERT_LT(glm::distance(apply_texels(rows, rest.levels[l].centre[at]), expected.levels[l].centre[at]), 2e-6f * scale);
+                        const glm::vec3 major = rest.levels[l].major[at];
+                        ASSERT_LT(glm::distance(apply_vector(rows, rest.levels[l].centre[at], major / glm::length(major)) *
+                                                    glm::length(major),
+                                                expected.levels[l].major[at]),
+                                  1e-3f * glm::length(expected.levels[l].major[at]) + 1e-9f);
                     }
         }
     }
@@ -95,10 +107,13 @@ TEST_F(SkinningTest, MapsAppliedToTheRestPoseEqualTheCpuSkin) {
 
 TEST_F(SkinningTest, RestPoseMapsAreTheIdentity) {
     const FrameSkinning skinning(*asset_);
-    for (const AffineRows& rows : skinning.maps())
-        for (int r = 0; r < 3; ++r)
-            for (int col = 0; col < 4; ++col)
-                ASSERT_NEAR(rows[r][col], col == r ? 1.0f : 0.0f, 1e-5f) << "row " << r << " column " << col;
+    for (const MapTexels& texels : skinning.maps()) {
+        for (int r = 0; r < 3; ++r) {
+            for (int col = 0; col < 3; ++col) ASSERT_NEAR(texels[1 + r][col], col == r ? 1.0f : 0.0f, 1e-5f) << "row " << r;
+            ASSERT_EQ(texels[1 + r][3], texels[0][r]);  // the origin maps to itself
+        }
+        for (int t = 4; t < kMapTexels; ++t) ASSERT_EQ(texels[t], glm::vec4(0.0f));
+    }
 }
 
 // What selection reads: at rest the widest hairs are the CPU skin's; under any motion the cluster
@@ -173,7 +188,7 @@ TEST_F(SkinningTest, SelectionFollowsARigidMotionOfHairAndCamera) {
 TEST_F(SkinningTest, BadGuidesAreRefusedAndTheLastFrameKept) {
     FrameSkinning skinning(*asset_);
     skinning.update(moved(asset_->rest_guides, rigid));
-    const std::vector<AffineRows> before = skinning.maps();
+    const std::vector<MapTexels> before = skinning.maps();
     EXPECT_THROW(skinning.update(std::vector<glm::vec3>(3)), Error);
     std::vector<glm::vec3> guides = asset_->rest_guides;
     guides[5].y = std::numeric_limits<float>::quiet_NaN();

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import REPO
+from hairlod import lod
 
 BUNDLED = REPO / "examples" / "data" / "bob.hair"
 BANGS = ["Bangs_100.hair", "Bangs_100.data", "Bangs_100.bin", "Bangs_100_ascii.ply", "Bangs_100_binary.ply"]
@@ -139,7 +140,6 @@ def _lod_input(tmp_path):
 
 
 def test_lod_exports_a_folder_that_loads_back(tmp_path):
-    from hairlod import lod
 
     source = _lod_input(tmp_path)
     result = run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 5, "--control-points", 8,
@@ -227,7 +227,7 @@ def test_bench_skinning_json():
     assert result.returncode == 0, result.stderr
     report = json.loads(result.stdout)
     assert set(report["per_frame_ms"]) == {"skin_maps", "maps_copy", "select_moved", "select_static"}
-    assert report["maps_bytes"] == report["clusters"] * 8 * 12 * 4
+    assert report["maps_bytes"] == report["clusters"] * 8 * lod.SKIN_MAP_TEXELS * 4 * 4
     # The rigid turn is exact to float precision; the GPU path is the CPU skin.
     assert report["rigid_turn_30deg"]["max_of_size"] < 1e-5
     assert report["gpu_path_vs_cpu_skin_max_of_size"] < 1e-5

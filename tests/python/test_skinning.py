@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from hairlod import HairlodError, Strands, self_shadow
+from hairlod import HairlodError, Strands, lod, self_shadow
 from hairlod.temporal import bend, turn
 from hairlod.lod import build_lod
 from test_lod import hanging_hair, look_at, perspective
@@ -51,15 +51,18 @@ def test_maps_applied_to_the_rest_pose_equal_the_cpu_skin(asset):
     """What skinning.glsl computes (maps on the rest vertex buffers) is LodAsset.skin, rigid or not."""
     rest = asset.skin(asset.rest_guides)
     skinning = asset.frame_skinning()
-    assert skinning.maps.shape == (asset.cluster_count, 8, 3, 4)
-    assert np.abs(skinning.maps - np.concatenate([np.eye(3), np.zeros((3, 1))], axis=1)).max() <= 1e-5
+    maps = skinning.maps
+    assert maps.shape == (asset.cluster_count, 8, lod.SKIN_MAP_TEXELS, 4)
+    # At rest each map is the identity about its rest origin: no second-order terms.
+    assert np.abs(maps[..., 1:4, :3] - np.eye(3)).max() <= 1e-6
+    assert np.array_equal(maps[..., 1:4, 3], maps[..., 0, :3])
+    assert not maps[..., 4:, :].any() and not maps[..., 0, 3].any()
     rest_points = rest["strands"].points.reshape(-1, 8, 3).astype(np.float64)
     cluster = asset.levels[0].membership
     for deform in (rigid, lambda p: bend(p, 0.5), lambda p: turn(bend(p, 0.3), 1.0)):
         guides = deform(asset.rest_guides)
         skinning.update(guides)
-        maps = skinning.maps.astype(np.float64)[cluster]
-        gpu = np.einsum("skij,skj->ski", maps[..., :3], rest_points) + maps[..., 3]
+        gpu = lod.apply_maps(skinning.maps[cluster], rest_points)
         cpu = asset.skin(guides)["strands"].points.reshape(-1, 8, 3)
         assert np.abs(gpu - cpu).max() <= 2e-6 * np.abs(cpu).max()
 

@@ -18,7 +18,7 @@ namespace hairlod {
 namespace {
 
 glm::vec3 skin_point(const ClusterMap& map, const glm::vec3& rest_point) {
-    return map.origin + map.linear * (rest_point - map.rest_origin);
+    return map_point(map, rest_point - map.rest_origin);
 }
 
 glm::vec3 unit_or_zero(const glm::vec3& v) {
@@ -27,6 +27,18 @@ glm::vec3 unit_or_zero(const glm::vec3& v) {
 }
 
 }  // namespace
+
+glm::vec3 map_point(const ClusterMap& map, const glm::vec3& d) {
+    const std::array<glm::vec3, 6>& q = map.quadratic;
+    return map.origin + map.linear * d + q[0] * (d.x * d.x) + q[1] * (d.y * d.y) + q[2] * (d.z * d.z) +
+           q[3] * (d.x * d.y) + q[4] * (d.y * d.z) + q[5] * (d.z * d.x);
+}
+
+glm::mat3 map_jacobian(const ClusterMap& map, const glm::vec3& d) {
+    const std::array<glm::vec3, 6>& q = map.quadratic;
+    return map.linear + glm::mat3(2.0f * d.x * q[0] + d.y * q[3] + d.z * q[5], 2.0f * d.y * q[1] + d.x * q[3] + d.z * q[4],
+                                  2.0f * d.z * q[2] + d.y * q[4] + d.x * q[5]);
+}
 
 std::vector<GuideFrame> rest_frames(const LodAsset& asset) {
     const auto nc = static_cast<size_t>(asset.control_points);
@@ -71,11 +83,12 @@ std::vector<ClusterMap> cluster_maps(const LodAsset& asset, const SkinningRest& 
             const size_t i = c * nc + k;
             const GuideFrame& rest_frame = rest.frames[i];
             const GuideFrame frame = guide_frame(asset.frame_kinds[i], deformed, static_cast<int>(k));
-            const StencilMap map = stencil_map(rest.stencils, i, deformed_guides, rest_frame, frame, frame_map(rest_frame, frame));
             // Stored offsets are relative to the rest frame origin: the map is anchored there.
-            const glm::dvec3 origin =
-                map.centroid_image + map.linear * (glm::dvec3(rest_frame.origin) - rest.stencils.stencils[i].centroid);
-            maps[i] = ClusterMap{rest_frame.origin, glm::vec3(origin), glm::mat3(map.linear)};
+            const QuadraticMap map = stencil_map(rest.stencils, i, deformed_guides, rest_frame, frame, frame_map(rest_frame, frame),
+                                                 glm::dvec3(rest_frame.origin));
+            ClusterMap& out = maps[i];
+            out = ClusterMap{rest_frame.origin, glm::vec3(map.origin), glm::mat3(map.linear)};
+            for (size_t m = 0; m < 6; ++m) out.quadratic[m] = glm::vec3(map.quadratic[m]);
         }
     });
     return maps;
@@ -90,12 +103,17 @@ std::vector<glm::vec3> resample_guides(const LodAsset& asset, const StrandSet& g
     return std::move(resampled.points);
 }
 
-AffineRows affine_rows(const ClusterMap& map) {
-    // p' = linear p + (origin - linear rest_origin); glm matrices are column-major: linear[col][row].
-    const glm::vec3 translation = map.origin - map.linear * map.rest_origin;
-    AffineRows rows;
-    for (int r = 0; r < 3; ++r) rows[r] = glm::vec4(map.linear[0][r], map.linear[1][r], map.linear[2][r], translation[r]);
-    return rows;
+MapTexels map_texels(const ClusterMap& map) {
+    // glm matrices are column-major: linear[col][row].
+    const std::array<glm::vec3, 6>& q = map.quadratic;
+    MapTexels texels;
+    texels[0] = glm::vec4(map.rest_origin, 0.0f);
+    for (int r = 0; r < 3; ++r) {
+        texels[1 + r] = glm::vec4(map.linear[0][r], map.linear[1][r], map.linear[2][r], map.origin[r]);
+        texels[4 + r] = glm::vec4(q[0][r], q[1][r], q[2][r], 0.0f);
+        texels[7 + r] = glm::vec4(q[3][r], q[4][r], q[5][r], 0.0f);
+    }
+    return texels;
 }
 
 FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
@@ -142,7 +160,7 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
     geometry_.cluster_bounds.resize(clusters);
     geometry_.levels.resize(asset.thick_levels.size());
     for (ThickHairGeometry& level : geometry_.levels) level.widest.resize(clusters * nc);
-    rows_.resize(clusters * nc);
+    texels_.resize(clusters * nc);
     set_maps(identity_maps(rest_.frames));
 }
 
@@ -157,16 +175,25 @@ void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
         glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
         for (size_t k = 0; k < nc; ++k) {
             const size_t i = c * nc + k;
-            rows_[i] = affine_rows(maps[i]);
-            // The 8 corners of the box of the strands' rest offsets, mapped: a linear map takes the
-            // box to a parallelepiped whose corners bound every mapped offset.
+            texels_[i] = map_texels(maps[i]);
+            // The box of the strands' rest offsets, mapped. About its centre e the map is
+            // p(e) + J(e) u + Q(u) exactly (Q the quadratic terms): the linear part takes the box to a
+            // parallelepiped whose corners bound it, and |Q_r(u)| <= sum_m |q_m,r| |u_a u_b| with
+            // |u_a| at most the box's half extent a_a widens it by that much per coordinate.
             const QuantisationBox& box = asset_->offset_boxes[i];
-            const glm::vec3 extent = box.step * float(std::numeric_limits<uint16_t>::max());
+            const glm::vec3 half = 0.5f * box.step * float(std::numeric_limits<uint16_t>::max());
+            const glm::vec3 centre = box.lower + half;
+            const glm::vec3 image = map_point(maps[i], centre);
+            const glm::mat3 jacobian = map_jacobian(maps[i], centre);
+            const std::array<glm::vec3, 6>& q = maps[i].quadratic;
+            const glm::vec3 slack = glm::abs(q[0]) * (half.x * half.x) + glm::abs(q[1]) * (half.y * half.y) +
+                                    glm::abs(q[2]) * (half.z * half.z) + glm::abs(q[3]) * (half.x * half.y) +
+                                    glm::abs(q[4]) * (half.y * half.z) + glm::abs(q[5]) * (half.z * half.x);
             for (int corner = 0; corner < 8; ++corner) {
-                const glm::vec3 offset = box.lower + glm::vec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1) * extent;
-                const glm::vec3 p = maps[i].origin + maps[i].linear * offset;
-                lower = glm::min(lower, p);
-                upper = glm::max(upper, p);
+                const glm::vec3 u = glm::vec3(corner & 1 ? 1.0f : -1.0f, corner & 2 ? 1.0f : -1.0f, corner & 4 ? 1.0f : -1.0f) * half;
+                const glm::vec3 p = image + jacobian * u;
+                lower = glm::min(lower, p - slack);
+                upper = glm::max(upper, p + slack);
             }
         }
         geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
@@ -176,7 +203,8 @@ void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
                 const WidestRest& rest = widest_rest_[l][i];
                 const glm::vec3 centre = skin_point(maps[i], rest.centre);
                 const glm::vec3 tangent = unit_or_zero(skin_point(maps[after], rest.after) - skin_point(maps[before], rest.before));
-                const glm::vec3 major = maps[i].linear * rest.major, minor = maps[i].linear * rest.minor;
+                const glm::mat3 jacobian = map_jacobian(maps[i], rest.centre - maps[i].rest_origin);
+                const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
                 const float diameter = corner_diameter(centre, tangent, {centre + major, centre - major, centre + minor, centre - minor});
                 geometry_.levels[l].widest[i] = glm::vec4(centre, diameter);
             }
@@ -221,7 +249,7 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
         for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
             const auto s = static_cast<size_t>(strand_order[i]);
             for (size_t k = 0; k < nc; ++k) {
-                const glm::vec3 p = maps[c * nc + k].origin + maps[c * nc + k].linear * offset_boxes[c * nc + k].decode(strand_offset[i * nc + k]);
+                const glm::vec3 p = map_point(maps[c * nc + k], offset_boxes[c * nc + k].decode(strand_offset[i * nc + k]));
                 const float radius = decode_half(strand_radius[i * nc + k], radius_exponent);
                 out.points[s * nc + k] = p;
                 out.radius[s * nc + k] = radius;
@@ -249,11 +277,13 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
                 for (size_t k = 0; k < nc; ++k) {
                     const size_t at = first + k;
                     const RestSection rest = asset.section(l, static_cast<size_t>(h), k);
-                    g.centre[at] = maps[c * nc + k].origin + maps[c * nc + k].linear * rest.centre_offset;
-                    g.major[at] = maps[c * nc + k].linear * (rest.major_axis * rest.radii.x);
-                    g.minor[at] = maps[c * nc + k].linear * (rest.minor_axis * rest.radii.y);
-                    // The axis ends skinned like the centre: linear skinning moves centre + axis
-                    // to the skinned centre plus the mapped axis.
+                    const ClusterMap& map = maps[c * nc + k];
+                    g.centre[at] = map_point(map, rest.centre_offset);
+                    const glm::mat3 jacobian = map_jacobian(map, rest.centre_offset);
+                    g.major[at] = jacobian * (rest.major_axis * rest.radii.x);
+                    g.minor[at] = jacobian * (rest.minor_axis * rest.radii.y);
+                    // The cross-section is skinned as a small one: its axes by the map's
+                    // Jacobian at its centre (the shader does the same).
                     g.corners[at] = {g.centre[at] + g.major[at], g.centre[at] - g.major[at], g.centre[at] + g.minor[at],
                                      g.centre[at] - g.minor[at]};
                 }

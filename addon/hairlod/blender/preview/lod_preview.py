@@ -13,7 +13,7 @@ instead, small enough to rebuild within the frame budget when its ranges change.
 
 The vertex buffers hold the rest pose. When the hair moves (playback, scrubbing, an edit of what
 deforms it), the frame-change and depsgraph handlers read the evaluated guide curves; the next draw
-skins to them with FrameSkinning (one affine map per L0 cluster and control point, Sec. 5.1 step 4),
+skins to them with FrameSkinning (one quadratic map per L0 cluster and control point, Sec. 5.1 step 4),
 uploads the maps as a texture that the vertex shaders apply (shaders/skinning.glsl) and gives every
 view's selection the moved geometry: per frame O(clusters x n_c) work, no vertex buffer rebuilt.
 """
@@ -137,7 +137,8 @@ def _create_shader(kind, purpose="shade"):
         info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
-    info.vertex_source(glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
+    info.vertex_source(f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n" +
+                       glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
         info.fragment_source(view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
                              glsl_source("selection.glsl", "aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
@@ -184,11 +185,11 @@ def _batch(kind, buffers, elements):
 
 
 def skin_texture(maps):
-    """The skinning maps [clusters, n_c, 3, 4] (FrameSkinning.maps) as the RGBA32F texture
-    skinning.glsl reads: 3 n_c texels wide, one row per L0 cluster."""
-    clusters, control_points = maps.shape[:2]
+    """The skinning maps [clusters, n_c, SKIN_MAP_TEXELS, 4] (FrameSkinning.maps) as the RGBA32F
+    texture skinning.glsl reads: SKIN_MAP_TEXELS n_c texels wide, one row per L0 cluster."""
+    clusters, control_points, texels = maps.shape[:3]
     data = np.ascontiguousarray(maps, dtype=np.float32).ravel()
-    return gpu.types.GPUTexture((3 * control_points, clusters), format='RGBA32F',
+    return gpu.types.GPUTexture((texels * control_points, clusters), format='RGBA32F',
                                 data=gpu.types.Buffer('FLOAT', data.size, data))
 
 

@@ -1,9 +1,9 @@
 #pragma once
 // Per-frame linear skinning of an LoD asset to deformed guides (hair-lod-aggregated-bcsdf.txt
 // Sec. 5.1 step 4 and Sec. 5.2: "only the guides are simulated", strands and thick hairs follow
-// through the weights). Every skinned point of L0 cluster c at control point k moves by one affine
-// map: p' = o'_ck + M_ck (p - o_ck), o the rest frame origin and its image, M the map that the
-// cluster's stencil (affine_stencil.h) makes of the deformed guides near it.
+// through the weights). Every skinned point of L0 cluster c at control point k moves by one quadratic
+// map of its offset d = p - o_ck from the rest frame origin: p' = o'_ck + M_ck d + Q_ck(d), the
+// field that the cluster's stencil (quadratic_stencil.h) makes of the deformed guides near it.
 // LodAsset::skin applies the maps to everything on the CPU (export, rendering); FrameSkinning
 // computes only the maps and what LoD selection reads, for a renderer that applies the maps to
 // rest-pose vertex buffers on the GPU: per frame it costs O(clusters x n_c), not O(points).
@@ -15,19 +15,24 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "hairlod/lod/affine_stencil.h"
+#include "hairlod/lod/quadratic_stencil.h"
 #include "hairlod/lod/guide_frame.h"
 #include "hairlod/lod/lod_asset.h"
 
 namespace hairlod {
 
-// The map of one L0 cluster at one control point: a rest point p (world, rest pose) skins to
-// origin + linear * (p - rest_origin); rest vectors (tangents, cross-section axes) to linear * v.
+// The map of one L0 cluster at one control point: a rest point p (world, rest pose) at offset
+// d = p - rest_origin skins to origin + linear d + sum_m quadratic[m] q_m(d), with
+// q = (dx^2, dy^2, dz^2, dx dy, dy dz, dz dx); rest vectors there (tangents, cross-section axes) by
+// the map's Jacobian at d.
 struct ClusterMap {
     glm::vec3 rest_origin{0.0f};
     glm::vec3 origin{0.0f};
     glm::mat3 linear{1.0f};
+    std::array<glm::vec3, 6> quadratic{};
 };
+glm::vec3 map_point(const ClusterMap& map, const glm::vec3& offset);
+glm::mat3 map_jacobian(const ClusterMap& map, const glm::vec3& offset);
 
 // What skinning derives once from the rest pose, per L0 cluster and control point [clusters * n_c]:
 // the prism frames of the cluster's guides (stored offsets are relative to their origins) and the
@@ -63,10 +68,14 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
 // per guide.
 std::vector<glm::vec3> resample_guides(const LodAsset& asset, const StrandSet& guide_curves);
 
-// The affine map as 3 rows (M row r, translation r): p' = (dot(row_0, (p, 1)), dot(row_1, ...), ...),
-// what a shader reads as 3 RGBA texels.
-using AffineRows = std::array<glm::vec4, 3>;
-AffineRows affine_rows(const ClusterMap& map);
+// A map as a shader reads it, kMapTexels RGBA texels (skinning.glsl):
+//   0: (rest_origin, 0)                          d = p - rest_origin
+//   1-3: (linear row r, origin r)                p'_r = dot(texel, (d, 1))
+//   4-6: (quadratic coefficients of row r of dx^2, dy^2, dz^2, 0)         + dot(texel.xyz, d * d)
+//   7-9: (quadratic coefficients of row r of dx dy, dy dz, dz dx, 0)       + dot(texel.xyz, (dx dy, dy dz, dz dx))
+inline constexpr int kMapTexels = 10;
+using MapTexels = std::array<glm::vec4, kMapTexels>;
+MapTexels map_texels(const ClusterMap& map);
 
 class FrameSkinning {
 public:
@@ -80,8 +89,8 @@ public:
     void update(std::span<const glm::vec3> deformed_guides);
 
     const LodAsset& asset() const { return *asset_; }
-    // [clusters * n_c] affine maps from rest to deformed positions.
-    const std::vector<AffineRows>& maps() const { return rows_; }
+    // [clusters * n_c] maps from rest to deformed positions, as texels.
+    const std::vector<MapTexels>& maps() const { return texels_; }
 
     // What LoD selection reads (Selection's geometry): per thick level the skinned widest hair of
     // each L0 cluster and control point, and per cluster a sphere holding its deformed strands.
@@ -101,7 +110,7 @@ private:
     SkinningRest rest_;
     std::vector<std::vector<WidestRest>> widest_rest_;  // per thick level [clusters * n_c]
     std::vector<float> widest_strand_radius_;          // per cluster
-    std::vector<AffineRows> rows_;
+    std::vector<MapTexels> texels_;
     LodGeometry geometry_;
 };
 

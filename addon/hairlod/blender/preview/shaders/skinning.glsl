@@ -1,24 +1,42 @@
-/* Linear skinning on the GPU (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 4): the vertex buffers
- * hold the rest pose, and every point of L0 cluster c at control point k moves by that cluster's
- * affine map there, p' = M p + t, from hairlod.lod.FrameSkinning: 3 texels per map in skin_maps,
- * row r of [M | t] at texel (3 k + r, c). Rest vectors (cross-section axes, tangents) map by M.
- * A tangent mapped by M is the skinned curve's tangent under rigid motion and follows a smooth
- * bend to first order; positions are exact for any deformation. */
-vec4 skin_row(ivec2 cluster_point, int row)
+/* Skinning on the GPU (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 4): the vertex buffers hold the
+ * rest pose, and every point of L0 cluster c at control point k moves by that cluster's quadratic
+ * map there (hairlod.lod.FrameSkinning, cpp/include/hairlod/lod/skinning.h: map_texels): with
+ * d = p - rest origin, p'_r = dot(linear row r, d) + origin_r + sum of the second-order terms.
+ * SKIN_MAP_TEXELS texels per map in skin_maps, texel t of map (c, k) at (SKIN_MAP_TEXELS k + t, c):
+ * 0 the rest origin, 1-3 (linear row r, origin r), 4-6 row r's coefficients of (dx^2, dy^2, dz^2),
+ * 7-9 of (dx dy, dy dz, dz dx). Rest vectors there (cross-section axes, tangents) map by the
+ * Jacobian at the point: the skinned curve's tangent to first order. */
+vec4 skin_texel(ivec2 cluster_point, int texel)
 {
-  return texelFetch(skin_maps, ivec2(3 * cluster_point.y + row, cluster_point.x), 0);
+  return texelFetch(skin_maps, ivec2(SKIN_MAP_TEXELS * cluster_point.y + texel, cluster_point.x), 0);
 }
 
-vec3 skin_point(ivec2 cluster_point, vec3 rest)
+/* The skinned point of `rest`, and the map's Jacobian there. */
+vec3 skin_point(ivec2 cluster_point, vec3 rest, out mat3 jacobian)
 {
-  vec4 p = vec4(rest, 1.0);
-  return vec3(dot(skin_row(cluster_point, 0), p), dot(skin_row(cluster_point, 1), p),
-              dot(skin_row(cluster_point, 2), p));
-}
-
-mat3 skin_linear(ivec2 cluster_point)
-{
-  vec4 r0 = skin_row(cluster_point, 0), r1 = skin_row(cluster_point, 1), r2 = skin_row(cluster_point, 2);
+  vec3 d = rest - skin_texel(cluster_point, 0).xyz;
+  vec4 row[3];
+  vec3 squares[3], products[3];
+  for (int r = 0; r < 3; ++r) {
+    row[r] = skin_texel(cluster_point, 1 + r);
+    squares[r] = skin_texel(cluster_point, 4 + r).xyz;
+    products[r] = skin_texel(cluster_point, 7 + r).xyz;
+  }
+  vec3 d2 = d * d, dd = vec3(d.x * d.y, d.y * d.z, d.z * d.x);
+  vec3 skinned;
+  for (int r = 0; r < 3; ++r) {
+    skinned[r] = dot(row[r], vec4(d, 1.0)) + dot(squares[r], d2) + dot(products[r], dd);
+  }
+  /* Rows of the Jacobian: the linear row plus the gradient of the second-order terms. */
+  vec3 gradient[3];
+  for (int r = 0; r < 3; ++r) {
+    vec3 s = squares[r], p = products[r];
+    gradient[r] = row[r].xyz + vec3(2.0 * s.x * d.x + p.x * d.y + p.z * d.z,
+                                    2.0 * s.y * d.y + p.x * d.x + p.y * d.z,
+                                    2.0 * s.z * d.z + p.y * d.y + p.z * d.x);
+  }
   /* GLSL matrices are built column by column. */
-  return mat3(r0.x, r1.x, r2.x, r0.y, r1.y, r2.y, r0.z, r1.z, r2.z);
+  jacobian = mat3(gradient[0].x, gradient[1].x, gradient[2].x, gradient[0].y, gradient[1].y, gradient[2].y,
+                  gradient[0].z, gradient[1].z, gradient[2].z);
+  return skinned;
 }

@@ -3,10 +3,11 @@
 void main()
 {
   ivec2 cluster_point = ivec2(select_key + 0.5);
-  vec3 world = (frame.model * vec4(skin_point(cluster_point, position), 1.0)).xyz;
+  mat3 skin;
+  vec3 world = (frame.model * vec4(skin_point(cluster_point, position, skin), 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
   v_position = world;
-  v_tangent = normalize(mat3(frame.model) * (skin_linear(cluster_point) * tangent));
+  v_tangent = normalize(mat3(frame.model) * (skin * tangent));
   v_to_camera = frame.camera.xyz - world * frame.camera.w;
   v_across = 0.0;
   v_ellipse = vec3(0.0);

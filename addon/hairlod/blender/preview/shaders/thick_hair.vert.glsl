@@ -7,9 +7,9 @@
 void main()
 {
   ivec2 cluster_point = ivec2(select_key + 0.5);
-  mat3 skin = skin_linear(cluster_point);
+  mat3 skin;
+  vec3 world = (frame.model * vec4(skin_point(cluster_point, position, skin), 1.0)).xyz;
   mat3 linear = mat3(frame.model);
-  vec3 world = (frame.model * vec4(skin_point(cluster_point, position), 1.0)).xyz;
   vec3 t = normalize(linear * (skin * tangent));
   vec3 major_w = linear * (skin * major), minor_w = linear * (skin * minor);
   vec3 to_camera = frame.camera.xyz - world * frame.camera.w;

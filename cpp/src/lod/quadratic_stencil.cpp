@@ -1,4 +1,4 @@
-#include "hairlod/lod/affine_stencil.h"
+#include "hairlod/lod/quadratic_stencil.h"
 
 #include <algorithm>
 #include <array>
@@ -15,16 +15,12 @@ namespace hairlod {
 
 namespace {
 
-constexpr int kMonomials = 10;  // 1, x, y, z, x^2, y^2, z^2, xy, yz, zx
+constexpr int kMonomials = kFieldMonomials;
 constexpr int kPointsPerGuide = 3;  // control points k - 1, k, k + 1
 // The ridge towards the prism map, as a fraction of the fit's mean diagonal: directions the guides
 // determine this weakly (or not at all) follow the prism map instead of amplifying the field's
 // higher-order terms.
 constexpr double kRidge = 1e-6;
-// The weight of the faint stencil (6 points at +-h on the axes around the centroid) against the
-// cluster's strand points, in total: a direction in which the strands spread less than about
-// sqrt(kFaint) h takes the quadratic field's own slope at the centroid.
-constexpr double kFaint = 1e-3;
 
 using Monomials = std::array<double, kMonomials>;
 
@@ -131,79 +127,75 @@ SkinningStencils skinning_stencils(const LodAsset& asset, std::span<const GuideF
             const double ridge = kRidge * trace / kMonomials;
             for (int r = 0; r < kMonomials; ++r) normal[static_cast<size_t>(r * kMonomials + r)] += ridge;
 
-            // Step 2: the affine least squares over the strand points, X = (p - centroid, 1):
-            // [A | t] = q's coefficients^T S, S = sum b(x) X^T (sum X X^T)^-1.
-            std::array<double, kMonomials * 4> moments{};  // sum b(x) X^T
-            std::array<double, 16> gram{};                  // sum X X^T
-            auto add_point = [&](const glm::dvec3& offset, double w) {
-                const Monomials b = monomials(offset / h);
-                const double X[4] = {offset.x, offset.y, offset.z, 1.0};
-                for (int r = 0; r < kMonomials; ++r)
-                    for (int col = 0; col < 4; ++col) moments[static_cast<size_t>(r * 4 + col)] += w * b[static_cast<size_t>(r)] * X[col];
-                for (int r = 0; r < 4; ++r)
-                    for (int col = 0; col < 4; ++col) gram[static_cast<size_t>(r * 4 + col)] += w * X[r] * X[col];
-            };
-            for (int32_t s = first; s < end; ++s) add_point(rest_point(s) - centroid, 1.0);
-            for (int axis = 0; axis < 3; ++axis)
-                for (double sign : {-1.0, 1.0}) {
-                    glm::dvec3 offset(0.0);
-                    offset[axis] = sign * h;
-                    add_point(offset, kFaint * members / 6.0);
+            // The field's coefficients are N^-1 (sum_j w_j b_j d_j^T + ridge prior): each term's
+            // weights are w_j N^-1 b_j, the prior's the ridge times N^-1's columns 0 to 3.
+            std::array<double, kMonomials * kMonomials> inverse{};
+            for (int r = 0; r < kMonomials; ++r) inverse[static_cast<size_t>(r * kMonomials + r)] = 1.0;
+            solve_spd<kMonomials>(normal, inverse.data(), kMonomials);
+            for (int j = 0; j < count; ++j)
+                for (int r = 0; r < kMonomials; ++r) {
+                    double sum = 0.0;
+                    for (int col = 0; col < kMonomials; ++col)
+                        sum += inverse[static_cast<size_t>(r * kMonomials + col)] * basis[static_cast<size_t>(j)][static_cast<size_t>(col)];
+                    terms[j].weight[static_cast<size_t>(r)] = static_cast<float>(weight[static_cast<size_t>(j)] * sum);
                 }
-            // S^T = gram^-1 moments^T (gram is symmetric).
-            std::array<double, 4 * kMonomials> s_transposed{};
-            for (int r = 0; r < 4; ++r)
-                for (int col = 0; col < kMonomials; ++col)
-                    s_transposed[static_cast<size_t>(r * kMonomials + col)] = moments[static_cast<size_t>(col * 4 + r)];
-            solve_spd<4>(gram, s_transposed.data(), kMonomials);
-            // Y = normal^-1 S, [kMonomials x 4].
-            std::array<double, kMonomials * 4> y{};
-            for (int r = 0; r < kMonomials; ++r)
-                for (int col = 0; col < 4; ++col)
-                    y[static_cast<size_t>(r * 4 + col)] = s_transposed[static_cast<size_t>(col * kMonomials + r)];
-            solve_spd<kMonomials>(normal, y.data(), 4);
-
-            auto y_row = [&](int r) {
-                return glm::dvec4(y[static_cast<size_t>(r * 4)], y[static_cast<size_t>(r * 4 + 1)], y[static_cast<size_t>(r * 4 + 2)],
-                                  y[static_cast<size_t>(r * 4 + 3)]);
-            };
-            for (int j = 0; j < count; ++j) {
-                glm::dvec4 w(0.0);
-                for (int r = 0; r < kMonomials; ++r) w += basis[static_cast<size_t>(j)][static_cast<size_t>(r)] * y_row(r);
-                terms[j].weight = weight[static_cast<size_t>(j)] * w;
-            }
-            AffineStencil& stencil = out.stencils[i];
+            QuadraticStencil& stencil = out.stencils[i];
             stencil.centroid = centroid;
+            stencil.scale = h;
             stencil.reference = static_cast<int32_t>(static_cast<size_t>(by_distance[0].second) * nc + k);
             stencil.first_term = static_cast<int32_t>(i * stride);
             stencil.term_count = count;
             // The prism map's coefficients in the scaled monomials: constant c0, linear h M e_i.
-            stencil.prior[0] = ridge * y_row(0);
-            for (int axis = 0; axis < 3; ++axis) stencil.prior[1 + axis] = ridge * h * y_row(1 + axis);
+            for (int prior = 0; prior < 4; ++prior)
+                for (int r = 0; r < kMonomials; ++r)
+                    stencil.prior[prior][static_cast<size_t>(r)] =
+                        ridge * (prior == 0 ? 1.0 : h) * inverse[static_cast<size_t>(r * kMonomials + prior)];
         }
     });
     return out;
 }
 
-StencilMap stencil_map(const SkinningStencils& stencils, size_t i, std::span<const glm::vec3> deformed_guides,
-                       const GuideFrame& rest_frame, const GuideFrame& deformed_frame, const glm::mat3& prism_map) {
-    const AffineStencil& stencil = stencils.stencils[i];
-    const glm::dvec3 reference(deformed_guides[static_cast<size_t>(stencil.reference)]);
-    glm::dmat3 linear(0.0);
-    glm::dvec3 translation(0.0);
-    auto add = [&](const glm::dvec3& v, const glm::dvec4& w) {  // [A | t] += v w^T
-        linear[0] += w.x * v;
-        linear[1] += w.y * v;
-        linear[2] += w.z * v;
-        translation += w.w * v;
-    };
+QuadraticMap stencil_map(const SkinningStencils& stencils, size_t i, std::span<const glm::vec3> deformed_guides,
+                         const GuideFrame& rest_frame, const GuideFrame& deformed_frame, const glm::mat3& prism_map,
+                         const glm::dvec3& anchor) {
+    const QuadraticStencil& stencil = stencils.stencils[i];
+    // The guide terms, coordinate by coordinate over the monomials (the loop the frame's time goes to).
+    std::array<float, kMonomials> sum_x{}, sum_y{}, sum_z{};
+    const glm::vec3 reference_f = deformed_guides[static_cast<size_t>(stencil.reference)];
+    const glm::dvec3 reference(reference_f);
     const StencilTerm* terms = stencils.terms.data() + stencil.first_term;
-    for (int j = 0; j < stencil.term_count; ++j)
-        add(glm::dvec3(deformed_guides[static_cast<size_t>(terms[j].point)]) - reference, terms[j].weight);
+    for (int j = 0; j < stencil.term_count; ++j) {
+        const glm::vec3 v = deformed_guides[static_cast<size_t>(terms[j].point)] - reference_f;
+        const std::array<float, kMonomials>& w = terms[j].weight;
+        for (size_t m = 0; m < kMonomials; ++m) {
+            sum_x[m] += w[m] * v.x;
+            sum_y[m] += w[m] * v.y;
+            sum_z[m] += w[m] * v.z;
+        }
+    }
+    std::array<glm::dvec3, kMonomials> field{};  // C_m
+    for (size_t m = 0; m < kMonomials; ++m) field[m] = glm::dvec3(sum_x[m], sum_y[m], sum_z[m]);
+    auto add = [&](const glm::dvec3& v, const FieldWeights& w) {
+        for (int m = 0; m < kMonomials; ++m) field[static_cast<size_t>(m)] += w[static_cast<size_t>(m)] * v;
+    };
     const glm::dmat3 prism(prism_map);
     add(glm::dvec3(deformed_frame.origin) - reference + prism * (stencil.centroid - glm::dvec3(rest_frame.origin)), stencil.prior[0]);
     for (int axis = 0; axis < 3; ++axis) add(prism[axis], stencil.prior[1 + axis]);
-    return {reference + translation, linear};
+
+    // The field is quadratic, so its Taylor expansion at the anchor is exact: the value, the
+    // gradient (over the scale, as x = (p - centroid) / scale) and the second-order coefficients.
+    const double h = stencil.scale;
+    const glm::dvec3 x = (anchor - stencil.centroid) / h;
+    const Monomials b = monomials(x);
+    QuadraticMap map;
+    map.origin = reference;
+    for (int m = 0; m < kMonomials; ++m) map.origin += b[static_cast<size_t>(m)] * field[static_cast<size_t>(m)];
+    // d/dx_a of x_a^2 is 2 x_a; of the products xy, yz, zx the other factor.
+    map.linear[0] = (field[1] + 2.0 * x.x * field[4] + x.y * field[7] + x.z * field[9]) / h;
+    map.linear[1] = (field[2] + 2.0 * x.y * field[5] + x.x * field[7] + x.z * field[8]) / h;
+    map.linear[2] = (field[3] + 2.0 * x.z * field[6] + x.y * field[8] + x.x * field[9]) / h;
+    for (int m = 0; m < 6; ++m) map.quadratic[static_cast<size_t>(m)] = field[static_cast<size_t>(4 + m)] / (h * h);
+    return map;
 }
 
 }  // namespace hairlod
