@@ -109,9 +109,12 @@ class LodAsset:
             self._skinning_rest = self._core.skinning_rest()
         return self._skinning_rest
 
-    def skin(self, deformed_guides):
-        """Strands and thick hairs for guides [G, n_c, 3]: dict with 'strands' (Strands), 'levels'
+    def skin(self, deformed_guides=None):
+        """Strands and thick hairs for guides [G, n_c, 3], or at the rest pose exactly (None; skinning
+        the rest guides gives it up to float rounding): dict with 'strands' (Strands), 'levels'
         (centres, tangents, major/minor semi-axes, corners) and 'cluster_bounds' [C, 4]."""
+        if deformed_guides is None:
+            return self._core.rest_geometry()
         return self._core.skin(np.asarray(deformed_guides, dtype=np.float32), self._rest())
 
     def preview_vertices(self):
@@ -124,10 +127,13 @@ class LodAsset:
 
     def select(self, view, projection, viewport_size, width_px=DEFAULT_WIDTH_PX, previous=None, guides=None):
         """LoD selection from column-major-convention 4x4 matrices (numpy rows are matrix rows,
-        as Blender's Matrix converts): the initial selection, or Huang 2025 Eq. 16 from `previous`."""
-        guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
+        as Blender's Matrix converts): the initial selection, or Huang 2025 Eq. 16 from `previous`; on
+        the hair skinned to `guides` [G, n_c, 3], or at the rest pose (None)."""
+        if guides is not None:
+            guides = np.asarray(guides, dtype=np.float32)
         return self._core.select(guides, np.asarray(view, dtype=np.float32), np.asarray(projection, dtype=np.float32),
-                                 tuple(float(v) for v in viewport_size), float(width_px), previous, self._rest())
+                                 tuple(float(v) for v in viewport_size), float(width_px), previous,
+                                 None if guides is None else self._rest())
 
     def view_selection(self, guides=None, skinning=None):
         """Per-view selection state for drawing (initial selection, then one Huang 2025 Eq. 16 step per
@@ -136,8 +142,7 @@ class LodAsset:
         follows its later frames)."""
         if skinning is not None:
             return _core.ViewSelection(skinning)
-        guides = self.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
-        return _core.ViewSelection(self._core, guides)
+        return _core.ViewSelection(self._core, None if guides is None else np.asarray(guides, dtype=np.float32))
 
     def frame_skinning(self):
         """Per-frame skinning for drawing on the GPU (Sec. 5.1 step 4): ``update(guides)`` computes

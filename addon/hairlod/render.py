@@ -66,7 +66,6 @@ def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX, guides=None):
     [G, n_c, 3] (an animated frame), as renderable geometry: (Strands of the strand-level segments or
     None, thick-hair dict or None)."""
     view, projection = _matrices(camera)
-    guides = asset.rest_guides if guides is None else np.asarray(guides, dtype=np.float32)
     selection = asset.select(view, projection, (camera["width"], camera["height"]), width_px, guides=guides)
     skinned = asset.skin(guides)
     nc = asset.control_points

@@ -2,6 +2,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 #include <algorithm>
 #include <cstring>
 #include <string>
@@ -282,6 +284,14 @@ void bind_lod(py::module_& m) {
             return geometry_dict(a, std::move(geometry));
         }, py::arg("deformed_guides"), py::arg("rest") = py::none(),
            "Skinned strands and thick hairs for guides [G, n_c, 3]; `rest` from skinning_rest() saves deriving it.")
+        .def("rest_geometry", [](const LodAsset& a) {
+            LodGeometry geometry;
+            {
+                py::gil_scoped_release release;
+                geometry = a.rest_geometry();
+            }
+            return geometry_dict(a, std::move(geometry));
+        }, "The strands and thick hairs at the rest pose, as skin() returns them (decoded, not skinned).")
         .def("preview_vertices", [](const LodAsset& a) {
             PreviewVertices v;
             {
@@ -331,17 +341,20 @@ void bind_lod(py::module_& m) {
             return median_deferred_step_seconds(a, a.rest_geometry(), camera, width_px, frames);
         }, py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx, py::arg("frames") = 100,
            "Median seconds of one Huang 2025 Eq. 16 frame (skinning excluded) at the rest pose, for benchmarks.")
-        .def("select", [](const LodAsset& a, const FloatArray& guides, const FloatArray& view, const FloatArray& projection,
+        .def("select", [](const LodAsset& a, const std::optional<FloatArray>& guides, const FloatArray& view, const FloatArray& projection,
                           std::pair<float, float> viewport, float width_px, const Selection* previous, const SkinningRest* rest) {
-            const std::vector<glm::vec3> points = guides_from(guides, a);
+            const std::vector<glm::vec3> points = guides ? guides_from(*guides, a) : std::vector<glm::vec3>{};
             const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
             py::gil_scoped_release release;
-            const LodGeometry geometry = rest != nullptr ? skin_geometry(a, *rest, points) : a.skin(points);
+            const LodGeometry geometry = !guides         ? a.rest_geometry()
+                                         : rest != nullptr ? skin_geometry(a, *rest, points)
+                                                           : a.skin(points);
             return previous ? select_deferred(a, geometry, camera, width_px, *previous)
                             : select_initial(a, geometry, camera, width_px);
         }, py::arg("guides"), py::arg("view"), py::arg("projection"), py::arg("viewport_size"), py::arg("width_px") = kDefaultWidthPx,
            py::arg("previous") = py::none(), py::arg("rest") = py::none(),
-           "Initial selection (Sec. 5.1 step 5), or Huang 2025 Eq. 16 from `previous`, for guides [G, n_c, 3].");
+           "Initial selection (Sec. 5.1 step 5), or Huang 2025 Eq. 16 from `previous`, for guides [G, n_c, 3] "
+           "or the rest pose (None).");
 
     py::class_<SkinningRest>(m, "SkinningRest",
                              "What skinning derives from an asset's rest pose (LodAsset.skinning_rest); opaque.");
@@ -377,12 +390,17 @@ void bind_lod(py::module_& m) {
     py::class_<ViewSelection>(m, "ViewSelection",
                               "Per-view LoD state: the initial selection, then one Huang 2025 Eq. 16 step per update, "
                               "and the index lists to draw it (vertex buffers item-major, strands in hierarchy order).")
-        .def(py::init([](const LodAsset& a, const FloatArray& guides) {
-                 const std::vector<glm::vec3> points = guides_from(guides, a);
+        .def(py::init([](const LodAsset& a, const std::optional<FloatArray>& guides) {
+                 if (!guides) {
+                     py::gil_scoped_release release;
+                     return ViewSelection(a, a.rest_geometry());
+                 }
+                 const std::vector<glm::vec3> points = guides_from(*guides, a);
                  py::gil_scoped_release release;
                  return ViewSelection(a, a.skin(points));
              }),
-             py::arg("asset"), py::arg("guides"), py::keep_alive<1, 2>())
+             py::arg("asset"), py::arg("guides") = py::none(), py::keep_alive<1, 2>(),
+             "Selects on the asset skinned to guides [G, n_c, 3], or on its rest pose (None).")
         .def(py::init([](const FrameSkinning& s) { return ViewSelection(s.asset(), s.selection_geometry()); }),
              py::arg("skinning"), py::keep_alive<1, 2>(), "Selects on the current frame of `skinning` (no strand is skinned).")
         .def("update", [](ViewSelection& v, const FloatArray& view, const FloatArray& projection,

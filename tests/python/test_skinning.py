@@ -47,6 +47,25 @@ def test_guides_resampled_from_moved_strands_are_the_moved_rest_guides(hair, ass
         asset.resample_guides(hanging_hair(curves=3, points=5))
 
 
+def test_the_rest_pose_is_decoded_not_skinned(asset):
+    """skin() and select() without guides use the stored rest pose exactly (what the preview's
+    vertex buffers hold); skinning the rest guides gives it up to float rounding."""
+    rest = asset.skin()
+    np.testing.assert_array_equal(rest["strands"].points, asset.preview_vertices()["rest_strands"].points)
+    skinned = asset.skin(asset.rest_guides)
+    size = float(np.ptp(rest["strands"].points, axis=0).max())
+    np.testing.assert_allclose(skinned["strands"].points, rest["strands"].points, rtol=0, atol=1e-6 * size)
+    for level, skinned_level in zip(rest["levels"], skinned["levels"]):
+        np.testing.assert_allclose(skinned_level["centres"], level["centres"], rtol=0, atol=1e-6 * size)
+    view = look_at((4, 0.5, 0), (0, 0, -0.3)).astype(np.float32)
+    projection = perspective(math.radians(40), 1.5, 0.05, 100).astype(np.float32)
+    at_rest = asset.select(view, projection, (900.0, 600.0)).levels
+    assert np.mean(at_rest == asset.select(view, projection, (900.0, 600.0), guides=asset.rest_guides).levels) >= 0.999
+    per_view = asset.view_selection()
+    per_view.update(view, projection, (900.0, 600.0))
+    np.testing.assert_array_equal(per_view.selection.levels, at_rest)
+
+
 def test_maps_applied_to_the_rest_pose_equal_the_cpu_skin(asset):
     """What skinning.glsl computes (maps on the rest vertex buffers) is LodAsset.skin, rigid or not."""
     rest = asset.skin(asset.rest_guides)
