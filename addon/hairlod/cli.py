@@ -515,7 +515,8 @@ def _bench_quality(args):
     result = quality.bench_quality(strands, asset=asset, spp=args.spp, width=args.width,
                                    reference_spp=args.reference_spp, equal_time_spp=args.equal_time_spp, eps_w=eps_w,
                                    width_px=args.width_px, guides=args.guides,
-                                   params=_read_params(args.params), keep_images=bool(args.images), progress=say)
+                                   params=_read_params(args.params), keep_images=bool(args.images), progress=say,
+                                   max_bounces=args.max_bounces)
     result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds,
                   bench_seconds=time.perf_counter() - start)
     if args.images:
@@ -563,7 +564,7 @@ def command_bench(args):
 
 
 def build_parser():
-    from .render import BLUR_BOX, VIEWS
+    from .render import BLUR_BOX, MAX_BOUNCES, VIEWS
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -693,6 +694,9 @@ def build_parser():
                        help="quality: spp of the methods in the equal-time table (default 16)")
     bench.add_argument("--width", type=_integer(BLUR_BOX), default=128,
                        help=f"quality, animation: image width and height, at least {BLUR_BOX} (default 128)")
+    bench.add_argument("--max-bounces", type=_integer(1), default=MAX_BOUNCES,
+                       help=f"quality: path vertices at most in every render, the reference's too; 1: direct light only "
+                       f"(default {MAX_BOUNCES})")
     bench.add_argument("--images", type=_path, metavar="DIR", help="quality: write DIR/<view>.png, reference | ds | lod | "
                        "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "

@@ -78,12 +78,15 @@ def _db(value):
 
 def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=256, width=128,
                   reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=lod.DEFAULT_WIDTH_PX, guides=None,
-                  params=None, seed=0, keep_images=False, progress=None):
+                  params=None, seed=0, keep_images=False, progress=None, max_bounces=render.MAX_BOUNCES):
     """Dict with settings, the LoD build (when `asset` is None it is built here), one entry per view
     {camera, reference, rows: {method: row}}, the equal-time rows per view and the eps_w sweep rows.
     With `keep_images` it also holds "images": {view: {"reference": image, method: image}} (linear
     [H, W, 3] arrays, not JSON: for write_view_images). `progress(message)` is called before each
-    render when given."""
+    render when given. `max_bounces` limits every render's paths, the reference's too (1: direct light
+    only): what separates single from multiple scattering."""
+    if int(max_bounces) < 1:
+        raise ValueError(f"max bounces must be >= 1, got {max_bounces}")
     if min(int(spp), int(reference_spp), int(equal_time_spp)) < 1:
         raise ValueError(f"spp, reference spp and equal-time spp must be >= 1, got {spp}, {reference_spp}, "
                          f"{equal_time_spp}")
@@ -107,12 +110,14 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
                  "levels": lod.level_report(asset)}
 
     def render_method(method, view, samples, eps=width_px):
-        return render.render(strands, method, view, width, samples, asset=asset, params=params, seed=seed, width_px=eps)
+        return render.render(strands, method, view, width, samples, asset=asset, params=params, seed=seed, width_px=eps,
+                             max_bounces=max_bounces)
 
     references, hair_pixels, result_views, equal_time, images = {}, {}, {}, {}, {}
     for view in dict.fromkeys(list(views) + [sweep_view]):
         say(f"{view}: pt reference at {reference_spp} spp, and the strands' coverage")
-        reference = render.render(strands, "pt", view, width, reference_spp, params=params, seed=_REFERENCE_SEED)
+        reference = render.render(strands, "pt", view, width, reference_spp, params=params, seed=_REFERENCE_SEED,
+                                  max_bounces=max_bounces)
         reference_alpha = render.coverage(strands, "pt", view, width, spp, seed=seed)
         references[view], hair = reference, reference_alpha > HAIR_ALPHA
         hair_pixels[view] = hair
@@ -153,7 +158,7 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
                     facts[f"lod_minus_ds_{metric}"] = _difference(rows["lod"][metric], rows["ds"][metric])
         summary[view] = facts
     result = {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
-              "reference_spp": int(reference_spp), "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
+              "reference_spp": int(reference_spp), "max_bounces": int(max_bounces), "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
               "width_px": float(width_px), "lod_build": build, "guides": asset.guide_count, "views": result_views,
               "equal_time": {"spp": int(equal_time_spp), "views": equal_time}, "summary": summary,
               "sweep": {"view": sweep_view, "spp": int(spp), "full_segments": int(references[sweep_view]["segments"]),
@@ -306,8 +311,10 @@ def format_tables(result):
     def label(method, samples):
         return f"pt (noise floor, {samples} spp)" if method == "pt" else method
 
+    bounces = result.get("max_bounces", render.MAX_BOUNCES)
+    limit = "" if bounces == render.MAX_BOUNCES else f", paths of at most {bounces} bounce{'s' if bounces > 1 else ''}"
     lines = [f"Converged: pt reference at {reference_spp} spp, each method at {spp} spp, {result['width']} x "
-             f"{result['width']} px. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
+             f"{result['width']} px{limit}. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
              f"the mean linear radiance over the hair's pixels (strands' alpha > {result['hair_alpha']:g}). Coverage: "
              "the method's geometry against the strands (total alpha; mean |alpha difference| per pixel). The pt row, "
              "an independent path-traced render, is the noise floor.", "",

@@ -26,6 +26,8 @@ VIEWS = {"near": 0.6, "mid": 0.2, "far": 0.02}
 FOV_Y = np.radians(30.0)
 # Pixels per side of the blocks blurred_psnr() averages: 4 x 4 averages 16 pixels' noise away (-12 dB).
 BLUR_BOX = 4
+# Path vertices at most (Russian roulette ends most paths sooner); 1 is direct light only.
+MAX_BOUNCES = _core.DEFAULT_MAX_BOUNCES
 
 
 def frame_view(points, view, width, height=None, fov_y=FOV_Y):
@@ -110,7 +112,7 @@ def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX, guides=None):
 
 
 def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, params=None, seed=0,
-           max_bounces=70, width_px=_core.DEFAULT_WIDTH_PX, lights=None, camera=None, progress=None, coverage_only=False,
+           max_bounces=MAX_BOUNCES, width_px=_core.DEFAULT_WIDTH_PX, lights=None, camera=None, progress=None, coverage_only=False,
            guides=None):
     """Renders `strands` (full geometry; also frames the view) or, for the lod methods, the selection of
     `asset` for the framed camera, skinned to `guides` [G, n_c, 3] when given (a frame of an animation:

@@ -71,6 +71,7 @@ Lights lights_from(const py::dict& d) {
 }  // namespace
 
 void bind_render(py::module_& m) {
+    m.attr("DEFAULT_MAX_BOUNCES") = RenderOptions{}.max_bounces;
     m.def(
         "render",
         [](const std::optional<StrandSet>& strands, const std::optional<py::dict>& thick, const py::dict& camera,
@@ -122,7 +123,7 @@ void bind_render(py::module_& m) {
             return out;
         },
         py::arg("strands"), py::arg("thick"), py::arg("camera"), py::arg("lights"), py::arg("params"),
-        py::arg("method") = "pt", py::arg("spp") = 16, py::arg("max_bounces") = 70, py::arg("seed") = 0,
+        py::arg("method") = "pt", py::arg("spp") = 16, py::arg("max_bounces") = RenderOptions{}.max_bounces, py::arg("seed") = 0,
         py::arg("coverage_only") = false, py::arg("progress") = py::none(),
         R"doc(Renders strands and/or thick hairs (dict of centres [N,3], offsets, major_axis [N,3], radii [N,2],
 density [N], n_total [H]) with the Embree reference renderer. camera: eye, target, up, fov_y (radians),
