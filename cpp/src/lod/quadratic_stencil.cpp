@@ -29,9 +29,9 @@ Monomials monomials(const glm::dvec3& x) {
 }
 
 // Solves m x = b in place for a symmetric positive definite n x n m (row-major, lower triangle
-// read) and `columns` right-hand sides b [n x columns] (Cholesky). The matrices here are SPD by
-// construction (a ridge, a faint stencil), so a non-positive pivot only comes from rounding: it is
-// clamped to a tiny fraction of the diagonal rather than failing.
+// read) and `columns` right-hand sides b [n x columns] (Cholesky). The matrix here is SPD by
+// construction (the ridge), so a non-positive pivot only comes from rounding: it is clamped to a
+// tiny fraction of the diagonal rather than failing.
 template <int N>
 void solve_spd(std::array<double, N * N> m, double* b, int columns) {
     double largest = 0.0;
@@ -101,7 +101,7 @@ SkinningStencils skinning_stencils(const LodAsset& asset, std::span<const GuideF
             double h = std::max(by_distance[static_cast<size_t>(nearest) - 1].first, segment / nearest);
             if (!(h > 0.0)) h = 1.0;  // every point coincides: only the constant is fitted, the prism map decides the rest
 
-            // Step 1: the weighted normal equations of the quadratic field, with the ridge.
+            // The weighted normal equations N of the quadratic field, with the ridge.
             StencilTerm* terms = out.terms.data() + i * stride;
             std::array<double, kStencilGuides * kPointsPerGuide> weight{};
             std::array<Monomials, kStencilGuides * kPointsPerGuide> basis{};
