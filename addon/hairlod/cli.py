@@ -286,6 +286,8 @@ def command_render(args):
         raise UsageError(f"--method {args.method} needs --lod DIR (an LoD asset from 'hairlod lod')")
     if args.frame is not None and not args.method.startswith("lod"):
         raise UsageError(f"--frame {args.frame}: only the lod methods skin to a frame (the strands are IN as it is)")
+    if args.own_hair is not None and args.method != "lod-single":
+        raise UsageError(f"--own-hair {args.own_hair}: applies to --method lod-single only")
     strands, read_seconds = _read_timed(args.input)
     asset = lod.load(args.lod) if args.lod else None
     guides = _animation_frame(args.lod, asset, args.frame) if args.frame is not None else None
@@ -296,7 +298,8 @@ def command_render(args):
             print(f"\rrender [{'#' * done}{'.' * (30 - done)}] {100 * fraction:5.1f}%", end="" if fraction < 1 else "\n",
                   file=sys.stderr, flush=True)
     result = render.render(strands, method=args.method, view=args.view, width=args.width, spp=args.spp, asset=asset,
-                           seed=args.seed, params=_read_params(args.params), progress=bar, guides=guides)
+                           seed=args.seed, params=_read_params(args.params), progress=bar, guides=guides,
+                           own_hair=args.own_hair)
     render.write_image(args.out, result["image"])
     summary = {key: result[key] for key in ("seconds", "setup_seconds", "rays", "rays_per_second", "segments",
                                             "strand_segments", "thick_segments", "camera")}
@@ -516,7 +519,7 @@ def _bench_quality(args):
                                    reference_spp=args.reference_spp, equal_time_spp=args.equal_time_spp, eps_w=eps_w,
                                    width_px=args.width_px, guides=args.guides,
                                    params=_read_params(args.params), keep_images=bool(args.images), progress=say,
-                                   max_bounces=args.max_bounces)
+                                   max_bounces=args.max_bounces, own_hair=args.own_hair)
     result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds,
                   bench_seconds=time.perf_counter() - start)
     if args.images:
@@ -564,7 +567,7 @@ def command_bench(args):
 
 
 def build_parser():
-    from .render import BLUR_BOX, MAX_BOUNCES, VIEWS
+    from .render import BLUR_BOX, MAX_BOUNCES, OWN_HAIR, VIEWS
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
     parser.add_argument("--version", action="version", version=f"hairlod {__version__}")
@@ -661,6 +664,10 @@ def build_parser():
     rend.add_argument("--width", type=_integer(1), default=256, help="image width and height in pixels (default 256)")
     rend.add_argument("--seed", type=_integer(0, SEED_MAX), default=0, help="random seed (default 0)")
     rend.add_argument("--params", type=_path, help="HairParams JSON (default: the BCSDF defaults)")
+    rend.add_argument("--own-hair", choices=OWN_HAIR, default=None,
+                      help="lod-single: paths leaving a strand inside a thick hair skip its other strands, keeping the "
+                      "share dual scattering passes forwards (attenuate, the default), or meet them and scatter there "
+                      "(scatter)")
     rend.add_argument("--progress", action="store_true", help="progress bar on stderr even when not a terminal")
     rend.add_argument("--json", action="store_true", help="print one JSON object")
     rend.set_defaults(run=command_render)
@@ -694,9 +701,12 @@ def build_parser():
                        help="quality: spp of the methods in the equal-time table (default 16)")
     bench.add_argument("--width", type=_integer(BLUR_BOX), default=128,
                        help=f"quality, animation: image width and height, at least {BLUR_BOX} (default 128)")
-    bench.add_argument("--max-bounces", type=_integer(1), default=MAX_BOUNCES,
-                       help=f"quality: path vertices at most in every render, the reference's too; 1: direct light only "
-                       f"(default {MAX_BOUNCES})")
+    bench.add_argument("--max-bounces", type=_integer(0), default=MAX_BOUNCES,
+                       help=f"quality: scatterings after the camera ray's hit at most, in every render, the reference's "
+                       f"too; 0: direct light only (default {MAX_BOUNCES})")
+    bench.add_argument("--own-hair", choices=OWN_HAIR, default=None,
+                       help="quality: how the lod-single rows treat paths inside their own thick hair (see render "
+                       "--own-hair; default attenuate)")
     bench.add_argument("--images", type=_path, metavar="DIR", help="quality: write DIR/<view>.png, reference | ds | lod | "
                        "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "

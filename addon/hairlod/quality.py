@@ -78,15 +78,20 @@ def _db(value):
 
 def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=256, width=128,
                   reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=lod.DEFAULT_WIDTH_PX, guides=None,
-                  params=None, seed=0, keep_images=False, progress=None, max_bounces=render.MAX_BOUNCES):
+                  params=None, seed=0, keep_images=False, progress=None, max_bounces=render.MAX_BOUNCES, own_hair=None):
     """Dict with settings, the LoD build (when `asset` is None it is built here), one entry per view
     {camera, reference, rows: {method: row}}, the equal-time rows per view and the eps_w sweep rows.
     With `keep_images` it also holds "images": {view: {"reference": image, method: image}} (linear
     [H, W, 3] arrays, not JSON: for write_view_images). `progress(message)` is called before each
-    render when given. `max_bounces` limits every render's paths, the reference's too (1: direct light
-    only): what separates single from multiple scattering."""
-    if int(max_bounces) < 1:
-        raise ValueError(f"max bounces must be >= 1, got {max_bounces}")
+    render when given. `max_bounces` limits every render's paths, the reference's too, to that many
+    scatterings after the camera ray's hit (0: direct light only, the light scattered once on its way
+    to the camera): what separates single from multiple scattering. `own_hair` (render.OWN_HAIR) is how
+    the lod-single renders treat paths inside their own thick hair."""
+    if int(max_bounces) < 0:
+        raise ValueError(f"max bounces must be >= 0, got {max_bounces}")
+    if own_hair is not None and own_hair not in render.OWN_HAIR:
+        raise ValueError(f"own_hair must be one of {', '.join(render.OWN_HAIR)}, got {own_hair!r}")
+    own_hair = own_hair or render.OWN_HAIR[0]
     if min(int(spp), int(reference_spp), int(equal_time_spp)) < 1:
         raise ValueError(f"spp, reference spp and equal-time spp must be >= 1, got {spp}, {reference_spp}, "
                          f"{equal_time_spp}")
@@ -111,7 +116,7 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
 
     def render_method(method, view, samples, eps=width_px):
         return render.render(strands, method, view, width, samples, asset=asset, params=params, seed=seed, width_px=eps,
-                             max_bounces=max_bounces)
+                             max_bounces=max_bounces, own_hair=own_hair if method == "lod-single" else None)
 
     references, hair_pixels, result_views, equal_time, images = {}, {}, {}, {}, {}
     for view in dict.fromkeys(list(views) + [sweep_view]):
@@ -158,7 +163,7 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
                     facts[f"lod_minus_ds_{metric}"] = _difference(rows["lod"][metric], rows["ds"][metric])
         summary[view] = facts
     result = {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
-              "reference_spp": int(reference_spp), "max_bounces": int(max_bounces), "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
+              "reference_spp": int(reference_spp), "max_bounces": int(max_bounces), "own_hair": own_hair, "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
               "width_px": float(width_px), "lod_build": build, "guides": asset.guide_count, "views": result_views,
               "equal_time": {"spp": int(equal_time_spp), "views": equal_time}, "summary": summary,
               "sweep": {"view": sweep_view, "spp": int(spp), "full_segments": int(references[sweep_view]["segments"]),
@@ -312,7 +317,10 @@ def format_tables(result):
         return f"pt (noise floor, {samples} spp)" if method == "pt" else method
 
     bounces = result.get("max_bounces", render.MAX_BOUNCES)
-    limit = "" if bounces == render.MAX_BOUNCES else f", paths of at most {bounces} bounce{'s' if bounces > 1 else ''}"
+    limit = ("" if bounces == render.MAX_BOUNCES else ", direct light only (paths of 0 bounces)" if bounces == 0 else
+             f", paths of at most {bounces} bounce{'s' if bounces > 1 else ''} after the camera ray's hit")
+    if result.get("own_hair", render.OWN_HAIR[0]) != render.OWN_HAIR[0]:
+        limit += f", lod-single with own-hair {result['own_hair']}"
     lines = [f"Converged: pt reference at {reference_spp} spp, each method at {spp} spp, {result['width']} x "
              f"{result['width']} px{limit}. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
              f"the mean linear radiance over the hair's pixels (strands' alpha > {result['hair_alpha']:g}). Coverage: "

@@ -26,8 +26,13 @@ VIEWS = {"near": 0.6, "mid": 0.2, "far": 0.02}
 FOV_Y = np.radians(30.0)
 # Pixels per side of the blocks blurred_psnr() averages: 4 x 4 averages 16 pixels' noise away (-12 dB).
 BLUR_BOX = 4
-# Path vertices at most (Russian roulette ends most paths sooner); 1 is direct light only.
+# Scatterings after the camera ray's hit at most (Russian roulette ends most paths sooner); 0 is
+# direct light only.
 MAX_BOUNCES = _core.DEFAULT_MAX_BOUNCES
+# What a path leaving a strand inside a thick hair does with the hair's other strands (lod-single;
+# the first is the renderer's default): attenuate (skip them, keeping dual scattering's forward share)
+# or scatter (meet them at their Poisson arrivals and scatter there). integrator.h, OwnHair.
+OWN_HAIR = ("attenuate", "scatter")
 
 
 def frame_view(points, view, width, height=None, fov_y=FOV_Y):
@@ -113,15 +118,20 @@ def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX, guides=None):
 
 def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, params=None, seed=0,
            max_bounces=MAX_BOUNCES, width_px=_core.DEFAULT_WIDTH_PX, lights=None, camera=None, progress=None, coverage_only=False,
-           guides=None):
+           guides=None, own_hair=None):
     """Renders `strands` (full geometry; also frames the view) or, for the lod methods, the selection of
     `asset` for the framed camera, skinned to `guides` [G, n_c, 3] when given (a frame of an animation:
     lod.load_animation, lod.frame_guides). Returns a dict: image [H, W, 3] float32 linear, camera, seconds,
     setup_seconds, rays, rays_per_second, segments (Embree curve segments in the scene).
     coverage_only: black hair under a white environment (it takes no `lights`), so every channel of
-    the image is 1 - alpha, the thick hairs' gaps included."""
+    the image is 1 - alpha, the thick hairs' gaps included. own_hair: one of OWN_HAIR for lod-single
+    (None: the first)."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if own_hair is not None and own_hair not in OWN_HAIR:
+        raise ValueError(f"own_hair must be one of {', '.join(OWN_HAIR)}, got {own_hair!r}")
+    if own_hair not in (None, OWN_HAIR[0]) and method != "lod-single":
+        raise ValueError(f"own_hair {own_hair!r} applies to the lod-single method only, not {method!r}")
     if int(spp) < 1 or int(width) < 1:
         raise ValueError(f"spp and width must be >= 1, got spp={spp}, width={width}")
     # The image in float32 and the renderer's float64 accumulation, with its film copies.
@@ -142,7 +152,7 @@ def render(strands, method="pt", view="mid", width=256, spp=16, asset=None, para
         scene_strands, thick = strands, None
     result = _core.render(scene_strands, thick, camera, lights, params, method=method, spp=int(spp),
                           max_bounces=int(max_bounces), seed=int(seed), coverage_only=bool(coverage_only),
-                          progress=progress)
+                          progress=progress, own_hair=own_hair)
     result["camera"] = camera
     result["segments"] = int(result["strand_segments"] + result["thick_segments"])
     return result

@@ -76,7 +76,8 @@ void bind_render(py::module_& m) {
         "render",
         [](const std::optional<StrandSet>& strands, const std::optional<py::dict>& thick, const py::dict& camera,
            const py::dict& lights_dict, const bcsdf::HairParams& params, const std::string& method, int spp,
-           int max_bounces, uint64_t seed, bool coverage_only, const std::optional<std::function<void(double)>>& progress) {
+           int max_bounces, uint64_t seed, bool coverage_only, const std::optional<std::function<void(double)>>& progress,
+           const std::optional<std::string>& own_hair) {
             const PinholeCamera cam(vec3(camera["eye"].cast<std::array<float, 3>>()),
                                     vec3(camera["target"].cast<std::array<float, 3>>()),
                                     vec3(camera["up"].cast<std::array<float, 3>>()), camera["fov_y"].cast<float>(),
@@ -88,6 +89,7 @@ void bind_render(py::module_& m) {
             options.method = parse_method(method);
             options.spp = spp;
             options.max_bounces = max_bounces;
+            if (own_hair) options.own_hair = parse_own_hair(*own_hair);
             options.seed = seed;
             options.coverage_only = coverage_only;
             RenderStats stats;
@@ -124,10 +126,11 @@ void bind_render(py::module_& m) {
         },
         py::arg("strands"), py::arg("thick"), py::arg("camera"), py::arg("lights"), py::arg("params"),
         py::arg("method") = "pt", py::arg("spp") = 16, py::arg("max_bounces") = RenderOptions{}.max_bounces, py::arg("seed") = 0,
-        py::arg("coverage_only") = false, py::arg("progress") = py::none(),
+        py::arg("coverage_only") = false, py::arg("progress") = py::none(), py::arg("own_hair") = py::none(),
         R"doc(Renders strands and/or thick hairs (dict of centres [N,3], offsets, major_axis [N,3], radii [N,2],
 density [N], n_total [H]) with the Embree reference renderer. camera: eye, target, up, fov_y (radians),
-width, height. coverage_only: black hair (with a white environment the image is 1 - alpha). lights: directional [(direction, irradiance)], points [(position, intensity)],
+width, height. coverage_only: black hair (with a white environment the image is 1 - alpha). own_hair:
+"attenuate" (default) or "scatter" (lod-single: paths scatter at their thick hair's own strands). lights: directional [(direction, irradiance)], points [(position, intensity)],
 environment (RGB or equirect [H,W,3]). Returns image [H,W,3] float32 (linear), seconds, setup_seconds,
 rays, rays_per_second, strand_segments, thick_segments.)doc");
 }

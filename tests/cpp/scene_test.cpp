@@ -41,17 +41,22 @@ TEST(HairScene, StrandHitsMatchTheTube) {
     }
 }
 
-TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
+// One thick hair along x from -2 to 2, its major axis along y, with constant radii and density.
+ThickHairs straight_thick_hair(glm::vec2 radii, float density, float n_total) {
     ThickHairs hairs;
     hairs.centres = {{-2, 0, 0}, {-0.5f, 0, 0}, {1, 0, 0}, {2, 0, 0}};
     hairs.offsets = {0, 4};
     hairs.major_axis.assign(4, glm::vec3(0, 1, 0));
-    hairs.radii.assign(4, glm::vec2(2.0f, 0.5f));
+    hairs.radii.assign(4, radii);
+    hairs.density.assign(4, density);
+    hairs.n_total = {n_total};
+    return hairs;
+}
+
+TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
     // Packed so densely that every chord meets a hair (hit probability 1 - exp(-30) at the shortest).
-    hairs.density.assign(4, 1.0f);
-    hairs.n_total = {1e5f};
     HairScene scene(std::make_shared<Device>());
-    scene.add_thick_hairs(hairs);
+    scene.add_thick_hairs(straight_thick_hair({2.0f, 0.5f}, 1.0f, 1e5f));
     scene.commit();
     struct Ray { glm::vec3 origin, direction; float chord; };
     const std::vector<Ray> rays{{{0.1f, 0.0f, 10.0f}, {0, 0, -1}, 1.0f},
@@ -76,6 +81,38 @@ TEST(HairScene, ThickHairKeepsOnlyTheEllipse) {
     }
 }
 
+// A ray leaving a strand inside a thick hair meets the hair's next strand at a Poisson arrival of the
+// strands it would cross on its way out (own_hair_passage): the arrival places it along the ray, the
+// hit is on the same hair, and an arrival past the hair's total means the ray leaves first.
+TEST(HairScene, StrandInsideTheHairLiesAtItsArrival) {
+    HairScene scene(std::make_shared<Device>());
+    scene.add_thick_hairs(straight_thick_hair({2.0f, 0.5f}, 0.05f, 200.0f));
+    scene.commit();
+    SurfaceHit hit;
+    ASSERT_TRUE(scene.intersect({0.1f, 0.0f, 10.0f}, {0, 0, -1}, kInf, {}, hit));
+    ASSERT_EQ(hit.kind, CurveKind::Thick);
+    const glm::vec3 along_major(0, -1, 0);
+    const HairPassage way_out = scene.own_hair_passage(hit, along_major);
+    // From (0.1, 0, z) along -y the ellipse's exit is at y = -2 sqrt(1 - (z / 0.5)^2).
+    const float exit = 2.0f * std::sqrt(1.0f - hit.position.z * hit.position.z / 0.25f);
+    ASSERT_GT(way_out.expected, 1.0);
+    EXPECT_NEAR(way_out.chord, exit, 2e-3f);
+    for (const double fraction : {0.0, 0.25, 0.5, 0.9}) {
+        SurfaceHit next;
+        ASSERT_TRUE(scene.strand_inside(hit, along_major, fraction * way_out.expected, next)) << fraction;
+        EXPECT_EQ(next.kind, CurveKind::Thick);
+        EXPECT_EQ(next.geometry, hit.geometry);
+        EXPECT_EQ(next.curve, hit.curve);
+        // Constant density along this path: the arrival's share of the count is its share of the chord.
+        EXPECT_NEAR(next.t, fraction * exit, 2e-3f) << fraction;
+        EXPECT_NEAR(glm::distance(next.position, hit.position + next.t * along_major), 0.0f, 1e-5f);
+        EXPECT_NEAR(next.strands_behind, (1.0 - fraction) * way_out.expected, 1e-3 * way_out.expected) << fraction;
+        EXPECT_NEAR(next.density, 0.05f, 1e-6f);
+    }
+    SurfaceHit beyond;
+    EXPECT_FALSE(scene.strand_inside(hit, along_major, 1.01 * way_out.expected, beyond));
+}
+
 // Brute force: the strands of a sparse cluster, placed uniformly at random in an ellipse, against the
 // thick hair standing for them. The thick hair must let as many rays through its gaps as the strands
 // do (an opaque ellipse stops every ray that crosses it: hit fraction 1 against about 0.6 here).
@@ -92,16 +129,9 @@ void expect_thick_hair_gaps_like_its_strands(float r, double tolerance, double r
     HairScene strands(std::make_shared<Device>());
     strands.add_strands(straight_strands(starts, r));
     strands.commit();
-    ThickHairs hairs;
-    hairs.centres = {{-2, 0, 0}, {-0.5f, 0, 0}, {1, 0, 0}, {2, 0, 0}};
-    hairs.offsets = {0, 4};
-    hairs.major_axis.assign(4, glm::vec3(0, 1, 0));
-    hairs.radii.assign(4, radii);
     const float density = n_total * r * r / (radii.x * radii.y);  // Sec. 4's rho
-    hairs.density.assign(4, density);
-    hairs.n_total = {float(n_total)};
     HairScene thick(std::make_shared<Device>());
-    thick.add_thick_hairs(hairs);
+    thick.add_thick_hairs(straight_thick_hair(radii, density, float(n_total)));
     thick.commit();
     // Parallel rays over the ellipse's shadow, along the minor axis (z) and the major axis (y), each
     // from many x along the fibres (the same gaps, fresh random choices for the thick hair); then

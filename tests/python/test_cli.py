@@ -236,6 +236,24 @@ def test_bench_skinning_json():
     assert len(report["coverage_of_bent_strands"]) == len(report["coverage_rest"])
 
 
+def test_render_own_hair_scatter_is_for_lod_single(tmp_path):
+    source = _lod_input(tmp_path)
+    assert run_cli("lod", source, "--out", tmp_path / "asset", "--guides", 12, "--levels", 4,
+                   "--control-points", 8).returncode == 0
+    images = {}
+    for own_hair in ("attenuate", "scatter"):
+        out = tmp_path / f"{own_hair}.exr"
+        result = run_cli("render", source, "--method", "lod-single", "--lod", tmp_path / "asset", "--own-hair", own_hair,
+                         "--spp", 2, "--width", 24, "--view", "near", "--out", out)
+        assert result.returncode == 0, result.stderr
+        images[own_hair] = out.read_bytes()
+    assert images["attenuate"] != images["scatter"]  # the paths inside the thick hairs differ
+    line = one_line_error(run_cli("render", source, "--method", "lod", "--lod", tmp_path / "asset", "--own-hair", "scatter",
+                                  "--out", tmp_path / "x.png"))
+    assert "--own-hair scatter: applies to --method lod-single only" in line
+    assert not (tmp_path / "x.png").exists()
+
+
 def test_render_and_bench_animation_take_frames(tmp_path):
     from hairlod import Strands, io
     from hairlod.temporal import bend

@@ -201,9 +201,9 @@ def test_bench_quality_tables(tiny_strands):
 
 
 def test_bench_quality_separates_direct_from_multiple_scattering():
-    """With paths of one bounce every render, the reference's too, shows direct light only: on dense
-    hair less light in every channel than with multiple scattering (measured +28 / +10 / +1 % with
-    it), and the tables say so."""
+    """With paths of 0 bounces every render, the reference's too, shows direct light only: on dense
+    hair less light in every channel than with one more scattering, and that less than with all of
+    them (measured +28 / +10 / +1 % from 0 to 70 bounces), and the tables say so."""
     from hairlod import generate_strands, hairmesh
 
     dense = generate_strands(hairmesh.read(os.path.join(REPO, "examples", "data", "wavy_cap.hairmesh.json")),
@@ -212,15 +212,32 @@ def test_bench_quality_separates_direct_from_multiple_scattering():
     def run(bounces):
         return quality.bench_quality(dense, views=("mid",), methods=("pt",), spp=4, width=16, reference_spp=16,
                                      equal_time_spp=1, eps_w=(2.0,), sweep_view="mid", guides=20, max_bounces=bounces)
-    direct, full = run(1), run(render.MAX_BOUNCES)
-    assert direct["max_bounces"] == 1 and full["max_bounces"] == render.MAX_BOUNCES
-    direct_radiance = np.array(direct["views"]["mid"]["reference"]["hair_radiance"])
-    full_radiance = np.array(full["views"]["mid"]["reference"]["hair_radiance"])
-    assert (direct_radiance < full_radiance).all(), (direct_radiance, full_radiance)
-    assert "paths of at most 1 bounce." in quality.format_tables(direct)
+    direct, once, full = run(0), run(1), run(render.MAX_BOUNCES)
+    assert direct["max_bounces"] == 0 and full["max_bounces"] == render.MAX_BOUNCES
+    radiance = [np.array(result["views"]["mid"]["reference"]["hair_radiance"]) for result in (direct, once, full)]
+    assert (radiance[0] < radiance[1]).all() and (radiance[1] < radiance[2]).all(), radiance
+    assert "direct light only (paths of 0 bounces)." in quality.format_tables(direct)
+    assert "paths of at most 1 bounce after" in quality.format_tables(once)
     assert "bounce" not in quality.format_tables(full).splitlines()[0]
     with pytest.raises(ValueError, match="max bounces"):
-        run(0)
+        run(-1)
+
+
+def test_bench_quality_own_hair_changes_only_the_single_fibre_rows(tiny_strands):
+    """`own_hair` reaches the lod-single renders (their images change with it), not the others, and
+    the result and the tables say which was used."""
+    def run(own_hair):
+        return quality.bench_quality(tiny_strands, views=("mid",), methods=("lod", "lod-single"), spp=2, width=16,
+                                     reference_spp=2, equal_time_spp=1, eps_w=(2.0,), sweep_view="mid", guides=20,
+                                     keep_images=True, own_hair=own_hair)
+    default, scatter = run(None), run("scatter")
+    assert default["own_hair"] == "attenuate" and scatter["own_hair"] == "scatter"
+    np.testing.assert_array_equal(default["images"]["mid"]["lod"], scatter["images"]["mid"]["lod"])
+    assert not np.array_equal(default["images"]["mid"]["lod-single"], scatter["images"]["mid"]["lod-single"])
+    assert "lod-single with own-hair scatter" in quality.format_tables(scatter).splitlines()[0]
+    assert "own-hair" not in quality.format_tables(default).splitlines()[0]
+    with pytest.raises(ValueError, match="own_hair must be one of attenuate, scatter"):
+        run("bounce")
 
 
 def test_bench_quality_images_refuses_a_folder_in_the_way(tiny_hair, tmp_path):
@@ -236,7 +253,8 @@ def test_bench_quality_images_refuses_a_folder_in_the_way(tiny_hair, tmp_path):
     (("{hair}", "--reference-spp", "0"), "--reference-spp"),
     (("{hair}", "--equal-time-spp", "0"), "--equal-time-spp"),
     (("{hair}", "--width", "3"), "--width"),
-    (("{hair}", "--max-bounces", "0"), "--max-bounces"),
+    (("{hair}", "--max-bounces", "-1"), "--max-bounces"),
+    (("{hair}", "--own-hair", "bounce"), "--own-hair"),
     (("{hair}", "--images", "{hair}"), "--images"),
     (("{hair}", "--images", "{hair}/sub"), "--images"),
     (("{hair}", "--eps-w", "1,x"), "--eps-w"),

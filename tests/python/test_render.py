@@ -100,6 +100,13 @@ def test_lod_methods_render_the_selection(shared_data):
         assert np.all(np.isfinite(result["image"])) and result["thick_segments"] > 0
     with pytest.raises(ValueError, match="LoD asset"):
         render.render(strands, method="lod", width=8, spp=1)
+    # Paths scattering inside their own thick hair: the single fibre's option, refused elsewhere by name.
+    scatter = render.render(strands, method="lod-single", view="far", width=32, spp=2, asset=asset, own_hair="scatter")
+    assert np.all(np.isfinite(scatter["image"])) and scatter["thick_segments"] == results["lod-single"]["thick_segments"]
+    with pytest.raises(ValueError, match="own_hair 'scatter' applies to the lod-single method only, not 'lod'"):
+        render.render(strands, method="lod", width=8, spp=1, asset=asset, own_hair="scatter")
+    with pytest.raises(ValueError, match="own_hair must be one of attenuate, scatter"):
+        render.render(strands, method="lod-single", width=8, spp=1, asset=asset, own_hair="trace")
 
 
 def test_cli_render(shared_data, tmp_path):

@@ -133,7 +133,10 @@ public:
         // Strands are shaded with the material's fibre; dual scattering and the aggregated model use the
         // Chiang fibre (for a Huang material, the one fitted to it: HairParams::beta_m, beta_n).
         if (params.fibre == FibreModel::Huang) huang_ = std::make_unique<HuangBcsdf>(params, kPathTracedHuangNormals);
+        scatter_inside_ = options.own_hair == OwnHair::Scatter;
     }
+    // Whether paths scatter at the strands of their own thick hair (OwnHair::Scatter).
+    bool scatters_inside() const { return scatter_inside_; }
 
     Vertex vertex(const SurfaceHit& hit, const glm::dvec3& wo_world, Random& rng) const {
         Vertex v;
@@ -205,9 +208,11 @@ public:
     }
 
     // The single fibre behind `crossings` strands that each pass on a_f forwards (dual scattering,
-    // Zinke et al. 2008): E[a_f^k] = exp(-k (1 - a_f)) for a Poisson count k.
+    // Zinke et al. 2008): E[a_f^k] = exp(-k (1 - a_f)) for a Poisson count k. When paths scatter at
+    // those strands, what they pass on forwards is traced: the light arrives unscattered, P(0) = exp(-k).
     glm::dvec3 shadowing(const glm::dvec3& wi, double crossings) const {
         if (!(crossings > 0.0)) return glm::dvec3(1.0);
+        if (scatter_inside_) return glm::dvec3(std::exp(-crossings));
         const glm::dvec3 a_f = table_->sample(fiber_direction(wi).theta).a_f;
         return glm::exp(-crossings * (1.0 - glm::min(a_f, glm::dvec3(1.0))));
     }
@@ -287,6 +292,7 @@ private:
     std::shared_ptr<const AggregatedTable> table_;
     std::unique_ptr<AggregatedBcsdf> aggregated_;
     std::unique_ptr<FiberRtdBcsdf> fiber_;
+    bool scatter_inside_ = false;
 };
 
 struct Tracer {
@@ -341,10 +347,17 @@ struct Tracer {
         RayOrigin from;
         double previous_pdf = 0.0;  // of the BCSDF sample that made this ray; 0 for the camera ray
         int passes_beside = 0;
+        // OwnHair::Scatter: the strand of the previous hit's own thick hair that this ray meets, if any;
+        // anything closer along the ray comes first.
+        SurfaceHit own_strand;
+        bool meets_own_strand = false;
         for (int bounce = 0;; ++bounce) {
             SurfaceHit hit;
             ++rays;
-            if (!scene.intersect(origin, direction, kInfinity, from, hit)) {
+            bool found = scene.intersect(origin, direction, meets_own_strand ? own_strand.t : kInfinity, from, hit);
+            if (!found && meets_own_strand) hit = own_strand, found = true;
+            meets_own_strand = false;
+            if (!found) {
                 const glm::dvec3 env(lights.environment.radiance(direction));
                 const double weight = bounce == 0 ? 1.0 : power_heuristic(previous_pdf, kUniformSpherePdf);
                 radiance += throughput * env * (environment_lit ? weight : 1.0);
@@ -364,7 +377,8 @@ struct Tracer {
             radiance += throughput * direct(v, hit, rng, rays);
             if (bounce >= options.max_bounces) break;
             const BcsdfSample s = shader.sample(v, rng, [&](const glm::dvec3& wi) {
-                return shader.light_crossings(v, scene, hit, v.frame.world(wi));
+                // Scattering inside, the path meets the own hair's strands itself (below).
+                return shader.scatters_inside() ? 0.0 : shader.light_crossings(v, scene, hit, v.frame.world(wi));
             });
             if (!(s.pdf > 0.0) || channel_max(s.value) <= 0.0) break;
             throughput *= s.value / s.pdf;
@@ -372,6 +386,16 @@ struct Tracer {
             direction = glm::vec3(glm::normalize(v.frame.world(s.wi)));
             origin = hit.position;
             from = scene.leaving(hit, direction);
+            if (shader.scatters_inside() && v.self_shadowed) {
+                // The strands ahead in the own hair, less those the camera's empty corridor rules out
+                // (light_crossings): a Poisson count, whose first arrival is where the ray meets one.
+                // The corridor lies next to the hit, so the arrival is counted past its share.
+                const double total = scene.own_hair_passage(hit, direction).expected;
+                const double open = shader.light_crossings(v, scene, hit, glm::dvec3(direction));
+                const double u = rng.uniform();
+                if (u < -std::expm1(-open))
+                    meets_own_strand = scene.strand_inside(hit, direction, -std::log1p(-u) + (total - open), own_strand);
+            }
             if (bounce + 1 >= options.roulette_start) {
                 const double survive = std::min(0.95, channel_max(throughput));
                 if (!(rng.uniform() < survive)) break;
@@ -423,10 +447,18 @@ Method parse_method(std::string_view name) {
     throw Error("unknown render method '" + std::string(name) + "' (expected pt, ds, lod, lod-single or lod-no-s)");
 }
 
+OwnHair parse_own_hair(std::string_view name) {
+    if (name == "attenuate") return OwnHair::Attenuate;
+    if (name == "scatter") return OwnHair::Scatter;
+    throw Error("unknown own-hair treatment '" + std::string(name) + "' (expected attenuate or scatter)");
+}
+
 Image render(const HairScene& scene, const PinholeCamera& camera, const Lights& lights, const HairParams& params,
              const RenderOptions& options, RenderStats* stats, const Progress& progress) {
     if (options.spp < 1) throw Error("spp must be >= 1, got " + std::to_string(options.spp));
     if (options.max_bounces < 0) throw Error("max_bounces must be >= 0, got " + std::to_string(options.max_bounces));
+    if (options.own_hair == OwnHair::Scatter && options.method != Method::LodSingle)
+        throw Error("own_hair 'scatter' applies to the lod-single method only");
     if (options.tile_size < 1) throw Error("tile_size must be >= 1, got " + std::to_string(options.tile_size));
     if (!(options.backscatter_density >= 0.0 && options.forward_density >= 0.0))
         throw Error("backscatter and forward densities must be >= 0");

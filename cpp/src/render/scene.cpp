@@ -63,6 +63,9 @@ struct HairScene::FirstStrand {
     double behind_expected = 0.0;  // strands the ray would meet on average past it
     double behind_chord = 0.0;     // in-plane length of the ray in the hair past it
     double chord = 0.0;            // in-plane length of the ray in the whole hair
+    uint32_t segment = 0;          // the segment whose slab holds the strand (when met)
+    float u = 0.0f;                // and its curve parameter there
+    bool met = false;
 };
 
 namespace {
@@ -224,6 +227,7 @@ HairScene::FirstStrand first_strand(const HairScene::Geometry& g, uint32_t curve
                          const glm::vec3& direction, double arrival) {
     struct Piece {
         double t_near, t_far, expected, chord;
+        uint32_t segment;
     };
     std::array<Piece, 64> pieces;
     size_t used = 0;
@@ -235,7 +239,7 @@ HairScene::FirstStrand first_strand(const HairScene::Geometry& g, uint32_t curve
         if (!(interval.chord > 0.0f)) continue;
         t_last = std::max(t_last, interval.t_far);
         const Piece piece{interval.t_near, interval.t_far, expected_in_slab(g, curve, middle, interval.chord),
-                          interval.chord};
+                          interval.chord, segment};
         if (used < pieces.size()) {
             pieces[used++] = piece;
         } else {  // a ray through more than 64 slabs of one hair: keep the nearest 64
@@ -259,6 +263,14 @@ HairScene::FirstStrand first_strand(const HairScene::Geometry& g, uint32_t curve
             found.t = p.t_near + (p.t_far - p.t_near) * passed;
             found.behind_expected = p.expected - arrival;
             found.behind_chord = p.chord * (1.0 - passed);
+            found.segment = p.segment;
+            // The curve parameter of the strand's place between the slab's end planes.
+            const glm::vec3 at = origin + static_cast<float>(found.t) * direction;
+            const auto& ends = g.slabs[p.segment].ends;
+            const float from_start = glm::dot(at - ends[0].point, ends[0].normal);
+            const float to_end = glm::dot(at - ends[1].point, ends[1].normal);
+            found.u = from_start + to_end > 0.0f ? std::clamp(from_start / (from_start + to_end), 0.0f, 1.0f) : 0.5f;
+            found.met = true;
             arrived = true;
         } else {
             arrival -= p.expected;
@@ -559,6 +571,20 @@ void HairScene::fill_hit(const Geometry& g, const RTCRayHit& rh, const glm::vec3
             hit.normal = h * y + std::sqrt(std::max(0.0f, 1.0f - h * h)) * z;
         }
     }
+}
+
+bool HairScene::strand_inside(const SurfaceHit& hit, const glm::vec3& direction, double arrival, SurfaceHit& next) const {
+    if (hit.kind != CurveKind::Thick) return false;
+    const Geometry& g = *geometries_[hit.geometry];
+    const FirstStrand inside = first_strand(g, hit.curve, hit.position, direction, arrival);
+    if (!inside.met) return false;
+    RTCRayHit rh{};
+    rh.hit.geomID = hit.geometry;
+    rh.hit.primID = inside.segment;
+    rh.hit.u = inside.u;
+    rh.hit.Ng_x = -direction.x, rh.hit.Ng_y = -direction.y, rh.hit.Ng_z = -direction.z;
+    fill_hit(g, rh, hit.position, direction, static_cast<float>(inside.t), inside, next);
+    return true;
 }
 
 HairPassage HairScene::own_hair_passage(const SurfaceHit& hit, const glm::vec3& direction) const {

@@ -9,7 +9,8 @@
 //                  meets inside (HairScene::intersect), with n from the strands the light crossed in
 //                  the hair to reach it (its self-shadowing, in place of Huang 2025 Eq. 12-15's S) and B^ from
 //                  the strands behind it (bcsdf::ClusterState::shaded_inside);
-//   LodSingle      the same geometry and self-shadowing with the single-fibre Chiang BCSDF;
+//   LodSingle      the same geometry and self-shadowing with the single-fibre Chiang BCSDF (with
+//                  OwnHair::Scatter, paths scatter at the hair's own strands instead);
 //   LodNoShadowing LodAggregated without the thick hair shadowing itself (ablation).
 #include <cstdint>
 #include <functional>
@@ -30,10 +31,23 @@ enum class Method { PathTrace, DualScattering, LodAggregated, LodSingle, LodNoSh
 // "pt", "ds", "lod", "lod-single", "lod-no-s"; throws hairlod::Error naming an unknown name.
 Method parse_method(std::string_view name);
 
+// What a path leaving a strand inside a thick hair does with the hair's other strands.
+//   Attenuate: it skips them, losing exp(-k (1 - a_f)) of its weight over the k strands it crosses
+//              there on average (dual scattering's forward share): the light they scatter back is
+//              dropped. Shadow rays through the own hair take the same factor.
+//   Scatter:   it meets the next one at the Poisson arrival of the same count (HairScene::strand_inside)
+//              and scatters there; shadow rays through the own hair take exp(-k), the chance of
+//              meeting none. The hair's multiple scattering is traced, as the strands' is (LodSingle only).
+enum class OwnHair { Attenuate, Scatter };
+
+// "attenuate", "scatter"; throws hairlod::Error naming an unknown name.
+OwnHair parse_own_hair(std::string_view name);
+
 struct RenderOptions {
     Method method = Method::PathTrace;
     int spp = 16;
-    int max_bounces = 70;
+    int max_bounces = 70;  // scatterings after the camera ray's hit (0: direct light only)
+    OwnHair own_hair = OwnHair::Attenuate;
     int roulette_start = 3;  // bounces before Russian roulette
     uint64_t seed = 0;
     int tile_size = 16;

@@ -117,6 +117,11 @@ public:
     // its way out (0 for strands): the hair shadowing itself, which rays leaving the hit skip.
     HairPassage own_hair_passage(const SurfaceHit& hit, const glm::vec3& direction) const;
 
+    // The strand of the hit's own thick hair that a ray from the hit in `direction` meets at the Poisson
+    // arrival `arrival` (expected strands passed, as own_hair_passage counts them): false when the ray
+    // leaves the hair first. `next` is then a hit on that strand, in the same hair.
+    bool strand_inside(const SurfaceHit& hit, const glm::vec3& direction, double arrival, SurfaceHit& next) const;
+
     // The origin record of a ray leaving `hit` in `direction`.
     RayOrigin leaving(const SurfaceHit& hit, const glm::vec3& direction) const;
 
