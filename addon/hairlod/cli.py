@@ -515,7 +515,7 @@ def _bench_quality(args):
     asset = lod.load(args.lod) if args.lod else None
     say = None if args.json else (lambda message: print(f"bench quality: {message}", file=sys.stderr, flush=True))
     start = time.perf_counter()
-    result = quality.bench_quality(strands, asset=asset, spp=args.spp, width=args.width,
+    result = quality.bench_quality(strands, asset=asset, **_given(spp=args.spp), width=args.width,
                                    reference_spp=args.reference_spp, equal_time_spp=args.equal_time_spp, eps_w=eps_w,
                                    width_px=args.width_px, guides=args.guides,
                                    params=_read_params(args.params), keep_images=bool(args.images), progress=say,
@@ -531,6 +531,26 @@ def _bench_quality(args):
     return 0
 
 
+def _given(**options):
+    """The options given on the command line (not None), so that the library's defaults apply to the rest."""
+    return {name: value for name, value in options.items() if value is not None}
+
+
+def _bench_thick_hairs(args):
+    from . import lod, thick_hair_check
+
+    if not args.input:
+        raise UsageError("bench thick-hairs needs an input hair file: bench thick-hairs IN")
+    strands, read_seconds = _read_timed(args.input)
+    asset = lod.load(args.lod) if args.lod else None
+    say = None if args.json else (lambda message: print(f"bench thick-hairs: {message}", file=sys.stderr, flush=True))
+    result = thick_hair_check.bench_thick_hairs(strands, asset=asset, guides=args.guides, params=_read_params(args.params),
+                                                progress=say, **_given(spp=args.spp, hairs=args.hairs))
+    result.update(component="thick-hairs", input=args.input, lod=args.lod, read_seconds=read_seconds)
+    print(strict_json.dumps(result) if args.json else thick_hair_check.format_tables(result))
+    return 0
+
+
 def _bench_animation(args):
     from . import lod, temporal
 
@@ -539,7 +559,7 @@ def _bench_animation(args):
     frames = [_read_timed(path)[0] for path in args.animation]
     asset = lod.load(args.lod) if args.lod else None
     say = None if args.json else (lambda message: print(f"bench animation: {message}", file=sys.stderr, flush=True))
-    result = temporal.bench_animation(frames, asset=asset, view=args.view, width=args.width, spp=args.spp,
+    result = temporal.bench_animation(frames, asset=asset, view=args.view, width=args.width, **_given(spp=args.spp),
                                       width_px=args.width_px, guides=args.guides, params=_read_params(args.params),
                                       progress=say)
     result.update(component="animation", files=args.animation, lod=args.lod)
@@ -563,10 +583,11 @@ def _bench_animation(args):
 
 def command_bench(args):
     return {"bcsdf": _bench_bcsdf, "lod": _bench_lod, "skinning": _bench_skinning, "generate": _bench_generate,
-            "quality": _bench_quality, "animation": _bench_animation}[args.component](args)
+            "quality": _bench_quality, "animation": _bench_animation, "thick-hairs": _bench_thick_hairs}[args.component](args)
 
 
 def build_parser():
+    from . import thick_hair_check
     from .render import BLUR_BOX, MAX_BOUNCES, OWN_HAIR, VIEWS
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
@@ -673,15 +694,17 @@ def build_parser():
     rend.set_defaults(run=command_render)
 
     bench = commands.add_parser("bench", help="speed against error of a component (no assertions)")
-    bench.add_argument("component", choices=["bcsdf", "lod", "skinning", "generate", "quality", "animation"], help="what to benchmark")
-    bench.add_argument("input", type=_path, nargs="?", help="quality: hair file to render (.hair .data .bin .ply .tfx)")
+    bench.add_argument("component", choices=["bcsdf", "lod", "skinning", "generate", "quality", "animation", "thick-hairs"],
+                       help="what to benchmark")
+    bench.add_argument("input", type=_path, nargs="?", help="quality, thick-hairs: hair file to render (.hair .data .bin "
+                       ".ply .tfx)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.add_argument("--repeats", type=_integer(1), default=5, help="bcsdf: timing repeats (median; default 5)")
     bench.add_argument("--plot", type=_path, metavar="FILE.png", help="bcsdf, generate, quality: also write a plot")
     bench.add_argument("--strands", type=_integer(1), default=100_000, help="lod, skinning, generate: strands (default 100000)")
     bench.add_argument("--vertices", type=_integer(2), default=33, help="generate: vertices per strand (default 33)")
     bench.add_argument("--points", type=_integer(2), default=32, help="lod, skinning: points per synthetic strand (default 32)")
-    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, skinning, quality, animation: guides (default: one per 128 "
+    bench.add_argument("--guides", type=_integer(1), default=None, help="lod, skinning, quality, animation, thick-hairs: guides (default: one per 128 "
                        "strands, 16 to 256)")
     bench.add_argument("--levels", type=_integer(MIN_LEVELS, MAX_LEVELS), default=LOD_DEFAULTS["levels"],
                        help=f"lod, skinning: levels including the strands (default {LOD_DEFAULTS['levels']})")
@@ -692,9 +715,12 @@ def build_parser():
                        help=f"lod, quality, animation: LoD width threshold eps_w in pixels (default {DEFAULT_WIDTH_PX:g})")
     bench.add_argument("--frames", type=_integer(1), default=200, help="lod: selection frames timed per camera; "
                        "skinning: animation frames (default 200)")
-    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality, animation: LoD asset folder (default: built "
+    bench.add_argument("--lod", type=_path, metavar="DIR", help="quality, animation, thick-hairs: LoD asset folder (default: built "
                        "with --guides; animation: of the first frame)")
-    bench.add_argument("--spp", type=_integer(1), default=256, help="quality, animation: samples per pixel of the methods (default 256)")
+    bench.add_argument("--spp", type=_integer(1), default=None, help="quality, animation: samples per pixel of the methods "
+                       f"(default 256); thick-hairs: of the renders of single hairs (default {thick_hair_check.SPP})")
+    bench.add_argument("--hairs", type=_integer(1), default=None,
+                       help=f"thick-hairs: hairs per level rendered against their strands (default {thick_hair_check.RENDERED_HAIRS})")
     bench.add_argument("--reference-spp", type=_integer(1), default=1024,
                        help="quality: spp of the pt reference (default 1024)")
     bench.add_argument("--equal-time-spp", type=_integer(1), default=16,
@@ -711,7 +737,8 @@ def build_parser():
                        "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "
                        "(default 0.5,1,2,4,8)")
-    bench.add_argument("--params", type=_path, help="quality, animation: HairParams JSON (default: the BCSDF defaults)")
+    bench.add_argument("--params", type=_path, help="quality, animation, thick-hairs: HairParams JSON (default: the BCSDF "
+                       "defaults)")
     bench.add_argument("--animation", type=_path, nargs="+", metavar="FRAME_FILE",
                        help="animation: the hair at successive frames (same curves, moved)")
     bench.add_argument("--view", choices=list(VIEWS), default="mid", help="animation: camera distance (default mid)")

@@ -38,7 +38,7 @@ def bend(points, angle, pivot_height=1.0):
     return np.stack([p[..., 0], c * p[..., 1] - s * p[..., 2], s * p[..., 1] + c * p[..., 2]], axis=-1).astype(np.float32)
 
 
-def bench_animation(frames, asset=None, view="mid", width=128, spp=64, width_px=lod.DEFAULT_WIDTH_PX, guides=None,
+def bench_animation(frames, asset=None, view="mid", width=128, spp=256, width_px=lod.DEFAULT_WIDTH_PX, guides=None,
                     params=None, seed=0, progress=None):
     """`frames`: the hair at successive frames (Strands, the same curves moved). `asset`: the LoD of the
     first frame (built here with `guides` guides when None); each frame's guides are read from its
