@@ -355,7 +355,10 @@ struct Tracer {
             SurfaceHit hit;
             ++rays;
             bool found = scene.intersect(origin, direction, meets_own_strand ? own_strand.t : kInfinity, from, hit);
-            if (!found && meets_own_strand) hit = own_strand, found = true;
+            if (!found && meets_own_strand) {
+                hit = own_strand;
+                found = true;
+            }
             meets_own_strand = false;
             if (!found) {
                 const glm::dvec3 env(lights.environment.radiance(direction));
