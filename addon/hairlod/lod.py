@@ -36,7 +36,10 @@ __all__ = ["DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "M
 MANIFEST = "manifest.json"
 FORMAT_KIND = "hairlod-lod/"  # the manifest "format" prefix that marks a folder as an LoD asset hairlod wrote
 WHAT = "an LoD folder"  # the kind in messages
-FORMAT = FORMAT_KIND + "2"  # 2: compact cross-sections and strand coordinates, hierarchy order
+# 2: compact cross-sections and strand coordinates, hierarchy order; 3: strand_radius once per strand
+# where every strand's radius is the same along it. A version reads the ones before it.
+FORMAT = FORMAT_KIND + "3"
+READABLE_FORMATS = (FORMAT_KIND + "2", FORMAT)
 
 
 @dataclass(frozen=True)
@@ -466,8 +469,8 @@ def _read_array(folder, entry, what):
 def _asset_from(header, read, where):
     """An LodAsset from a header (_header()) and read(name) giving the stored array `name`
     (level arrays as 'level{position}_{name}'); ValueError names `where` and the problem."""
-    if not isinstance(header, dict) or header.get("format") != FORMAT:
-        raise ValueError(f"{where}: not a hairlod LoD asset (format must be {FORMAT})")
+    if not isinstance(header, dict) or header.get("format") not in READABLE_FORMATS:
+        raise ValueError(f"{where}: not a hairlod LoD asset (format must be one of {', '.join(READABLE_FORMATS)})")
     try:
         levels = header["thick_levels"]
         arrays = {name: read(name, None) for name in header["array_names"]}
@@ -492,8 +495,8 @@ def load(directory):
     arrays against the ones it decodes; raises ValueError naming the folder and the problem."""
     directory = os.fspath(directory)
     manifest = strict_json.load(os.path.join(directory, MANIFEST), f"the manifest of LoD folder {directory}")
-    if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
-        raise ValueError(f"{directory}: not a hairlod LoD folder (format must be {FORMAT})")
+    if not isinstance(manifest, dict) or manifest.get("format") not in READABLE_FORMATS:
+        raise ValueError(f"{directory}: not a hairlod LoD folder (format must be one of {', '.join(READABLE_FORMATS)})")
     try:
         entries = dict(manifest["arrays"])
         for level in manifest["thick_levels"]:

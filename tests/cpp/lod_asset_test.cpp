@@ -377,6 +377,33 @@ TEST(LodAssetHardCases, ClearErrors) {
     EXPECT_THROW(asset.skin(guides), Error);
 }
 
+// A radius that is the same along every strand is stored once per strand (2 bytes a strand, not
+// 2 n_c), and decodes to exactly what the per-point codes did; one tapered strand keeps every point's.
+TEST(LodAssetStorage, StrandRadiusOncePerStrandWhenConstantAlongEach) {
+    StrandSet constant = testing::wavy_hair(300, 10, 5);
+    for (size_t s = 0; s < constant.curve_count(); ++s)
+        for (auto i = constant.offsets[s]; i < constant.offsets[s + 1]; ++i) constant.radius[static_cast<size_t>(i)] = 0.001f * (1 + s % 7);
+    StrandSet tapered = constant;
+    tapered.radius[static_cast<size_t>(tapered.offsets[1]) - 1] *= 0.5f;  // the first strand's tip
+    const LodOptions options{.guides = 8, .control_points = 8};
+    const LodAsset per_strand = build_lod(constant, options), per_point = build_lod(tapered, options);
+    ASSERT_EQ(per_strand.strand_radius.size(), 300u);
+    ASSERT_EQ(per_point.strand_radius.size(), 300u * 8u);
+    EXPECT_EQ(per_point.memory_bytes() - per_strand.memory_bytes(), 300u * 7u * sizeof(uint16_t));
+    const StrandSet a = per_strand.rest_geometry().strands, b = per_point.rest_geometry().strands;
+    for (size_t s = 1; s < 300; ++s)  // strand 0 differs at its tip
+        for (size_t k = 0; k < 8; ++k) {
+            ASSERT_EQ(a.radius[s * 8 + k], b.radius[s * 8 + k]) << s << " " << k;
+            const float radius = 0.001f * (1 + s % 7);  // a half rounded up: at most 2^-10 above
+            EXPECT_GE(a.radius[s * 8 + k], radius) << s;
+            EXPECT_LE(a.radius[s * 8 + k], radius * (1.0f + 0x1p-10f)) << s;
+        }
+    EXPECT_NO_THROW(per_strand.validate());
+    LodAsset damaged = per_strand;
+    damaged.strand_radius.push_back(damaged.strand_radius.back());
+    EXPECT_THROW(damaged.validate(), Error);
+}
+
 // A damaged stored asset is refused by validate() (run by from_arrays) instead of skinning to NaN.
 TEST(LodAssetHardCases, ValidateRefusesValuesThatDecodeToNonFinite) {
     const LodAsset built = build_lod(testing::wavy_hair(200, 6, 4), {.guides = 4});

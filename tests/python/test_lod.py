@@ -1,5 +1,6 @@
 """hairlod.lod: build, per-level invariants, skinning of rigid motions, selection."""
 
+import json
 import math
 
 import numpy as np
@@ -142,6 +143,31 @@ def test_save_load_gives_an_identical_asset(asset, tmp_path):
     # Saving again replaces the folder atomically and leaves no temporary folder behind.
     lod.save(asset, tmp_path / "asset")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["asset"]
+
+
+def test_strand_radius_once_per_strand_and_format_2_folders_still_load(asset, tmp_path):
+    from hairlod import lod
+
+    # The hanging hair's radius is the same along every strand: stored once per strand.
+    assert asset.arrays()["strand_radius"].shape == (asset.strand_count,)
+    # A tapered hair keeps one radius per control point; written as format 2 did (the same arrays),
+    # it loads back unchanged.
+    hair = hanging_hair(curves=300)
+    radius = hair.radius.copy()
+    radius[hair.offsets[1:] - 1] *= 0.5  # every tip
+    tapered = lod.build_lod(Strands(hair.points, hair.offsets, radius), guides=8)
+    assert tapered.arrays()["strand_radius"].shape == (tapered.strand_count * tapered.control_points,)
+    lod.save(tapered, tmp_path / "tapered")
+    manifest_path = tmp_path / "tapered" / "manifest.json"
+    manifest = json.loads(manifest_path.read_text())
+    assert manifest["format"] == "hairlod-lod/3"
+    manifest["format"] = "hairlod-lod/2"
+    manifest_path.write_text(json.dumps(manifest))
+    _assert_same_asset(tapered, lod.load(tmp_path / "tapered"))
+    manifest["format"] = "hairlod-lod/1"
+    manifest_path.write_text(json.dumps(manifest))
+    with pytest.raises(ValueError, match="format must be one of hairlod-lod/2, hairlod-lod/3"):
+        lod.load(tmp_path / "tapered")
 
 
 def test_load_rejects_broken_folders(asset, tmp_path):

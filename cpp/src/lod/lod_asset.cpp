@@ -479,6 +479,15 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         const auto s = static_cast<size_t>(asset.strand_order[i]);
         for (size_t k = 0; k < nc; ++k) asset.strand_radius[i * nc + k] = encode_half_up(resampled.radius[s * nc + k], asset.radius_exponent);
     });
+    // One code per strand where that loses nothing: 2 bytes a strand instead of 2 n_c.
+    bool constant_along = true;
+    for (size_t i = 0; i < strand_count && constant_along; ++i)
+        for (size_t k = 1; k < nc && constant_along; ++k) constant_along = asset.strand_radius[i * nc + k] == asset.strand_radius[i * nc];
+    if (constant_along) {
+        for (size_t i = 0; i < strand_count; ++i) asset.strand_radius[i] = asset.strand_radius[i * nc];
+        asset.strand_radius.resize(strand_count);
+        asset.strand_radius.shrink_to_fit();
+    }
     for (size_t l = 0; l < level_sections.size(); ++l) store_level(asset, l, level_sections[l], resampled, frames);
     asset.timings.fitting = watch.lap();
     if (options.progress != nullptr) options.progress->done = options.progress->total.load();
@@ -516,7 +525,7 @@ std::vector<float> LodAsset::density(size_t level) const {
         for (size_t k = 0; k < nc; ++k) {
             double radius_sum = 0.0;
             for (auto i = static_cast<size_t>(thick.member_first[h]); i < static_cast<size_t>(thick.member_first[h + 1]); ++i)
-                radius_sum += decode_half(strand_radius[i * nc + k], radius_exponent);
+                radius_sum += decode_half(strand_radius_code(i, k), radius_exponent);
             const double n_total = thick.n_total(h), mean_radius = radius_sum / n_total;
             const glm::vec2 radii = section(level, h, k).radii;
             const double axes_product = static_cast<double>(radii.x) * radii.y;
@@ -584,7 +593,9 @@ void LodAsset::validate() const {
     for (FrameKind kind : frame_kinds) require(kind <= FrameKind::World, "frame_kinds holds an unknown kind");
     require_size(offset_boxes, clusters * nc, "offset_boxes");
     require_size(strand_offset, strands * nc, "strand_offset");
-    require_size(strand_radius, strands * nc, "strand_radius");
+    require(strand_radius.size() == strands * nc || strand_radius.size() == strands,
+            "strand_radius has " + std::to_string(strand_radius.size()) + " entries, expected " + std::to_string(strands * nc) +
+                " (per control point) or " + std::to_string(strands) + " (per strand)");
     // A stored asset (a file, a pack in a .blend) may be damaged: every value skinning decodes
     // must be finite, or the strands and thick hairs come out NaN without an error.
     const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };

@@ -153,8 +153,8 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
     tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
         const auto [first, end] = asset.cluster_strands(c);
         uint16_t widest = 0;  // halves >= 0 order like their codes
-        for (size_t i = static_cast<size_t>(first) * nc; i < static_cast<size_t>(end) * nc; ++i)
-            widest = std::max(widest, asset.strand_radius[i]);
+        for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i)
+            for (size_t k = 0; k < nc; ++k) widest = std::max(widest, asset.strand_radius_code(i, k));
         widest_strand_radius_[c] = decode_half(widest, asset.radius_exponent);
     });
     geometry_.cluster_bounds.resize(clusters);
@@ -231,7 +231,6 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
     const auto& strand_order = asset.strand_order;
     const auto& offset_boxes = asset.offset_boxes;
     const auto& strand_offset = asset.strand_offset;
-    const auto& strand_radius = asset.strand_radius;
     const auto& thick_levels = asset.thick_levels;
     const int radius_exponent = asset.radius_exponent;
 
@@ -250,7 +249,7 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
             const auto s = static_cast<size_t>(strand_order[i]);
             for (size_t k = 0; k < nc; ++k) {
                 const glm::vec3 p = map_point(maps[c * nc + k], offset_boxes[c * nc + k].decode(strand_offset[i * nc + k]));
-                const float radius = decode_half(strand_radius[i * nc + k], radius_exponent);
+                const float radius = decode_half(asset.strand_radius_code(i, k), radius_exponent);
                 out.points[s * nc + k] = p;
                 out.radius[s * nc + k] = radius;
                 lower = glm::min(lower, p);

@@ -132,7 +132,9 @@ struct LodAsset {
     // a rigid motion moves the decoded point rigidly.
     std::vector<QuantisationBox> offset_boxes;
     std::vector<glm::u16vec3> strand_offset;  // [strands * n_c], from the L0 cluster's rest frame origin
-    std::vector<uint16_t> strand_radius;     // [strands * n_c], halves rounded up
+    // Halves rounded up: [strands] where every strand's radius is the same along it (stored once per
+    // strand, as generated and most groomed hair has it), else [strands * n_c].
+    std::vector<uint16_t> strand_radius;
     // Radii (strands' and thick hairs') are stored as halves of radius * 2^-radius_exponent, the
     // exponent putting the largest radius near 2^10: ample range both ways within the half's.
     int radius_exponent = 0;
@@ -144,6 +146,11 @@ struct LodAsset {
     size_t cluster_count() const { return cluster_guides.size(); }
     size_t level_count() const { return thick_levels.size() + 1; }
     size_t memory_bytes() const;
+    // The radius code of the strand at hierarchy position i, control point k (either layout).
+    uint16_t strand_radius_code(size_t i, size_t k) const {
+        return strand_radius.size() == strand_order.size() ? strand_radius[i]
+                                                           : strand_radius[i * static_cast<size_t>(control_points) + k];
+    }
     // Positions of the strands of L0 cluster c: [first, second).
     std::pair<int32_t, int32_t> cluster_strands(size_t c) const {
         // Through cluster_first, so that it holds for any coarsest kept level (with_levels).
