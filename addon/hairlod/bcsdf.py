@@ -42,6 +42,13 @@ def hairs_crossed(density, ray_length, hair_total, major_axis, minor_axis):
                                float(minor_axis))
 
 
+def strands_met(density, ray_length, hair_total, major_axis, minor_axis):
+    """The strands a ray meets on average over `ray_length` of in-plane path through a thick hair
+    (the Poisson mean the renderer's thick hairs use; Sec. 4's rho), not floored at 1."""
+    return _core.expected_hairs_met(float(density), float(ray_length), float(hair_total), float(major_axis),
+                                    float(minor_axis))
+
+
 def lod_hair_count_range(asset):
     """The hair counts a LodAsset's thick hairs need (Huang et al. 2025, Sec. 4 and 5.2): returns
     (max_hairs_crossed, densest_n_total). A ray through a thick hair meets n = rho l sqrt(n_total /
@@ -204,6 +211,7 @@ __all__ = [
     "huang_sample",
     "cluster_density",
     "hairs_crossed",
+    "strands_met",
     "lod_hair_count_range",
     "dual_scattering",
     "evaluate",

@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from . import _core, lod, render
+from . import _core, bcsdf, lod, render
 from .hair_params import as_params
 
 __all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_HAIRS", "SPP", "bench_thick_hairs", "crossings", "format_tables", "member_ends", "renders_against_members"]
@@ -43,12 +43,6 @@ RENDERED_HAIRS, SPP, LINE_HAIRS = 16, 128, 150
 def _unit(vectors):
     length = np.linalg.norm(vectors, axis=-1, keepdims=True)
     return vectors / np.maximum(length, 1e-30), length[..., 0]
-
-
-def _members(level):
-    """Strands of each hair of `level`: (order, first), hair h holding order[first[h]:first[h + 1]]."""
-    order = np.argsort(level.membership, kind="stable")
-    return order, np.searchsorted(level.membership[order], np.arange(len(level.n_total) + 1))
 
 
 def member_ends(level, points):
@@ -83,24 +77,23 @@ def _exit_distance(ox, oy, dx, dy, major, minor):
     return (-b + np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))) / (2.0 * a)
 
 
-def crossings(level, points, radius, rng, hairs=LINE_HAIRS, rays=200):
-    """Lines in the planes of sampled cross-sections of `level` against its members (`points` [S, n_c, 3]
-    and `radius` [S, n_c], input order): "across" the ellipse and "from_member" (from a member inside it
-    outwards). Per kind: the mean count of members passed within their radius ("members") and the
+def crossings(level, members, points, radius, rng, hairs=LINE_HAIRS, rays=200):
+    """Lines in the planes of sampled cross-sections of `level` against its members (`members(h)` the
+    input indices of hair h's strands; `points` [S, n_c, 3] and `radius` [S, n_c], input order): "across"
+    the ellipse and "from_member" (from a member inside it outwards). Per kind: the mean count of members passed within their radius ("members") and the
     model's expected count ("model"), and the share of lines passing none ("members_transmittance")
     against the mean of exp(-expected) ("model_transmittance")."""
     nc = points.shape[1]
-    order, first = _members(level)
     candidates = np.nonzero(level.n_total >= 2)[0]
     sums = {"across": np.zeros(5), "from_member": np.zeros(5)}  # model, members, exp(-model), none, lines
     for h in rng.choice(candidates, size=min(len(candidates), hairs), replace=False):
-        members = order[first[h]:first[h + 1]]
+        strands = members(h)
         for k in (nc // 4, nc // 2, (3 * nc) // 4):
             major, minor = (float(v) for v in level.radii[h, k])
-            offset = points[members, k] - level.centres[h, k]
+            offset = points[strands, k] - level.centres[h, k]
             x, y = offset @ level.major_axis[h, k], offset @ level.minor_axis[h, k]
-            r = float(radius[members, k].mean())
-            per_length = 2.0 / np.pi * np.sqrt(level.density[h, k] * len(members) / (major * minor))
+            r = float(radius[strands, k].mean())
+            per_length = bcsdf.strands_met(level.density[h, k], 1.0, len(strands), major, minor)
             # Across: a direction, and an offset uniform over the ellipse's extent normal to it.
             phi = rng.uniform(0.0, np.pi, rays)
             nx, ny = -np.sin(phi), np.cos(phi)
@@ -128,23 +121,22 @@ def crossings(level, points, radius, rng, hairs=LINE_HAIRS, rays=200):
             for kind, total in sums.items()}
 
 
-def renders_against_members(level, points, radius, params, rng, hairs=RENDERED_HAIRS, spp=SPP, seed=0):
-    """Sampled hairs of `level` (n_total at least the median) rendered alone: per own-hair treatment and
+def renders_against_members(level, members, points, radius, params, rng, hairs=RENDERED_HAIRS, spp=SPP, seed=0):
+    """Sampled hairs of `level` (n_total at least the median; `members` as for crossings()) rendered alone: per own-hair treatment and
     light side (LIGHT_SIDES), the thick hair's mean image over its strands' per channel, averaged over
     the hairs and the two views (across the major and across the minor axis of the middle section)."""
     nc = points.shape[1]
-    order, first = _members(level)
     candidates = np.nonzero(level.n_total >= max(np.median(level.n_total), 2))[0]
     chosen = rng.choice(candidates, size=min(len(candidates), hairs), replace=False)
     sums = {own: {side: np.zeros(3) for side in LIGHT_SIDES} for own in render.OWN_HAIR}
     for h in chosen:
-        members = order[first[h]:first[h + 1]]
-        strands = _core.Strands.from_counts(np.ascontiguousarray(points[members].reshape(-1, 3), np.float32),
-                                            np.full(len(members), nc, np.int64),
-                                            np.ascontiguousarray(radius[members].reshape(-1), np.float32))
+        member_strands = members(h)
+        strands = _core.Strands.from_counts(np.ascontiguousarray(points[member_strands].reshape(-1, 3), np.float32),
+                                            np.full(len(member_strands), nc, np.int64),
+                                            np.ascontiguousarray(radius[member_strands].reshape(-1), np.float32))
         thick = {"centres": level.centres[h].astype(np.float32), "major_axis": level.major_axis[h].astype(np.float32),
                  "radii": level.radii[h].astype(np.float32), "density": np.minimum(level.density[h], 1.0).astype(np.float32),
-                 "offsets": np.array([0, nc], np.int64), "n_total": np.array([len(members)], np.float32)}
+                 "offsets": np.array([0, nc], np.int64), "n_total": np.array([len(member_strands)], np.float32)}
         middle = level.centres[h, nc // 2].astype(np.float64)
         along, length = _unit(level.centres[h, -1].astype(np.float64) - level.centres[h, 0])
         for view_axis in (level.major_axis[h, nc // 2], level.minor_axis[h, nc // 2]):
@@ -184,16 +176,24 @@ def bench_thick_hairs(strands, asset=None, guides=None, params=None, hairs=RENDE
     nc = asset.control_points
     points = rest.points.reshape(-1, nc, 3).astype(np.float64)
     radius = rest.radius.reshape(-1, nc)
+    # Hair h of a level holds the strands at hierarchy positions [member_first[h], member_first[h + 1]).
+    stored = asset.arrays()
+    strand_order = stored["strand_order"]
     levels = []
     for position, level in enumerate(asset.levels):
         say(f"level {asset.level_ids[position]}: {len(level.n_total)} thick hairs")
         rng = np.random.default_rng(seed + position)
+        member_first = stored["levels"][position]["member_first"]
+
+        def members(h, first=member_first):  # in input order
+            return np.sort(strand_order[first[h]:first[h + 1]])
+
         levels.append({"level": asset.level_ids[position], "hairs": int(len(level.n_total)),
                        "mean_members": float(np.mean(level.n_total)),
                        "ends": member_ends(level, points),
-                       "crossings": crossings(level, points, radius, rng, hairs=lines_hairs),
-                       "renders": renders_against_members(level, points, radius, params, rng, hairs=hairs, spp=spp,
-                                                          seed=seed)})
+                       "crossings": crossings(level, members, points, radius, rng, hairs=lines_hairs),
+                       "renders": renders_against_members(level, members, points, radius, params, rng, hairs=hairs,
+                                                          spp=spp, seed=seed)})
     return {"strands": asset.strand_count, "control_points": nc, "spp": int(spp), "image_pixels": IMAGE_PIXELS,
             "levels": levels, "bench_seconds": time.perf_counter() - start}
 

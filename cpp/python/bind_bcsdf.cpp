@@ -259,6 +259,10 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
     m.def("hairs_crossed", &hairs_crossed, py::arg("density"), py::arg("ray_length"), py::arg("hair_total"),
           py::arg("major_axis"), py::arg("minor_axis"),
           "Huang et al. 2025, Sec. 4: n = rho l sqrt(n_total / (pi |r_A| |r_B|)), at least 1.");
+    m.def("expected_hairs_met", &expected_hairs_met, py::arg("density"), py::arg("ray_length"), py::arg("hair_total"),
+          py::arg("major_axis"), py::arg("minor_axis"),
+          "The strands a ray meets on average over ray_length of in-plane path through a thick hair (Poisson "
+          "mean, what the renderer's thick hairs use): 2 r n_total l / (pi |r_A| |r_B|), r from Sec. 4's rho.");
     m.def("max_hairs_crossed", [](const FloatArray& n_total, const FloatArray& radii, const FloatArray& density) {
               if (n_total.ndim() != 1) throw Error("n_total must have shape [H]");
               if (density.ndim() != 1) throw Error("density must have shape [P]");

@@ -174,9 +174,12 @@ public:
     // from beyond the hit (cos phi <= 0). This is the shadowing that Huang 2025 Eq. 12-15 of
     // hair-lod-aggregated-bcsdf.txt estimate for a renderer shading the hair's surface (S grows with
     // phi and falls with rho), so S is 1 here (rho = 1 in Huang 2025 Eq. 15: open fraction 0).
-    double light_crossings(const Vertex& v, const HairScene& scene, const SurfaceHit& hit, const glm::dvec3& wi_world) const {
+    // `passage`, when given, receives the way out before that correction.
+    double light_crossings(const Vertex& v, const HairScene& scene, const SurfaceHit& hit, const glm::dvec3& wi_world,
+                           HairPassage* passage_out = nullptr) const {
         if (!v.self_shadowed) return 0.0;
         const HairPassage passage = scene.own_hair_passage(hit, glm::vec3(wi_world));
+        if (passage_out != nullptr) *passage_out = passage;
         double expected = passage.expected;
         if (!(expected > 0.0)) return 0.0;
         const glm::dvec3 wi = v.frame.local(wi_world);
@@ -393,8 +396,9 @@ struct Tracer {
                 // The strands ahead in the own hair, less those the camera's empty corridor rules out
                 // (light_crossings): a Poisson count, whose first arrival is where the ray meets one.
                 // The corridor lies next to the hit, so the arrival is counted past its share.
-                const double total = scene.own_hair_passage(hit, direction).expected;
-                const double open = shader.light_crossings(v, scene, hit, glm::dvec3(direction));
+                HairPassage way_out;
+                const double open = shader.light_crossings(v, scene, hit, glm::dvec3(direction), &way_out);
+                const double total = way_out.expected;
                 const double u = rng.uniform();
                 if (u < -std::expm1(-open))
                     meets_own_strand = scene.strand_inside(hit, direction, -std::log1p(-u) + (total - open), own_strand);
