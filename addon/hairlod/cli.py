@@ -14,7 +14,7 @@ import time
 import warnings
 
 from . import __version__, atomic_output, strict_json
-from .lod import (DEFAULT_WIDTH_PX, LOD_DEFAULTS, MAX_CONTROL_POINTS, MAX_LEVELS, MIN_CONTROL_POINTS, MIN_LEVELS,
+from .lod import (DEFAULT_VERTEX_TOLERANCE_PX, DEFAULT_WIDTH_PX, LOD_DEFAULTS, MAX_CONTROL_POINTS, MAX_LEVELS, MIN_CONTROL_POINTS, MIN_LEVELS,
                   MIN_WIDTH_PX)
 
 EXIT_BAD_INPUT = 2
@@ -48,6 +48,11 @@ def _integer(lowest, highest=INT32_MAX):
 def _width_px():
     """argparse type: a screen-width threshold in the range every tool accepts (lod.MIN_WIDTH_PX up)."""
     return _number(at_least=MIN_WIDTH_PX, at_most=FLOAT32_MAX)
+
+
+def _vertex_tolerance():
+    """argparse type: a vertex LoD tolerance in pixels (0 up)."""
+    return _number(at_least=0.0, at_most=FLOAT32_MAX)
 
 
 def _number(above=None, at_least=None, at_most=None):
@@ -299,7 +304,7 @@ def command_render(args):
                   file=sys.stderr, flush=True)
     result = render.render(strands, method=args.method, view=args.view, width=args.width, spp=args.spp, asset=asset,
                            seed=args.seed, params=_read_params(args.params), progress=bar, guides=guides,
-                           own_hair=args.own_hair)
+                           own_hair=args.own_hair, vertex_tolerance_px=args.vertex_tolerance_px)
     render.write_image(args.out, result["image"])
     summary = {key: result[key] for key in ("seconds", "setup_seconds", "rays", "rays_per_second", "segments",
                                             "strand_segments", "thick_segments", "camera")}
@@ -519,7 +524,8 @@ def _bench_quality(args):
                                    reference_spp=args.reference_spp, equal_time_spp=args.equal_time_spp, eps_w=eps_w,
                                    width_px=args.width_px, guides=args.guides,
                                    params=_read_params(args.params), keep_images=bool(args.images), progress=say,
-                                   max_bounces=args.max_bounces, own_hair=args.own_hair)
+                                   max_bounces=args.max_bounces, own_hair=args.own_hair,
+                                   vertex_tolerance_px=args.vertex_tolerance_px)
     result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds,
                   bench_seconds=time.perf_counter() - start)
     if args.images:
@@ -689,6 +695,9 @@ def build_parser():
                       help="lod-single: paths leaving a strand inside a thick hair skip its other strands, keeping the "
                       "share dual scattering passes forwards (attenuate, the default), or meet them and scatter there "
                       "(scatter)")
+    rend.add_argument("--vertex-tolerance-px", type=_vertex_tolerance(), default=DEFAULT_VERTEX_TOLERANCE_PX,
+                      help="lod methods: control points left out where the curve through the others passes within this "
+                      f"many pixels of them (vertex LoD; 0 keeps every one; default {DEFAULT_VERTEX_TOLERANCE_PX:g})")
     rend.add_argument("--progress", action="store_true", help="progress bar on stderr even when not a terminal")
     rend.add_argument("--json", action="store_true", help="print one JSON object")
     rend.set_defaults(run=command_render)
@@ -733,6 +742,9 @@ def build_parser():
     bench.add_argument("--own-hair", choices=OWN_HAIR, default=None,
                        help="quality: how the lod-single rows treat paths inside their own thick hair (see render "
                        "--own-hair; default attenuate)")
+    bench.add_argument("--vertex-tolerance-px", type=_vertex_tolerance(), default=DEFAULT_VERTEX_TOLERANCE_PX,
+                       help="quality: the lod methods' vertex LoD, pixels a left-out control point may lie off the "
+                       f"drawn curve (0 keeps every one; default {DEFAULT_VERTEX_TOLERANCE_PX:g})")
     bench.add_argument("--images", type=_path, metavar="DIR", help="quality: write DIR/<view>.png, reference | ds | lod | "
                        "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "

@@ -18,6 +18,8 @@ from . import _core, atomic_output, memory_budget, strict_json
 # (lod/selection.h), where the selection uses them.
 DEFAULT_WIDTH_PX = round(_core.DEFAULT_WIDTH_PX, 6)  # float32 in C++; rounded for messages
 MIN_WIDTH_PX = round(_core.MIN_WIDTH_PX, 6)
+# Vertex LoD of the drawn curves (lod/vertex_lod.h): pixels a left-out control point may lie off them.
+DEFAULT_VERTEX_TOLERANCE_PX = round(_core.DEFAULT_VERTEX_TOLERANCE_PX, 6)
 # The build's defaults (guides 0 = automatic, levels, control_points, seed, ellipse_coverage) and ranges,
 # defined in C++ (lod/lod_asset.h LodOptions) for every tool.
 LOD_DEFAULTS = {name: (round(value, 6) if isinstance(value, float) else value)
@@ -29,7 +31,7 @@ MIN_CONTROL_POINTS = _core.MIN_CONTROL_POINTS
 LOD_ARC_LENGTH_SUBDIVISIONS = _core.LOD_ARC_LENGTH_SUBDIVISIONS
 SKIN_MAP_TEXELS = _core.SKIN_MAP_TEXELS  # RGBA texels per skinning map (FrameSkinning.maps, skinning.glsl)
 
-__all__ = ["DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "check_animation", "curve_subset", "following_error", "frame_guides", "keep_scene_levels", "load",
+__all__ = ["DEFAULT_VERTEX_TOLERANCE_PX", "DEFAULT_WIDTH_PX", "LOD_ARC_LENGTH_SUBDIVISIONS", "LOD_DEFAULTS", "MAX_LEVELS", "MIN_CONTROL_POINTS", "MIN_LEVELS", "MIN_WIDTH_PX", "BuildCancelled", "BuildProgress", "LodAsset", "ThickLevel", "build_lod", "check_animation", "curve_subset", "following_error", "frame_guides", "keep_scene_levels", "load",
            "load_animation", "pack",
            "read_cameras", "save", "scene_levels", "unpack"]
 

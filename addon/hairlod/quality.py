@@ -78,7 +78,8 @@ def _db(value):
 
 def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=256, width=128,
                   reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=lod.DEFAULT_WIDTH_PX, guides=None,
-                  params=None, seed=0, keep_images=False, progress=None, max_bounces=render.MAX_BOUNCES, own_hair=None):
+                  params=None, seed=0, keep_images=False, progress=None, max_bounces=render.MAX_BOUNCES, own_hair=None,
+                  vertex_tolerance_px=lod.DEFAULT_VERTEX_TOLERANCE_PX):
     """Dict with settings, the LoD build (when `asset` is None it is built here), one entry per view
     {camera, reference, rows: {method: row}}, the equal-time rows per view and the eps_w sweep rows.
     With `keep_images` it also holds "images": {view: {"reference": image, method: image}} (linear
@@ -86,7 +87,8 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
     render when given. `max_bounces` limits every render's paths, the reference's too, to that many
     scatterings after the camera ray's hit (0: direct light only, the light scattered once on its way
     to the camera): what separates single from multiple scattering. `own_hair` (render.OWN_HAIR) is how
-    the lod-single renders treat paths inside their own thick hair."""
+    the lod-single renders treat paths inside their own thick hair; `vertex_tolerance_px` the lod
+    methods' vertex LoD (render.lod_geometry; 0 draws every control point)."""
     if int(max_bounces) < 0:
         raise ValueError(f"max bounces must be >= 0, got {max_bounces}")
     if own_hair is not None and own_hair not in render.OWN_HAIR:
@@ -116,7 +118,8 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
 
     def render_method(method, view, samples, eps=width_px):
         return render.render(strands, method, view, width, samples, asset=asset, params=params, seed=seed, width_px=eps,
-                             max_bounces=max_bounces, own_hair=own_hair if method == "lod-single" else None)
+                             max_bounces=max_bounces, own_hair=own_hair if method == "lod-single" else None,
+                             vertex_tolerance_px=vertex_tolerance_px)
 
     references, hair_pixels, result_views, equal_time, images = {}, {}, {}, {}, {}
     for view in dict.fromkeys(list(views) + [sweep_view]):
@@ -132,7 +135,8 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
         for method in methods:
             say(f"{view}: {method} at {spp} spp, its coverage, and at {equal_time_spp} spp")
             out = render_method(method, view, spp)
-            alpha = render.coverage(strands, method, view, width, spp, asset=asset, width_px=width_px, seed=seed)
+            alpha = render.coverage(strands, method, view, width, spp, asset=asset, width_px=width_px, seed=seed,
+                                    vertex_tolerance_px=vertex_tolerance_px)
             rows[method] = dict(_row(out), **_errors(out["image"], reference["image"], hair),
                                 **_coverage_errors(alpha, reference_alpha))
             view_images[method] = out["image"]
@@ -163,7 +167,8 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
                     facts[f"lod_minus_ds_{metric}"] = _difference(rows["lod"][metric], rows["ds"][metric])
         summary[view] = facts
     result = {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
-              "reference_spp": int(reference_spp), "max_bounces": int(max_bounces), "own_hair": own_hair, "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
+              "reference_spp": int(reference_spp), "max_bounces": int(max_bounces), "own_hair": own_hair,
+              "vertex_tolerance_px": float(vertex_tolerance_px), "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
               "width_px": float(width_px), "lod_build": build, "guides": asset.guide_count, "views": result_views,
               "equal_time": {"spp": int(equal_time_spp), "views": equal_time}, "summary": summary,
               "sweep": {"view": sweep_view, "spp": int(spp), "full_segments": int(references[sweep_view]["segments"]),
@@ -321,6 +326,9 @@ def format_tables(result):
              f", paths of at most {bounces} bounce{'s' if bounces > 1 else ''} after the camera ray's hit")
     if result.get("own_hair", render.OWN_HAIR[0]) != render.OWN_HAIR[0]:
         limit += f", lod-single with own-hair {result['own_hair']}"
+    tolerance = result.get("vertex_tolerance_px", lod.DEFAULT_VERTEX_TOLERANCE_PX)
+    if tolerance != lod.DEFAULT_VERTEX_TOLERANCE_PX:
+        limit += ", every control point drawn" if tolerance == 0 else f", vertex LoD within {tolerance:g} px"
     lines = [f"Converged: pt reference at {reference_spp} spp, each method at {spp} spp, {result['width']} x "
              f"{result['width']} px{limit}. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
              f"the mean linear radiance over the hair's pixels (strands' alpha > {result['hair_alpha']:g}). Coverage: "

@@ -16,6 +16,7 @@
 #include "hairlod/lod/preview_vertices.h"
 #include "hairlod/lod/selection.h"
 #include "hairlod/lod/skinning.h"
+#include "hairlod/lod/vertex_lod.h"
 #include "hairlod/lod/view_selection.h"
 
 namespace py = pybind11;
@@ -456,6 +457,28 @@ void bind_lod(py::module_& m) {
        py::arg("control_points") = LodOptions{}.control_points, py::arg("seed") = LodOptions{}.seed,
        py::arg("ellipse_coverage") = LodOptions{}.ellipse_coverage, py::arg("progress") = nullptr,
        "Builds an LodAsset (the GIL released); guides 0: auto_guide_count; `progress` (LodBuildProgress) reports steps and cancels.");
+    m.attr("DEFAULT_VERTEX_TOLERANCE_PX") = kDefaultVertexTolerancePx;
+    m.def("vertex_lod_keep", [](const FloatArray& points, const Int64Array& offsets, const FloatArray& extents,
+                                const FloatArray& view, const FloatArray& projection, std::pair<float, float> viewport,
+                                float tolerance_px) {
+        const auto point_rows = rows_of<glm::vec3>(points, 3, "points");
+        if (offsets.ndim() != 1) throw Error("offsets must be one-dimensional");
+        if (extents.ndim() != 2 || extents.shape(0) != points.shape(0))
+            throw Error("extents must have shape [N, k] with the points' N = " + std::to_string(points.shape(0)));
+        const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
+        std::vector<uint8_t> keep;
+        {
+            py::gil_scoped_release release;
+            keep = vertex_lod_keep({points.data(), point_rows.size() * 3}, {offsets.data(), static_cast<size_t>(offsets.size())},
+                                   {extents.data(), static_cast<size_t>(extents.size())}, static_cast<int>(extents.shape(1)),
+                                   camera, tolerance_px);
+        }
+        return to_numpy<uint8_t>(keep, {as_size(keep.size())}).attr("astype")("bool");
+    }, py::arg("points"), py::arg("offsets"), py::arg("extents"), py::arg("view"), py::arg("projection"),
+       py::arg("viewport_size"), py::arg("tolerance_px") = kDefaultVertexTolerancePx,
+       "Vertex LoD: which control points of the curves (points [N, 3], offsets [C + 1]) to keep for this camera, "
+       "points left out lying within tolerance_px pixels of the chord, extents [N, k] (world units) within it of "
+       "their interpolation (lod/vertex_lod.h).");
     m.def("auto_guide_count", &auto_guide_count, py::arg("strand_count"),
           "The guide count build_lod uses when guides is 0.");
 }

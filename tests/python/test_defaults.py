@@ -48,3 +48,13 @@ def test_build_defaults_and_ranges_come_from_cpp():
         assert (parsed.levels, parsed.control_points) == (lod.LOD_DEFAULTS["levels"], lod.LOD_DEFAULTS["control_points"])
     with pytest.raises(cli.UsageError, match="--levels"):
         cli.build_parser().parse_args(["lod", "hair.hair", "--out", "out", "--levels", str(lod.MAX_LEVELS + 1)])
+
+
+def test_vertex_tolerance_comes_from_cpp():
+    assert lod.DEFAULT_VERTEX_TOLERANCE_PX == pytest.approx(_core.DEFAULT_VERTEX_TOLERANCE_PX)
+    assert lod.DEFAULT_VERTEX_TOLERANCE_PX > 0
+    for function in (render.render, render.coverage, render.lod_geometry, quality.bench_quality):
+        assert inspect.signature(function).parameters["vertex_tolerance_px"].default == lod.DEFAULT_VERTEX_TOLERANCE_PX
+    assert f"tolerance_px: float = {lod.DEFAULT_VERTEX_TOLERANCE_PX}" in _core.vertex_lod_keep.__doc__
+    for command in (["render", "hair.hair", "--out", "x.png"], ["bench", "quality", "hair.hair"]):
+        assert cli.build_parser().parse_args(command).vertex_tolerance_px == lod.DEFAULT_VERTEX_TOLERANCE_PX

@@ -1,0 +1,34 @@
+#pragma once
+// Vertex LoD of the curves a view draws: the control points a renderer may leave out because the
+// curve through the others stays within a fraction of a pixel of them. Far away a strand or thick
+// hair spans a few pixels with all of its control points, and most of them only cost segments
+// (vertex level of detail as in hair-meshes-realtime.txt Sec. 3.6.2, which halves a strand's
+// vertices in power-of-2 steps; here each curve keeps the points its on-screen error needs).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "hairlod/lod/selection.h"
+
+namespace hairlod {
+
+// The largest distance, in pixels at each point's depth, by which a left-out control point may lie
+// from the curve through the kept ones. Every tool's default (CLI, Python API) is this one, read
+// through hairlod._core. 0 keeps every point.
+inline constexpr float kDefaultVertexTolerancePx = 0.1f;
+
+// Per curve (points [offsets[i], offsets[i + 1]) of `points`), which control points to keep (1) or
+// leave out (0). Greedy from the first point: each kept point is followed by the farthest point
+// such that every point in between lies within tolerance_px pixels of the chord between them. The
+// distance is taken in 3D, so that the shape seen from other directions (shadow and bounce rays)
+// holds as well as the camera's, and a pixel is the size of one at the left-out point's depth
+// (ScreenWidthBound). A curve's `extent_size` per-point extents (radii, a thick hair's axes; world
+// units) add their distance from their linear interpolation along the chord. The first and last
+// point of every curve are kept; so is every point behind the camera.
+// offsets: curve_count + 1 entries, increasing from 0 to the point count; tolerance_px >= 0 and finite.
+std::vector<uint8_t> vertex_lod_keep(std::span<const float> points, std::span<const int64_t> offsets,
+                                     std::span<const float> extents, int extent_size, const Camera& camera,
+                                     float tolerance_px);
+
+}  // namespace hairlod
