@@ -696,8 +696,9 @@ def build_parser():
                       "share dual scattering passes forwards (attenuate, the default), or meet them and scatter there "
                       "(scatter)")
     rend.add_argument("--vertex-tolerance-px", type=_vertex_tolerance(), default=DEFAULT_VERTEX_TOLERANCE_PX,
-                      help="lod methods: control points left out where the curve through the others passes within this "
-                      f"many pixels of them (vertex LoD; 0 keeps every one; default {DEFAULT_VERTEX_TOLERANCE_PX:g})")
+                      help="lod methods: each drawn strand keeps the control points its shape needs within this many "
+                      "pixels (vertex LoD; thick hairs keep every section; 0 keeps every point; default "
+                      f"{DEFAULT_VERTEX_TOLERANCE_PX:g})")
     rend.add_argument("--progress", action="store_true", help="progress bar on stderr even when not a terminal")
     rend.add_argument("--json", action="store_true", help="print one JSON object")
     rend.set_defaults(run=command_render)
@@ -743,8 +744,8 @@ def build_parser():
                        help="quality: how the lod-single rows treat paths inside their own thick hair (see render "
                        "--own-hair; default attenuate)")
     bench.add_argument("--vertex-tolerance-px", type=_vertex_tolerance(), default=DEFAULT_VERTEX_TOLERANCE_PX,
-                       help="quality: the lod methods' vertex LoD, pixels a left-out control point may lie off the "
-                       f"drawn curve (0 keeps every one; default {DEFAULT_VERTEX_TOLERANCE_PX:g})")
+                       help="quality: the lod methods' vertex LoD, pixels a left-out control point of a strand may lie "
+                       f"off the drawn one (0 keeps every point; default {DEFAULT_VERTEX_TOLERANCE_PX:g})")
     bench.add_argument("--images", type=_path, metavar="DIR", help="quality: write DIR/<view>.png, reference | ds | lod | "
                        "lod-single | lod - reference (other files in DIR are left alone)")
     bench.add_argument("--eps-w", default="0.5,1,2,4,8", help="quality: eps_w sweep in pixels at the mid view "

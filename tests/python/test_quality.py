@@ -241,6 +241,23 @@ def test_bench_quality_own_hair_changes_only_the_single_fibre_rows(tiny_strands)
         run("bounce")
 
 
+def test_bench_quality_vertex_tolerance_reaches_the_lod_rows_and_the_heading(tiny_strands):
+    """The vertex LoD's tolerance reaches the lod renders (0 draws every control point: more segments
+    at the near view), not pt, and the tables' heading says when it is not the default."""
+    def run(tolerance):
+        return quality.bench_quality(tiny_strands, views=("near",), methods=("pt", "lod"), spp=1, width=16,
+                                     reference_spp=1, equal_time_spp=1, eps_w=(2.0,), sweep_view="near", guides=20,
+                                     vertex_tolerance_px=tolerance)
+    default, every = run(lod.DEFAULT_VERTEX_TOLERANCE_PX), run(0.0)
+    rows, every_rows = default["views"]["near"]["rows"], every["views"]["near"]["rows"]
+    assert rows["pt"]["segments"] == every_rows["pt"]["segments"]
+    assert rows["lod"]["segments"] < every_rows["lod"]["segments"]
+    assert default["vertex_tolerance_px"] == pytest.approx(lod.DEFAULT_VERTEX_TOLERANCE_PX)
+    assert "vertex LoD" not in quality.format_tables(default).splitlines()[0]
+    assert "every control point drawn" in quality.format_tables(every).splitlines()[0]
+    assert "vertex LoD within 0.5 px" in quality.format_tables(run(0.5)).splitlines()[0]
+
+
 def test_bench_quality_images_refuses_a_folder_in_the_way(tiny_hair, tmp_path):
     (tmp_path / "mid.png").mkdir()
     run = run_cli("bench", "quality", tiny_hair, "--width", 16, "--spp", 1, "--images", tmp_path)
