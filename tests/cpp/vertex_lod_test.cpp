@@ -145,6 +145,17 @@ TEST(VertexLod, PointsBehindTheCameraAreKept) {
     for (size_t i = 1; i + 1 < keep.size(); ++i) EXPECT_EQ(keep[i], 1) << i;
 }
 
+// A point that is not finite has no distance to compare: it and its curve's points stay.
+TEST(VertexLod, PointsThatAreNotFiniteAreKept) {
+    Curves curves;
+    std::vector<glm::vec3> line;
+    for (int i = 0; i < 6; ++i) line.push_back({0.1f * static_cast<float>(i), 0.0f, 0.0f});
+    line[3].y = std::numeric_limits<float>::quiet_NaN();
+    curves.add(line);
+    const std::vector<uint8_t> keep = curves.keep(camera_at(3.0f), 10.0f);
+    EXPECT_EQ(keep[3], 1);
+}
+
 TEST(VertexLod, BadInputIsRefusedByName) {
     Curves curves;
     curves.add(arc(5));
