@@ -6,7 +6,8 @@
    the project, the bundled examples/data/tressfx/Ratboy_mohawk.tfx (AMD TressFX, MIT license next to
    it), and save it (out/demo/lod: one .hair of thick hairs per level, manifest, arrays).
 4. Select levels for a near, a mid and a far camera and report the segments drawn against drawing
-   every strand.
+   every strand, and what the renderer draws of them with the vertex LoD (strands through the control
+   points their shape needs within 0.1 px).
 5. Bake the aggregated BCSDF's lookup tables for the asset's hair counts (out/demo/bcsdf, OpenEXR).
 6. Judge the LoD's look on converged images (hairlod.quality, as `bench quality` does): at the mid and
    far views, a path-traced full-geometry reference at 1024 spp against full geometry with dual
@@ -28,7 +29,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
 
 import hairlod  # noqa: E402
-from hairlod import bcsdf, bcsdf_bake, hair_params, hairmesh, io, lod, quality  # noqa: E402
+from hairlod import bcsdf, bcsdf_bake, hair_params, hairmesh, io, lod, quality, render  # noqa: E402
 from hairlod.camera import look_at, perspective  # noqa: E402
 from hairlod.cli import strand_summary  # noqa: E402
 
@@ -94,13 +95,20 @@ def select_views(asset, strands):
     print(f"4. Level selection at {VIEWPORT[0]}x{VIEWPORT[1]} px, width threshold 2 px "
           f"(every strand as given: {full} segments):")
     for name, distance in (("near", 1.2), ("mid", 4.0), ("far", 25.0)):
-        view = look_at(centre + np.array([0.0, -distance * size, 0.2 * size]), centre)
+        eye = centre + np.array([0.0, -distance * size, 0.2 * size])
+        view = look_at(eye, centre)
         selection, seconds = timed(asset.select, view, projection, VIEWPORT, width_px=2.0)
         drawn = segments_drawn(selection)
         levels = np.bincount(np.asarray(selection.levels).ravel(), minlength=len(asset.levels) + 1)
+        camera = {"eye": eye.tolist(), "target": centre.tolist(), "up": [0.0, 0.0, 1.0], "fov_y": np.radians(40),
+                  "width": VIEWPORT[0], "height": VIEWPORT[1]}
+        strand_geometry, thick = render.lod_geometry(asset, camera, width_px=2.0)
+        rendered = ((0 if strand_geometry is None else strand_geometry.point_count - len(strand_geometry)) +
+                    (0 if thick is None else len(thick["centres"]) - (len(thick["offsets"]) - 1)))
         print(f"   {name:4s} (distance {distance:>4} x size): {drawn:7d} segments, "
               f"{full / max(drawn, 1):6.1f}x fewer; cluster segments at L0.. / strands {levels.tolist()}; "
-              f"skinned and selected in {seconds * 1e3:.1f} ms")
+              f"skinned and selected in {seconds * 1e3:.1f} ms; with the vertex LoD {rendered} segments, "
+              f"{full / max(rendered, 1):.1f}x fewer")
 
 
 def bake_tables(asset):
