@@ -120,8 +120,8 @@ def bake_tables(asset):
 
 
 def judge_views(asset, strands):
-    print(f"6. Converged images, 128 px: pt reference at 1024 spp, each method at 256 spp "
-          f"(pt: an independent render, the noise floor)")
+    print("6. Converged images, 128 px: pt reference at 1024 spp, each method at 256 spp "
+          "(pt: an independent render, the noise floor)")
     result, seconds = timed(quality.bench_quality, strands, asset=asset, views=VIEWS, methods=METHODS, eps_w=(),
                             keep_images=True)
     for view, entry in result["views"].items():
