@@ -18,7 +18,7 @@ from . import _core, atomic_output, memory_budget, strict_json
 # (lod/selection.h), where the selection uses them.
 DEFAULT_WIDTH_PX = round(_core.DEFAULT_WIDTH_PX, 6)  # float32 in C++; rounded for messages
 MIN_WIDTH_PX = round(_core.MIN_WIDTH_PX, 6)
-# Vertex LoD of the drawn curves (lod/vertex_lod.h): pixels a left-out control point may lie off them.
+# Vertex LoD of the drawn strands (lod/vertex_lod.h): pixels a left-out control point may lie off them.
 DEFAULT_VERTEX_TOLERANCE_PX = round(_core.DEFAULT_VERTEX_TOLERANCE_PX, 6)
 # The build's defaults (guides 0 = automatic, levels, control_points, seed, ellipse_coverage) and ranges,
 # defined in C++ (lod/lod_asset.h LodOptions) for every tool.

@@ -118,7 +118,7 @@ def lod_geometry(asset, camera, width_px=_core.DEFAULT_WIDTH_PX, guides=None,
                                             radius[keep])
     # Thick hairs keep every section: each carries the area and density the aggregated shading and the
     # self-shadowing read (Sec. 4), not only an outline. Left out by their outline alone, the
-    # generated hair's far view lost 3 points of red and 1.7 dB (README, LoD quality).
+    # generated hair's far view lost 3 points of red and 1.7 dB (README, Reference renderer).
     hairs = None
     if thick["centres"]:
         counts = np.concatenate(thick["counts"]).astype(np.int64)
