@@ -13,11 +13,34 @@ level, and only blocks holding some segment selected at a level are drawn (``blo
 Thick-hair vertices carry what the viewport shader needs to shade the aggregated BCSDF
 (hair-lod-aggregated-bcsdf.txt Sec. 4): the centre, tangent, the major and minor semi-axis vectors
 (the strip's width and the ray length through the ellipse come from them in the shader), and the
-cluster's strand count n_total and density rho."""
+cluster's strand count n_total and density rho.
+
+The strands' vertex LoD (hair-meshes-realtime.txt Sec. 3.6.2 halves a strand's vertices in power-of-2
+steps): each block of the strand level also has index buffers that draw every strand through control
+points 0, s, 2s, ... and its last (``STRAND_STRIDES``). Per frame each block takes the longest stride
+whose chords stay within a tolerance in pixels of the control points they skip (``stride_deviation``
+at the rest pose, ``cluster_pixel_size``, ``block_strides``). The selection test is unchanged: a
+fragment of chord (a, b) reads the level of segment floor(t), t running from a to b along it."""
 
 import numpy as np
 
-__all__ = ["cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "blocks_to_draw"]
+from . import _core
+
+__all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "blocks_to_draw", "STRAND_STRIDES",
+           "strided_lines", "stride_deviation", "cluster_pixel_size", "block_strides", "view_block_strides",
+           "cluster_strides", "strided_exact", "chords_drawn"]
+
+# Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
+# segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
+# levels). About 1100 blocks for 100k strands of 32 points; a frame draws only the flagged ones.
+BLOCK_SEGMENTS = 1 << 12
+# Strides of the strand level's index buffers, finest first (1 draws every control point).
+STRAND_STRIDES = (1, 2, 4, 8, 16)
+# The viewport's default tolerance of the strands' vertex LoD, in pixels: half a pixel, the error the
+# preview's lines (1 px, not anti-aliased) already have from snapping to pixel centres. Per block it is
+# met by the worst strand of every cluster at the block's nearest point, so most chords stay well
+# within it. (The renderer's default, lod.DEFAULT_VERTEX_TOLERANCE_PX, is per strand and point.)
+PREVIEW_VERTEX_TOLERANCE_PX = 0.5
 
 
 def cluster_items(asset, level):
@@ -76,3 +99,116 @@ def blocks_to_draw(present, bounds):
     if len(bounds) < 2:
         return np.zeros(0, bool)
     return np.logical_or.reduceat(present, bounds[:-1])
+
+
+def _stride_starts(control_points, stride):
+    """First control points a = 0, stride, 2 stride, ... < n_c - 1 of the chords (a, min(a + stride, n_c - 1))."""
+    return np.arange(0, control_points - 1, stride, dtype=np.int64)
+
+
+def strided_lines(item_first, first_cluster, end_cluster, control_points, stride):
+    """uint32 [S, 2] line element indices of the items of clusters [first_cluster, end_cluster) drawn
+    at ``stride``: chords (a, min(a + stride, n_c - 1)) for a = 0, stride, ...; stride 1 gives
+    block_indices(..., "lines")."""
+    item_first = np.asarray(item_first, dtype=np.int64)
+    items = np.arange(item_first[first_cluster], item_first[end_cluster], dtype=np.int64)
+    starts = _stride_starts(control_points, stride)
+    ends = np.minimum(starts + stride, control_points - 1)
+    base = items[:, None] * control_points
+    lines = np.stack([(base + starts[None, :]).reshape(-1), (base + ends[None, :]).reshape(-1)], axis=1)
+    return np.ascontiguousarray(lines.astype(np.uint32))
+
+
+def stride_deviation(points, control_points, item_first):
+    """float32 [clusters, len(STRAND_STRIDES)]: per L0 cluster (items [item_first[c], item_first[c +
+    1]), points [items n_c, 3]) and stride, the largest distance of a control point from the chord
+    drawn in its place (C++ lod/vertex_lod.h; infinity where a point is not finite)."""
+    return _core.stride_chord_deviation(np.ascontiguousarray(points, dtype=np.float32), int(control_points),
+                                                 np.ascontiguousarray(item_first, dtype=np.int64), list(STRAND_STRIDES))
+
+
+def cluster_pixel_size(bounds, model_view, projection, height):
+    """World (object-space) length of one pixel at the nearest point of each cluster's bounding sphere
+    (bounds [C, 4]: centre, radius, object space) under the 4 x 4 ``model_view`` and ``projection``
+    of a viewport ``height`` pixels high; 0 where the sphere reaches the eye (nothing may be left out
+    there) or is not finite. Object units: the model's scale divides the pixel's world length."""
+    bounds = np.asarray(bounds, dtype=np.float64)
+    model_view = np.asarray(model_view, dtype=np.float64)
+    projection = np.asarray(projection, dtype=np.float64)
+    # The largest stretch of object space under the model-view: a pixel is smallest along it.
+    scale = float(np.linalg.norm(model_view[:3, :3], ord=2))
+    focal = abs(projection[1, 1]) * height / 2.0  # pixels per unit at depth 1 (perspective), per unit (orthographic)
+    if not (scale > 0.0 and focal > 0.0):
+        return np.zeros(len(bounds))
+    if projection[3, 3] == 1.0:  # orthographic: one pixel size everywhere
+        size = np.full(len(bounds), 1.0 / (focal * scale))
+    else:
+        depth = -(bounds[:, :3] @ model_view[2, :3] + model_view[2, 3]) - scale * bounds[:, 3]
+        size = np.where(depth > 0.0, depth / (focal * scale), 0.0)
+    return np.where(np.isfinite(size) & np.isfinite(bounds).all(axis=1), size, 0.0)
+
+
+def block_strides(deviation, pixel_size, tolerance_px, bounds):
+    """int [blocks]: per block of ``bounds`` (cluster_blocks), the index into STRAND_STRIDES of the
+    longest stride whose deviation (stride_deviation) stays within ``tolerance_px`` pixels
+    (``pixel_size`` per cluster, cluster_pixel_size) in every cluster of the block; 0 (every point)
+    when ``tolerance_px`` is 0."""
+    bounds = np.asarray(bounds, dtype=np.int64)
+    if len(bounds) < 2:
+        return np.zeros(0, np.int64)
+    allowed = float(tolerance_px) * np.asarray(pixel_size, dtype=np.float64)
+    fits = np.asarray(deviation, dtype=np.float64) <= allowed[:, None]
+    fits[:, 0] = True  # stride 1 leaves nothing out
+    # A block's clusters all need the stride; the longest that every one of them allows.
+    block_fits = np.logical_and.reduceat(fits, bounds[:-1], axis=0)
+    return len(STRAND_STRIDES) - 1 - np.argmax(block_fits[:, ::-1], axis=1)
+
+
+def view_block_strides(deviation, cluster_bounds, model_view, projection, height, tolerance_px, bounds):
+    """block_strides for a view: the strides each block of ``bounds`` may take at the clusters'
+    distances (``cluster_bounds`` [C, 4] at the pose drawn, object space)."""
+    pixel = cluster_pixel_size(cluster_bounds, model_view, projection, height)
+    return block_strides(deviation, pixel, tolerance_px, bounds)
+
+
+def cluster_strides(block_stride_index, bounds):
+    """int64 [clusters]: the stride (a value of STRAND_STRIDES) each cluster is drawn at, its block's."""
+    return np.repeat(np.asarray(STRAND_STRIDES, dtype=np.int64)[np.asarray(block_stride_index, dtype=np.int64)],
+                     np.diff(np.asarray(bounds, dtype=np.int64)))
+
+
+def strided_exact(lines, control_points, item_cluster, cluster_stride):
+    """The chords drawn in place of the selected strand segments ``lines`` ([S, 2] element indices
+    (v, v + 1), v = item n_c + k, ViewSelection.indices): per item, at its cluster's stride
+    (``item_cluster`` [items], ``cluster_stride`` [clusters] values of STRAND_STRIDES), each chord
+    spanning a selected segment, once. uint32 [S', 2]."""
+    lines = np.asarray(lines, dtype=np.int64).reshape(-1, 2)
+    if not len(lines):
+        return np.zeros((0, 2), np.uint32)
+    items, k = np.divmod(lines[:, 0], control_points)
+    stride = np.asarray(cluster_stride, dtype=np.int64)[np.asarray(item_cluster, dtype=np.int64)[items]]
+    start = k // stride * stride
+    first = np.unique(items * control_points + start)
+    # Each chord's end from its own item's stride: starts are multiples of it.
+    first_items, first_k = np.divmod(first, control_points)
+    first_stride = np.asarray(cluster_stride, dtype=np.int64)[np.asarray(item_cluster, dtype=np.int64)[first_items]]
+    end = first_items * control_points + np.minimum(first_k + first_stride, control_points - 1)
+    return np.ascontiguousarray(np.stack([first, end], axis=1).astype(np.uint32))
+
+
+def chords_drawn(selected, cluster_stride, items_per_cluster):
+    """Strand segments drawn: per cluster (rows of ``selected`` [C, n_c - 1], True where the
+    cluster's segment is selected at the strand level), its items times the chords at its stride
+    (``cluster_stride`` [C]) that span a selected segment."""
+    selected = np.asarray(selected, dtype=bool)
+    cluster_stride = np.asarray(cluster_stride, dtype=np.int64)
+    items = np.asarray(items_per_cluster, dtype=np.int64)
+    segments = selected.shape[1]
+    total = 0
+    for stride in np.unique(cluster_stride):
+        rows = cluster_stride == stride
+        chords = -(-segments // int(stride))
+        padded = np.zeros((int(rows.sum()), chords * int(stride)), bool)
+        padded[:, :segments] = selected[rows]
+        total += int(np.sum(padded.reshape(len(padded), chords, int(stride)).any(axis=2).sum(axis=1) * items[rows]))
+    return total

@@ -479,6 +479,21 @@ void bind_lod(py::module_& m) {
        "Vertex LoD: which control points of the curves (points [N, 3], offsets [C + 1]) to keep for this camera, "
        "points left out lying within tolerance_px pixels of the chord, extents [N, k] (world units) within it of "
        "their interpolation (lod/vertex_lod.h).");
+    m.def("stride_chord_deviation", [](const FloatArray& points, int control_points, const Int64Array& item_first,
+                                       const std::vector<int>& strides) {
+        const auto point_rows = rows_of<glm::vec3>(points, 3, "points");
+        if (item_first.ndim() != 1) throw Error("item_first must be one-dimensional");
+        std::vector<float> deviation;
+        {
+            py::gil_scoped_release release;
+            deviation = stride_chord_deviation({points.data(), point_rows.size() * 3}, control_points,
+                                               {item_first.data(), static_cast<size_t>(item_first.size())}, strides);
+        }
+        const size_t groups = static_cast<size_t>(item_first.size()) - 1;
+        return to_numpy<float>(deviation, {as_size(groups), as_size(strides.size())});
+    }, py::arg("points"), py::arg("control_points"), py::arg("item_first"), py::arg("strides"),
+       "Per group of items (items [item_first[g], item_first[g + 1]) of control_points points each) and stride: the "
+       "largest distance of a control point from the chord drawn in its place at that stride (lod/vertex_lod.h).");
     m.def("auto_guide_count", &auto_guide_count, py::arg("strand_count"),
           "The guide count build_lod uses when guides is 0.");
 }

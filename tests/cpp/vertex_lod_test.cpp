@@ -177,5 +177,63 @@ TEST(VertexLod, BadInputIsRefusedByName) {
     }
 }
 
+// Brute force: the drawn chords of every item at stride s (0, s, 2s, ..., last), and each point's
+// distance from the chord spanning it.
+TEST(StrideChordDeviation, MatchesEveryPointsDistanceFromItsChord) {
+    const int nc = 16;
+    Curves curves;  // three arcs in two groups: {arc, bent arc}, {small arc}
+    curves.add(arc(nc));
+    curves.add(arc(nc, 0.3f));
+    std::vector<glm::vec3> small = arc(nc);
+    for (glm::vec3& p : small) p *= 0.1f;
+    curves.add(small);
+    const std::vector<int64_t> groups{0, 2, 3};
+    const std::vector<int> strides{1, 2, 4, 8, 16};
+    const std::vector<float> deviation = stride_chord_deviation(curves.points, nc, groups, strides);
+    ASSERT_EQ(deviation.size(), 2 * strides.size());
+    for (size_t g = 0; g < 2; ++g) {
+        for (size_t j = 0; j < strides.size(); ++j) {
+            float expected = 0.0f;
+            for (auto item = static_cast<size_t>(groups[g]); item < static_cast<size_t>(groups[g + 1]); ++item) {
+                for (int k = 0; k < nc; ++k) {
+                    const int a = k / strides[j] * strides[j], b = std::min(a + strides[j], nc - 1);
+                    if (k == a || k == b) continue;
+                    expected = std::max(expected, distance_to_segment(curves.point(item * nc + static_cast<size_t>(k)),
+                                                                      curves.point(item * nc + static_cast<size_t>(a)),
+                                                                      curves.point(item * nc + static_cast<size_t>(b))));
+                }
+            }
+            EXPECT_NEAR(deviation[g * strides.size() + j], expected, 1e-6f) << "group " << g << " stride " << strides[j];
+        }
+        EXPECT_EQ(deviation[g * strides.size()], 0.0f);  // stride 1 draws every point
+        for (size_t j = 1; j < strides.size(); ++j)  // longer chords of an arc stray further
+            EXPECT_GT(deviation[g * strides.size() + j], deviation[g * strides.size() + j - 1]);
+    }
+    // The whole quarter circle as one chord: its middle lies 1 - cos(pi / 4) from it.
+    EXPECT_NEAR(deviation[1 * strides.size() + 4], 0.1f * (1.0f - std::cos(kPi / 4.0f)), 2e-3f);
+}
+
+TEST(StrideChordDeviation, APointThatIsNotFiniteForbidsTheStridesSkippingIt) {
+    Curves curves;
+    std::vector<glm::vec3> line;
+    for (int i = 0; i < 8; ++i) line.push_back({0.1f * static_cast<float>(i), 0.0f, 0.0f});
+    line[3].y = std::numeric_limits<float>::quiet_NaN();
+    curves.add(line);
+    const std::vector<float> deviation = stride_chord_deviation(curves.points, 8, std::vector<int64_t>{0, 1}, std::vector<int>{1, 2, 4});
+    EXPECT_EQ(deviation[0], 0.0f);
+    EXPECT_TRUE(std::isinf(deviation[1]));
+    EXPECT_TRUE(std::isinf(deviation[2]));
+}
+
+TEST(StrideChordDeviation, BadInputIsRefused) {
+    Curves curves;
+    curves.add(arc(4));
+    EXPECT_THROW(stride_chord_deviation(curves.points, 4, std::vector<int64_t>{0, 1}, std::vector<int>{0}), Error);
+    EXPECT_THROW(stride_chord_deviation(curves.points, 1, std::vector<int64_t>{0, 4}, std::vector<int>{1}), Error);
+    EXPECT_THROW(stride_chord_deviation(curves.points, 4, std::vector<int64_t>{0, 2}, std::vector<int>{1}), Error);
+    EXPECT_THROW(stride_chord_deviation(curves.points, 3, std::vector<int64_t>{0, 1}, std::vector<int>{1}), Error);
+    EXPECT_THROW(stride_chord_deviation(curves.points, 4, std::vector<int64_t>{}, std::vector<int>{1}), Error);
+}
+
 }  // namespace
 }  // namespace hairlod

@@ -95,6 +95,7 @@ def steps():
     # index lists (what ViewSelection.indices selects), in the Levels overlay.
     region_3d.view_distance = 6.0 * size
     settings.enabled, settings.overlay = True, 'LEVELS'
+    settings.vertex_tolerance_px = 0.0  # every control point, as the exact lists below draw them
     yield from settle(area, preview)
     mixed = preview.stats["segments_per_level"]
     check(sum(count > 0 for count in mixed) >= 2, f"mixed view: several levels drawn {mixed}")
@@ -112,6 +113,7 @@ def steps():
     exact_image = screenshot(window, area, "lod_preview_mixed_exact.png")
     state.to_draw[:], state.exact[:] = saved
     settings.enabled = False
+    settings.property_unset("vertex_tolerance_px")
     area.tag_redraw()
     yield REDRAW_DELAY
     background = screenshot(window, area, "lod_preview_mixed_off.png")
@@ -182,6 +184,61 @@ def steps():
     print(f"far view frame: {far_off_ms:.2f} ms without hair; hair adds {lod_ms:.2f} ms with the LoD, "
           f"{strands_ms:.2f} ms with every strand ({strands_ms / max(lod_ms, 1e-3):.1f}x); "
           f"selection + its texture upload {results['far']['select_ms']:.3f} ms")
+
+    yield from real_hair_far_view(window, area, region_3d)
+
+
+def real_hair_far_view(window, area, region_3d):
+    """The real hairstyle (Ratboy's mohawk, 2228 strands x 32 points) at 8x and 25x its size (the far
+    view): there the preview's own statistics count at least 10x fewer segments than its strands,
+    the strands' vertex LoD doing its part; at both, leaving control points out barely changes the
+    image."""
+    from hairlod import io, lod
+    from hair_fixtures import preview_on_an_empty
+
+    strands = io.read(os.path.join(REPO_ROOT, "examples", "data", "tressfx", "Ratboy_mohawk.tfx"))
+    lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
+    centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
+    _, settings, preview = preview_on_an_empty(lod.build_lod(strands))
+    region_3d.view_location = centre
+    every_strand = strands.point_count - len(strands)
+    for view, distance in (("8x", 8.0), ("far", 25.0)):
+        region_3d.view_distance = distance * size
+        settings.enabled = True
+        images, stats = {}, {}
+        for name, tolerance in (("vertex_lod", None), ("every_point", 0.0)):
+            if tolerance is None:
+                settings.property_unset("vertex_tolerance_px")
+            else:
+                settings.vertex_tolerance_px = tolerance
+            yield from settle(area, preview)
+            stats[name] = dict(preview.stats)
+            images[name] = screenshot(window, area, f"lod_preview_real_{view}_{name}.png")
+        settings.enabled = False
+        settings.property_unset("vertex_tolerance_px")
+        area.tag_redraw()
+        yield REDRAW_DELAY
+        background = screenshot(window, area, f"lod_preview_real_{view}_off.png")
+        drawn, every_point = stats["vertex_lod"], stats["every_point"]
+        print(f"real hair {view}: {drawn['segments']:,} segments drawn ({every_strand / drawn['segments']:.1f}x fewer "
+              f"than its {every_strand:,}), {every_point['segments']:,} with every control point; per level "
+              f"{drawn['segments_per_level']}")
+        check(drawn["selected_segments"] == every_point["segments"] == every_point["selected_segments"],
+              f"real hair {view}: the same selection with and without the vertex LoD")
+        check(drawn["segments"] <= every_point["segments"], f"real hair {view}: the vertex LoD draws no more segments")
+        hair = (np.abs(images["vertex_lod"] - background).max(axis=2) > 0.05) | \
+            (np.abs(images["every_point"] - background).max(axis=2) > 0.05)
+        differ = (np.abs(images["vertex_lod"] - images["every_point"]).max(axis=2) > 0.1) & hair
+        rows, columns = np.nonzero(hair)
+        box = (slice(rows.min(), rows.max() + 1), slice(columns.min(), columns.max() + 1)) if rows.size else None
+        box_psnr = psnr(images["vertex_lod"][box], images["every_point"][box]) if box else 0.0
+        print(f"real hair {view}: {differ.sum()} of {hair.sum()} hair pixels differ by > 0.1 with the vertex LoD; "
+              f"PSNR over the hair's box {box_psnr:.1f} dB")
+        check(hair.sum() > 20 and differ.sum() <= 0.05 * hair.sum(),
+              f"real hair {view}: the vertex LoD changes {differ.sum()} of {hair.sum()} hair pixels by > 0.1")
+        if view == "far":
+            check(drawn["segments"] * 10 <= every_strand,
+                  f"real hair far view: {every_strand / drawn['segments']:.1f}x fewer segments than every strand (>= 10x)")
 
 
 harness.run(steps)

@@ -5,7 +5,7 @@ import textwrap
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 
-from .. import lod
+from .. import lod, preview_buffers
 
 
 def _redraw(self, context):
@@ -34,6 +34,11 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                             "pixels (eps_w): smaller values draw finer levels. Build Hair LoD's Cameras Only "
                             "keeps the levels this width selects", default=lod.DEFAULT_WIDTH_PX,
                             min=lod.MIN_WIDTH_PX, soft_max=32.0, update=_redraw)
+    vertex_tolerance_px: FloatProperty(name="Vertex LoD (px)", description="Strands far away are drawn through "
+                                       "every 2nd, 4th, 8th or 16th control point where the chords stay within this "
+                                       "many pixels of the points they skip; 0 draws every control point",
+                                       default=preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX, min=0.0, soft_max=2.0,
+                                       update=_redraw)
     overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
                           items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),
                                  ('LEVELS', "Levels", "Each LoD level in its own colour")),
@@ -127,6 +132,7 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
         column.use_property_split = True
         column.use_property_decorate = False
         column.prop(settings, "width_px")
+        column.prop(settings, "vertex_tolerance_px")
         column.prop(settings, "overlay")
         if settings.overlay == 'SHADED':
             column.prop(settings, "self_shadowing")
@@ -149,6 +155,7 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
             stats = preview.stats
             box = layout.box().column(align=True)
             box.label(text=f"Segments drawn: {stats['segments']:,}")
+            box.label(text=f"  of {stats['selected_segments']:,} selected")
             for level, count in enumerate(stats["segments_per_level"]):
                 name = "strands" if level == preview.level_count - 1 else f"L{preview.asset.level_ids[level]}"
                 box.label(text=f"  {name}: {count:,}")

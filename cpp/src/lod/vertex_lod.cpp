@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -14,6 +15,14 @@ namespace hairlod {
 
 namespace {
 
+// Distance from `p` to the segment a-b, and where along it (t in [0, 1]) the nearest point lies.
+float distance_to_chord(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b, float& t) {
+    const glm::vec3 chord = b - a, offset = p - a;
+    const float length2 = glm::dot(chord, chord);
+    t = length2 > 0.0f ? std::clamp(glm::dot(offset, chord) / length2, 0.0f, 1.0f) : 0.0f;
+    return glm::length(offset - t * chord);
+}
+
 struct Curves {
     std::span<const float> points;
     std::span<const float> extents;
@@ -24,18 +33,17 @@ struct Curves {
 
     // Whether every point strictly between `from` and `to` lies within its tolerance of the chord.
     bool chord_fits(size_t from, size_t to) const {
-        const glm::vec3 a = point(from), chord = point(to) - a;
-        const float length2 = glm::dot(chord, chord);
+        const glm::vec3 a = point(from), b = point(to);
         for (size_t i = from + 1; i < to; ++i) {
-            const glm::vec3 offset = point(i) - a;
-            const float t = length2 > 0.0f ? std::clamp(glm::dot(offset, chord) / length2, 0.0f, 1.0f) : 0.0f;
+            float t = 0.0f;
+            const float off_chord = distance_to_chord(point(i), a, b, t);
             float off_extent2 = 0.0f;
             for (size_t k = 0; k < extent_size; ++k) {
                 const float e0 = extents[from * extent_size + k], e1 = extents[to * extent_size + k];
                 const float d = extents[i * extent_size + k] - (e0 + t * (e1 - e0));
                 off_extent2 += d * d;
             }
-            const float error = glm::length(offset - t * chord) + std::sqrt(off_extent2);
+            const float error = off_chord + std::sqrt(off_extent2);
             // A point with no tolerance (behind the camera) stays, even on the chord.
             if (!(error <= allowed[i]) || allowed[i] <= 0.0f) return false;
         }
@@ -79,6 +87,42 @@ std::vector<uint8_t> vertex_lod_keep(std::span<const float> points, std::span<co
         }
     });
     return keep;
+}
+
+std::vector<float> stride_chord_deviation(std::span<const float> points, int control_points,
+                                          std::span<const int64_t> item_first, std::span<const int> strides) {
+    if (control_points < 2) throw Error("stride deviation: control_points must be >= 2");
+    const auto nc = static_cast<size_t>(control_points);
+    if (points.size() % (3 * nc) != 0) throw Error("stride deviation: points must be [items * control_points, 3]");
+    const size_t items = points.size() / (3 * nc);
+    if (item_first.empty() || item_first.front() != 0 || static_cast<size_t>(item_first.back()) != items)
+        throw Error("stride deviation: item_first must run from 0 to the item count (" + std::to_string(items) + ")");
+    for (size_t g = 1; g < item_first.size(); ++g)
+        if (item_first[g] < item_first[g - 1]) throw Error("stride deviation: item_first must not decrease");
+    for (int s : strides)
+        if (s < 1) throw Error("stride deviation: strides must be >= 1, got " + std::to_string(s));
+    const size_t groups = item_first.size() - 1;
+    std::vector<float> deviation(groups * strides.size(), 0.0f);
+    auto point = [&](size_t i) { return glm::vec3(points[3 * i], points[3 * i + 1], points[3 * i + 2]); };
+    tbb::parallel_for(size_t{0}, groups, [&](size_t g) {
+        for (auto item = static_cast<size_t>(item_first[g]); item < static_cast<size_t>(item_first[g + 1]); ++item) {
+            const size_t first = item * nc;
+            for (size_t j = 0; j < strides.size(); ++j) {
+                float& largest = deviation[g * strides.size() + j];
+                const auto stride = static_cast<size_t>(strides[j]);
+                for (size_t a = 0; a + 1 < nc; a += stride) {
+                    const size_t b = std::min(a + stride, nc - 1);
+                    for (size_t k = a + 1; k < b; ++k) {
+                        float t = 0.0f;
+                        const float d = distance_to_chord(point(first + k), point(first + a), point(first + b), t);
+                        // NaN compares false: a point that is not finite makes the stride unusable.
+                        largest = d <= largest ? largest : (std::isfinite(d) ? d : std::numeric_limits<float>::infinity());
+                    }
+                }
+            }
+        }
+    });
+    return deviation;
 }
 
 }  // namespace hairlod

@@ -43,10 +43,6 @@ _view_transforms = view_transform.ViewTransforms()  # the scenes' colour managem
 # Custom property of an object whose drawing the preview replaces: its own display type, to restore.
 SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
 
-# Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
-# segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
-# levels). About 1100 blocks for 100k strands of 32 points; a frame draws only the flagged ones.
-BLOCK_SEGMENTS = 1 << 12
 # A level with at most this many selected segments is drawn from an exact index list instead,
 # rebuilt when its selected segments change: at most 6 x 4096 indices (about 0.1 ms), and a sparse level
 # spread over many blocks (a far view's few finer clusters) draws no more than it selected.
@@ -194,10 +190,12 @@ def skin_texture(maps):
 
 
 class LevelBlocks:
-    """The static batches of one level: blocks of whole L0 clusters, all their segments."""
+    """The static batches of one level: blocks of whole L0 clusters, all their segments; for the
+    strands also the same blocks at the longer strides of the vertex LoD, made on first use."""
 
     def __init__(self, kind, buffers, item_first, control_points):
-        self.bounds = preview_buffers.cluster_blocks(item_first, control_points, BLOCK_SEGMENTS)
+        self.bounds = preview_buffers.cluster_blocks(item_first, control_points, preview_buffers.BLOCK_SEGMENTS)
+        self.kind, self.buffers, self.item_first, self.control_points = kind, buffers, item_first, control_points
         primitive = "strips" if kind == "thick" else "lines"
         # Every segment's elements at once, cut per block: item-major, so a block's clusters are one
         # run of rows (2 triangles per strip segment, 1 line per strand segment).
@@ -207,6 +205,18 @@ class LevelBlocks:
         for first, end in zip(self.bounds[:-1], self.bounds[1:]):
             rows = elements[row_first[first]:row_first[end]]
             self.batches.append(_batch(kind, buffers, rows) if rows.size else None)
+        self._strided = {}  # (block, stride index) -> GPUBatch or None
+
+    def batch(self, block, stride_index=0):
+        """The batch of `block` at STRAND_STRIDES[stride_index] (strands only; 0 for a thick level)."""
+        if stride_index == 0:
+            return self.batches[block]
+        key = (int(block), int(stride_index))
+        if key not in self._strided:
+            lines = preview_buffers.strided_lines(self.item_first, self.bounds[block], self.bounds[block + 1],
+                                                  self.control_points, preview_buffers.STRAND_STRIDES[stride_index])
+            self._strided[key] = _batch(self.kind, self.buffers, lines) if lines.size else None
+        return self._strided[key]
 
 
 class ViewState:
@@ -218,6 +228,9 @@ class ViewState:
         self.to_draw = [None] * level_count  # per dense level: bool per block; None for a sparse level
         self.exact = [None] * level_count    # per sparse level: GPUBatch of its selected segments, or None
         self.exact_keys = [None] * level_count  # the selected segments each exact batch was built for
+        self.block_strides = None  # per block of the strand level: index into STRAND_STRIDES (vertex LoD)
+        self.strides_key = None    # the view and pose block_strides were chosen for
+        self.segments = None       # segments drawn per level (LodPreview.segments_drawn)
 
 
 class LodPreview:
@@ -248,6 +261,12 @@ class LodPreview:
         self.strand_radius = 0.0    # mean strand radius, object space
         self.opacity = None         # opacity_maps.OpacityMaps, made at the first shaded draw
         self.shadow_selection = None  # (level, selection texture drawing every cluster at that level) of the maps
+        # The strands' vertex LoD: per L0 cluster and stride, how far the chords stray from the
+        # skipped control points (object space, rest pose), and the clusters' bounding spheres at the
+        # pose drawn.
+        self.stride_deviation = None
+        self.cluster_bounds = None
+        self._item_cluster = None
 
     @property
     def level_count(self):
@@ -270,8 +289,10 @@ class LodPreview:
         self.hair_volume = self_shadow.strands_volume(strands)
         self.strand_radius = float(np.mean(strands.radius, dtype=np.float64))
         self.pose_version += 1
+        self.stride_deviation = preview_buffers.stride_deviation(vertices["strands"]["position"], control_points, item_first)
         self.skinning = self.asset.frame_skinning()
-        self.rest_volume = (self.hair_volume, _spheres_box(self.skinning.selection_geometry()["cluster_bounds"]))
+        self.cluster_bounds = self.skinning.selection_geometry()["cluster_bounds"]
+        self.rest_volume = (self.hair_volume, _spheres_box(self.cluster_bounds))
         self.skin_texture = skin_texture(self.skinning.maps)
         if self.pending_guides is None and self.guides is not None:
             self.pending_guides, self.guides = self.guides, None  # buffers rebuilt: skin them again
@@ -314,9 +335,9 @@ class LodPreview:
         uploaded = time.perf_counter()
         for state in self.views.values():
             state.selection.set_geometry(self.skinning)
-        geometry = self.skinning.selection_geometry()
+        self.cluster_bounds = self.skinning.selection_geometry()["cluster_bounds"]
         rest_volume, rest_box = self.rest_volume
-        self.hair_volume = self_shadow.moved_volume(rest_volume, rest_box, _spheres_box(geometry["cluster_bounds"]))
+        self.hair_volume = self_shadow.moved_volume(rest_volume, rest_box, _spheres_box(self.cluster_bounds))
         self.guides = guides
         self.pose_version += 1
         self.follow_stats.update(skin_ms=1e3 * (skinned - start), upload_ms=1e3 * (uploaded - skinned))
@@ -331,6 +352,7 @@ class LodPreview:
         the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
         when its selected segments change. A few tens of kB per frame and small index lists."""
         values, present = state.selection.frame_levels()
+        state.segments = self.segments_drawn(state, values)
         clusters, segments = values.shape
         state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
                                              data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
@@ -341,25 +363,65 @@ class LodPreview:
                 state.exact[level], state.exact_keys[level] = None, None
                 continue
             state.to_draw[level] = None
-            # The level's segments (the texture's cells equal to it) decide its list.
-            key = np.packbits(values == level).tobytes()
+            # The level's segments (the texture's cells equal to it) decide its list, and the strands'
+            # strides their chords.
+            thick = level < self.level_count - 1
+            strides = None if thick else self.cluster_strides(state)
+            key = np.packbits(values == level).tobytes() + (b"" if strides is None else strides.tobytes())
             if key == state.exact_keys[level]:
                 continue
             state.exact_keys[level] = key
-            thick = level < self.level_count - 1
             elements = state.selection.indices(level, "strips" if thick else "lines").reshape(-1, 3 if thick else 2)
+            if not thick:
+                elements = preview_buffers.strided_exact(elements, self.asset.control_points, self.item_cluster, strides)
             state.exact[level] = (_batch("thick" if thick else "strand", self.vertex_buffers[level], elements)
                                   if elements.size else None)
+
+    @property
+    def item_cluster(self):
+        """int64 [strands]: the L0 cluster of each strand (hierarchy order)."""
+        if self._item_cluster is None:
+            first = preview_buffers.cluster_items(self.asset, len(self.asset.levels))
+            self._item_cluster = np.repeat(np.arange(len(first) - 1), np.diff(first))
+        return self._item_cluster
+
+    def update_strides(self, state, model_view, projection, height, tolerance_px):
+        """Per block of the strand level, the longest stride of the vertex LoD whose chords stay within
+        `tolerance_px` pixels of the control points they skip, at this view; True when it changed."""
+        key = (model_view.tobytes(), projection.tobytes(), height, tolerance_px, self.pose_version)
+        if key == state.strides_key:
+            return False
+        state.strides_key = key
+        strides = preview_buffers.view_block_strides(self.stride_deviation, self.cluster_bounds, model_view, projection,
+                                                     height, tolerance_px, self.blocks[-1].bounds)
+        changed = state.block_strides is None or not np.array_equal(strides, state.block_strides)
+        state.block_strides = strides
+        return changed
+
+    def cluster_strides(self, state):
+        """int64 [clusters]: the stride each L0 cluster's strands are drawn at (its block's)."""
+        return preview_buffers.cluster_strides(state.block_strides, self.blocks[-1].bounds)
+
+    def segments_drawn(self, state, values):
+        """Segments per level as drawn: the thick levels' selected segments, and the strands' chords
+        at their strides that span a selected segment."""
+        segments = state.selection.segments_per_level()
+        strands = self.level_count - 1
+        first = preview_buffers.cluster_items(self.asset, strands)
+        segments[strands] = preview_buffers.chords_drawn(values == strands, self.cluster_strides(state), np.diff(first))
+        return segments
 
     def _draw_level(self, state, level, program):
         if state.to_draw[level] is None:
             if state.exact[level] is not None:
                 state.exact[level].draw(program)
             return
-        batches = self.blocks[level].batches
+        blocks = self.blocks[level]
+        strides = state.block_strides if level == self.level_count - 1 else None
         for block in np.flatnonzero(state.to_draw[level]):
-            if batches[block] is not None:
-                batches[block].draw(program)
+            batch = blocks.batch(block, 0 if strides is None else strides[block])
+            if batch is not None:
+                batch.draw(program)
 
     @property
     def shadow_level(self):
@@ -484,7 +546,9 @@ class LodPreview:
         projection = region_3d.window_matrix
         changed = state.selection.update(np.array(model_view, dtype=np.float32), np.array(projection, dtype=np.float32),
                                          (region.width, region.height), settings.width_px)
-        if changed or state.texture is None:
+        strides_changed = self.update_strides(state, np.array(model_view), np.array(projection), region.height,
+                                              settings.vertex_tolerance_px)
+        if changed or strides_changed or state.texture is None:
             self.upload_selection(state)
         selected = time.perf_counter()
 
@@ -532,8 +596,10 @@ class LodPreview:
         if finish is not None:
             finish()
 
-        segments = state.selection.segments_per_level()
+        selected_segments = state.selection.segments_per_level()
+        segments = state.segments
         self.stats = {"segments": int(segments.sum()), "segments_per_level": segments.tolist(),
+                      "selected_segments": int(selected_segments.sum()),
                       "select_ms": 1e3 * (selected - start - follow_seconds),
                       "draw_ms": 1e3 * (time.perf_counter() - start),
                       "changed": bool(changed), "gpu_timed": finish is not None}

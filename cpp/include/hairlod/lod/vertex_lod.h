@@ -31,4 +31,14 @@ std::vector<uint8_t> vertex_lod_keep(std::span<const float> points, std::span<co
                                      std::span<const float> extents, int extent_size, const Camera& camera,
                                      float tolerance_px);
 
+// The viewport preview's vertex LoD (hair-meshes-realtime.txt Sec. 3.6.2: power-of-2 steps, static
+// index buffers per step). Curves of `control_points` points each (items, points [items * n_c * 3])
+// fall into groups: group g holds items [item_first[g], item_first[g + 1]). Drawn at stride s, an
+// item is the chords between its control points 0, s, 2s, ... and its last. Returns [groups *
+// strides.size()]: per group and stride, the largest distance (world units, 3D) of a control point
+// from the chord drawn in its place; 0 for stride 1 and for an empty group, infinity where a point
+// is not finite. strides: each >= 1.
+std::vector<float> stride_chord_deviation(std::span<const float> points, int control_points,
+                                          std::span<const int64_t> item_first, std::span<const int> strides);
+
 }  // namespace hairlod

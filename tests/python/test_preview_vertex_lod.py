@@ -1,0 +1,156 @@
+"""The viewport preview's vertex LoD of the strands (preview_buffers, no bpy): static index buffers per
+power-of-2 stride, chosen per block from the chords' deviation at the clusters' distance."""
+
+import numpy as np
+import pytest
+
+from hairlod import lod, preview_buffers
+from hairlod.camera import look_at, perspective
+
+STRIDES = preview_buffers.STRAND_STRIDES
+
+
+@pytest.fixture(scope="module")
+def real_asset(real_hair):
+    asset = lod.build_lod(real_hair)
+    vertices = asset.preview_vertices()
+    first = preview_buffers.cluster_items(asset, len(asset.levels))
+    return asset, vertices["strands"]["position"], first
+
+
+def _chord_spans(lines, control_points):
+    """Per line (v0, v1): item and the segments [k0, k1) it spans."""
+    lines = np.asarray(lines, np.int64)
+    items, k0 = np.divmod(lines[:, 0], control_points)
+    items1, k1 = np.divmod(lines[:, 1], control_points)
+    assert np.array_equal(items, items1), "a chord joins two items"
+    return items, k0, k1
+
+
+@pytest.mark.parametrize("control_points", [2, 5, 16, 17])
+def test_each_stride_draws_every_items_segments_once(control_points):
+    item_first = np.array([0, 3, 3, 7])
+    for stride in STRIDES:
+        lines = preview_buffers.strided_lines(item_first, 0, 3, control_points, stride)
+        items, k0, k1 = _chord_spans(lines, control_points)
+        covered = np.zeros((7, control_points - 1), np.int64)
+        for item, a, b in zip(items, k0, k1):
+            assert 0 < b - a <= stride and a % stride == 0
+            covered[item, a:b] += 1
+        np.testing.assert_array_equal(covered, 1)
+    np.testing.assert_array_equal(preview_buffers.strided_lines(item_first, 1, 3, control_points, 1),
+                                  preview_buffers.block_indices(item_first, 1, 3, control_points, "lines"))
+
+
+def test_stride_deviation_is_each_points_distance_from_its_chord(real_asset):
+    asset, points, first = real_asset
+    n_c = asset.control_points
+    deviation = preview_buffers.stride_deviation(points, n_c, first)
+    assert deviation.shape == (asset.cluster_count, len(STRIDES)) and deviation.dtype == np.float32
+    np.testing.assert_array_equal(deviation[:, 0], 0.0)
+    # Brute force in float64 over every strand of every cluster.
+    curves = np.asarray(points, np.float64).reshape(-1, n_c, 3)
+    for j, stride in enumerate(STRIDES[1:], start=1):
+        k = np.arange(n_c)
+        a = k // stride * stride
+        b = np.minimum(a + stride, n_c - 1)
+        pa, pb, p = curves[:, a], curves[:, b], curves
+        chord = pb - pa
+        t = np.clip(np.sum((p - pa) * chord, axis=2) / np.maximum(np.sum(chord * chord, axis=2), 1e-300), 0.0, 1.0)
+        distance = np.linalg.norm(p - pa - t[..., None] * chord, axis=2).max(axis=1)
+        expected = np.maximum.reduceat(distance, first[:-1])
+        np.testing.assert_allclose(deviation[:, j], expected, rtol=1e-4, atol=1e-7)
+
+
+def test_pixel_size_is_the_pixels_length_at_the_spheres_nearest_point():
+    bounds = np.array([[0.0, 0.0, -10.0, 1.0], [0.0, 0.0, -1.0, 2.0], [0.0, 0.0, np.nan, 1.0]])
+    projection = perspective(np.radians(40), 1.0, 0.1, 100.0)
+    size = preview_buffers.cluster_pixel_size(bounds, np.eye(4), projection, 500)
+    np.testing.assert_allclose(size[0], 9.0 * 2.0 * np.tan(np.radians(20)) / 500, rtol=1e-6)
+    assert size[1] == 0.0 and size[2] == 0.0  # reaches the eye; not finite
+    # A model scaled 2x: twice as many pixels per object unit.
+    scaled = np.diag([2.0, 2.0, 2.0, 1.0])
+    size2 = preview_buffers.cluster_pixel_size(bounds[:1] * [1, 1, 2.5, 1], scaled, projection, 500)
+    np.testing.assert_allclose(size2[0], (50.0 - 2.0) * 2.0 * np.tan(np.radians(20)) / 500 / 2.0, rtol=1e-6)
+    orthographic = np.diag([0.1, 0.1, -0.02, 1.0])
+    np.testing.assert_allclose(preview_buffers.cluster_pixel_size(bounds[:2], np.eye(4), orthographic, 500),
+                               1.0 / (0.1 * 250.0))
+
+
+def test_each_block_takes_the_longest_stride_all_its_clusters_allow():
+    deviation = np.array([[0, 1, 2, 4, 8], [0, 1, 3, 9, 9], [0, 0.5, 0.5, 0.5, 5]], np.float32)
+    pixel = np.array([1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, pixel, 2.5, [0, 2, 3]), [1, 3])
+    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, pixel, 0.0, [0, 1, 3]), [0, 0])
+    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, pixel, 100.0, [0, 3]), [4])
+    # A cluster at the eye (pixel 0) keeps every point; a non-finite deviation never fits.
+    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, [0.0, 1.0, 1.0], 100.0, [0, 1, 3]), [0, 4])
+    infinite = deviation.copy()
+    infinite[2, 1:] = np.inf
+    np.testing.assert_array_equal(preview_buffers.block_strides(infinite, pixel, 100.0, [0, 2, 3]), [4, 0])
+    np.testing.assert_array_equal(preview_buffers.cluster_strides([1, 3], [0, 2, 3]), [2, 2, 8])
+
+
+def test_exact_lists_draw_the_chords_spanning_the_selected_segments():
+    n_c = 9
+    # Items 0 and 1 in cluster 0 (stride 4), item 2 in cluster 1 (stride 1); the selection is per
+    # cluster and segment, the same for every item of a cluster.
+    selected = {0: [0, 5, 7], 1: [0, 5, 7], 2: [2, 3]}
+    lines = np.array([(item * n_c + k, item * n_c + k + 1) for item, ks in selected.items() for k in ks])
+    chords = preview_buffers.strided_exact(lines, n_c, np.array([0, 0, 1]), np.array([4, 1]))
+    expected = {(0, 4), (4, 8), (9, 13), (13, 17), (20, 21), (21, 22)}
+    assert {tuple(c) for c in chords} == expected and len(chords) == len(expected)
+    # The statistics count the same chords from the selection's mask.
+    mask = np.zeros((2, n_c - 1), bool)
+    mask[0, [0, 5, 7]] = True
+    mask[1, [2, 3]] = True
+    assert preview_buffers.chords_drawn(mask, [4, 1], [2, 1]) == len(expected)
+    assert preview_buffers.strided_exact(np.zeros((0, 2)), n_c, [0], [1]).shape == (0, 2)
+
+
+def test_strides_one_draw_what_the_selection_selected(real_asset):
+    asset, _, first = real_asset
+    strands = len(asset.levels)
+    view_selection = asset.view_selection()
+    projection = perspective(np.radians(40), 16 / 9, 0.01, 100.0)
+    view_selection.update(look_at(np.array([0.0, -3.0, 0.5]), np.zeros(3)), projection, (1280, 720), 2.0)
+    values, _ = view_selection.frame_levels()
+    ones = np.ones(asset.cluster_count, np.int64)
+    assert preview_buffers.chords_drawn(values == strands, ones, np.diff(first)) == view_selection.segments_per_level()[strands]
+
+
+def test_real_hair_far_view_draws_ten_times_fewer_segments_than_its_strands(real_hair, real_asset):
+    # Issue 14's target on the real hairstyle: the far view (25x the hair's size, 1280 x 720, eps_w =
+    # 2 px) in the preview's own count: thick hairs selected plus the strands' chords drawn.
+    asset, points, first = real_asset
+    strands = len(asset.levels)
+    n_c = asset.control_points
+    lower, upper = real_hair.bounding_box()
+    centre, size = (lower + upper) / 2, float(np.linalg.norm(upper - lower))
+    projection = perspective(np.radians(40), 1280 / 720, 0.01 * size, 100 * size)
+    view = look_at(centre + np.array([0.0, -25.0 * size, 0.2 * size]), centre)
+    view_selection = asset.view_selection()
+    view_selection.update(view, projection, (1280, 720), 2.0)
+    values, _ = view_selection.frame_levels()
+    bounds = preview_buffers.cluster_blocks(first, n_c, preview_buffers.BLOCK_SEGMENTS)
+    deviation = preview_buffers.stride_deviation(points, n_c, first)
+    cluster_bounds = asset.frame_skinning().selection_geometry()["cluster_bounds"]
+
+    def drawn(tolerance_px):
+        block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, 720, tolerance_px, bounds)
+        segments = view_selection.segments_per_level()
+        segments[strands] = preview_buffers.chords_drawn(values == strands, preview_buffers.cluster_strides(block, bounds),
+                                                         np.diff(first))
+        return int(segments.sum())
+
+    every_strand = real_hair.point_count - len(real_hair)
+    assert every_strand / drawn(preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX) >= 10.0
+    assert every_strand / drawn(0.0) < 5.0  # the selection alone is far from it
+    # Every chord left out stays within the tolerance of the skipped points: checked per strand.
+    block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, 720,
+                                               preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX, bounds)
+    pixel = preview_buffers.cluster_pixel_size(cluster_bounds, view, projection, 720)
+    chosen = np.asarray(STRIDES)[block]
+    assert chosen.max() > 1
+    stride_index = np.repeat(block, np.diff(bounds))
+    assert np.all(deviation[np.arange(asset.cluster_count), stride_index] <= 0.5 * pixel + 1e-12)
