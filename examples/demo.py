@@ -77,7 +77,8 @@ def build(strands):
     ratios = ", ".join(f"{ratio:.2f}" for ratio in asset.area_ratios)
     print(f"   LoD built in {seconds:.2f} s: {asset.guide_count} guides, {asset.cluster_count} clusters; thick hairs "
           f"{hairs}; cross-section area ratio between levels {ratios or 'n/a'}; "
-          f"{asset.memory_bytes / lod.strand_bytes(strands):.2f}x the strands' bytes")
+          f"{asset.memory_bytes / lod.strand_bytes(strands):.2f}x the strands' bytes in memory, "
+          f"{asset.stored_bytes / lod.strand_bytes(strands):.2f}x stored")
     return asset
 
 

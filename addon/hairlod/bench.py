@@ -396,7 +396,8 @@ def bench_lod(strands=100_000, points=32, guides=None, levels=6, control_points=
         "build_seconds": build_seconds,
         "stages": asset.timings,
         "selection": selection,
-        "memory_ratio": asset.memory_bytes / lod.strand_bytes(hair),
+        "memory_ratio": asset.memory_bytes / lod.strand_bytes(hair),  # held in memory
+        "stored_ratio": asset.stored_bytes / lod.strand_bytes(hair),  # in the folder's arrays / a pack
         "levels": lod.level_report(asset),
         "area_ratios": asset.area_ratios,
     }

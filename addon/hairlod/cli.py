@@ -267,7 +267,8 @@ def command_lod(args):
         "selected_levels": selected,
         "levels": lod.level_report(asset),
         "area_ratios": manifest["area_ratios"],
-        "memory_ratio": asset.memory_bytes / lod.strand_bytes(strands),
+        "memory_ratio": asset.memory_bytes / lod.strand_bytes(strands),  # held in memory
+        "stored_ratio": asset.stored_bytes / lod.strand_bytes(strands),  # in the folder's arrays / a pack
         "timings": asset.timings,
         "read_seconds": read_seconds,
         "build_seconds": build_seconds,

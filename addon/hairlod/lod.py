@@ -39,9 +39,11 @@ MANIFEST = "manifest.json"
 FORMAT_KIND = "hairlod-lod/"  # the manifest "format" prefix that marks a folder as an LoD asset hairlod wrote
 WHAT = "an LoD folder"  # the kind in messages
 # 2: compact cross-sections and strand coordinates, hierarchy order; 3: strand_radius once per strand
-# where every strand's radius is the same along it. A version reads the ones before it.
-FORMAT = FORMAT_KIND + "3"
-READABLE_FORMATS = (FORMAT_KIND + "2", FORMAT)
+# where every strand's radius is the same along it; 4: no cross-sections (a function of the stored
+# strands and ellipse_coverage, fitted again on reading: C++ fit_sections). A version reads the ones
+# before it.
+FORMAT = FORMAT_KIND + "4"
+READABLE_FORMATS = (FORMAT_KIND + "2", FORMAT_KIND + "3", FORMAT)
 
 
 @dataclass(frozen=True)
@@ -80,7 +82,8 @@ class LodAsset:
     rest_guides = property(lambda self: self._core.rest_guides)
     cluster_guides = property(lambda self: self._core.cluster_guides)
     timings = property(lambda self: dict(self._timings))  # build seconds per stage
-    memory_bytes = property(lambda self: self._core.memory_bytes)
+    memory_bytes = property(lambda self: self._core.memory_bytes)  # held in memory, cross-sections included
+    stored_bytes = property(lambda self: self._core.stored_bytes)  # in a file or pack: without them
 
     @property
     def coverage(self):
@@ -92,12 +95,13 @@ class LodAsset:
         """Mean cross-section area of each level over the next finer one (about 4 by design)."""
         return [coarse.mean_area / fine.mean_area for coarse, fine in zip(self.levels, self.levels[1:])]
 
-    def arrays(self):
-        """Every stored array by name, flat [n] or [n, components]; 'levels' holds one dict per thick level."""
-        return self._core.arrays()
+    def arrays(self, sections=True):
+        """Every array by name, flat [n] or [n, components]; 'levels' holds one dict per thick level,
+        with its compact cross-sections unless `sections` is False (what save() and pack() store)."""
+        return self._core.arrays(sections)
 
     def scalars(self):
-        """control_points, radius_exponent, coverage and mean_area per thick level."""
+        """control_points, radius_exponent, ellipse_coverage, coverage and mean_area per thick level."""
         return self._core.scalars()
 
     def with_levels(self, kept):
@@ -337,6 +341,7 @@ def _header(asset):
         "format": FORMAT,
         "control_points": scalars["control_points"],
         "radius_exponent": scalars["radius_exponent"],
+        "ellipse_coverage": scalars["ellipse_coverage"],
         "strands": asset.strand_count,
         "guides": asset.guide_count,
         "clusters": asset.cluster_count,
@@ -344,6 +349,7 @@ def _header(asset):
         "area_ratios": [levels[i]["mean_area"] / levels[i + 1]["mean_area"] for i in range(len(levels) - 1)],
         "timings": asset.timings,
         "memory_bytes": asset.memory_bytes,
+        "stored_bytes": asset.stored_bytes,
     }
 
 
@@ -410,7 +416,7 @@ def load_animation(directory, asset):
 def _write_folder(asset, folder, extra, animation=None):
     from . import io
 
-    arrays = asset.arrays()
+    arrays = asset.arrays(sections=False)
     manifest = _header(asset)
     entries = {}
     for name, array in arrays.items():
@@ -426,11 +432,10 @@ def _write_folder(asset, folder, extra, animation=None):
         io.write(os.path.join(folder, hair_file), _level_strands(asset, level))
         manifest["thick_levels"][position].update({
             "hair_file": hair_file,
-            # The stored (compact) arrays the asset is read back from: parent (hair one kept level
-            # coarser; the cluster tree), member_first (hair h holds the strands at positions
-            # [member_first[h], member_first[h + 1]) of strand_order), cluster_first, and the
-            # cross-sections centre_offset (uint16 in offset_boxes), major_axis (octahedral int16),
-            # minor_axis (uint16 angle about the major axis), radii (halves x 2^radius_exponent).
+            # The stored arrays the asset is read back from: parent (hair one kept level coarser;
+            # the cluster tree), member_first (hair h holds the strands at positions
+            # [member_first[h], member_first[h + 1]) of strand_order), cluster_first. The
+            # cross-sections are fitted again to those strands on reading (ellipse_coverage).
             "arrays": level_entries,
             # The same data decoded per thick hair, for readers without the decoder.
             "per_hair": per_hair,
@@ -480,6 +485,8 @@ def _asset_from(header, read, where):
                             for position in range(len(levels))]
         scalars = {"control_points": int(header["control_points"]),
                    "radius_exponent": int(header["radius_exponent"]),
+                   # Format 4: what the cross-sections are fitted with (earlier formats store them).
+                   **({"ellipse_coverage": float(header["ellipse_coverage"])} if header["format"] == FORMAT else {}),
                    "coverage": [float(level["coverage"]) for level in levels],
                    "mean_area": [float(level["mean_area"]) for level in levels]}
         level_ids = [int(level["level"]) for level in levels]
@@ -522,7 +529,7 @@ def load(directory):
 def pack(asset):
     """The asset as one bytes object (a compressed .npz holding the stored arrays and the header),
     to keep inside another file such as a .blend; unpack() reads it back identically."""
-    arrays = asset.arrays()
+    arrays = asset.arrays(sections=False)
     stored = {name: array for name, array in arrays.items() if name != "levels"}
     for position, level_arrays in enumerate(arrays["levels"]):
         stored.update({f"level{position}_{name}": array for name, array in level_arrays.items()})

@@ -138,13 +138,15 @@ void stored_from_numpy(const py::handle& source, const std::string& name, std::v
     std::memcpy(static_cast<void*>(values.data()), array.data(), values.size() * sizeof(T));
 }
 
-py::dict asset_arrays(const LodAsset& asset) {
+py::dict asset_arrays(const LodAsset& asset, bool sections) {
     py::dict arrays;
     LodAsset::visit_arrays(asset, [&](const char* name, const auto& values) { arrays[name] = stored_to_numpy(values); });
     py::list levels;
     for (const ThickHairLevel& level : asset.thick_levels) {
         py::dict d;
-        ThickHairLevel::visit_arrays(level, [&](const char* name, const auto& values) { d[name] = stored_to_numpy(values); });
+        const auto add = [&](const char* name, const auto& values) { d[name] = stored_to_numpy(values); };
+        ThickHairLevel::visit_hierarchy_arrays(level, add);
+        if (sections) ThickHairLevel::visit_section_arrays(level, add);
         levels.append(d);
     }
     arrays["levels"] = levels;
@@ -155,6 +157,7 @@ py::dict asset_scalars(const LodAsset& asset) {
     py::dict d;
     d["control_points"] = asset.control_points;
     d["radius_exponent"] = asset.radius_exponent;
+    d["ellipse_coverage"] = asset.ellipse_coverage;
     py::list coverage, mean_area;
     for (const ThickHairLevel& level : asset.thick_levels) {
         coverage.append(level.coverage);
@@ -170,6 +173,7 @@ LodAsset asset_from(const py::dict& scalars, const py::dict& arrays) {
     try {
         asset.control_points = scalars["control_points"].cast<int>();
         asset.radius_exponent = scalars["radius_exponent"].cast<int>();
+        if (scalars.contains("ellipse_coverage")) asset.ellipse_coverage = scalars["ellipse_coverage"].cast<float>();
         LodAsset::visit_arrays(asset, [&](const char* name, auto& values) { stored_from_numpy(arrays[name], name, values); });
         const py::list levels = arrays["levels"];
         const py::list coverage = scalars["coverage"], mean_area = scalars["mean_area"];
@@ -178,9 +182,18 @@ LodAsset asset_from(const py::dict& scalars, const py::dict& arrays) {
         for (size_t l = 0; l < levels.size(); ++l) {
             ThickHairLevel& level = asset.thick_levels.emplace_back();
             const py::dict d = levels[l];
-            ThickHairLevel::visit_arrays(level, [&](const char* name, auto& values) {
-                stored_from_numpy(d[name], "level " + std::to_string(l) + " " + name, values);
+            const std::string name = "level " + std::to_string(l) + " ";
+            ThickHairLevel::visit_hierarchy_arrays(level, [&](const char* array, auto& values) {
+                stored_from_numpy(d[array], name + array, values);
             });
+            // Every level has its cross-sections, or none has (they are then fitted again below).
+            const bool has_sections = d.contains("centre_offset");
+            if (l > 0 && has_sections != !asset.thick_levels[0].centre_offset.empty())
+                throw Error("LoD asset: either every level stores its cross-sections or none does");
+            if (has_sections)
+                ThickHairLevel::visit_section_arrays(level, [&](const char* array, auto& values) {
+                    stored_from_numpy(d[array], name + array, values);
+                });
             level.coverage = coverage[l].cast<double>();
             level.mean_area = mean_area[l].cast<double>();
         }
@@ -188,6 +201,11 @@ LodAsset asset_from(const py::dict& scalars, const py::dict& arrays) {
         throw Error(std::string("LoD asset: missing or malformed entry: ") + error.what());
     } catch (const py::cast_error& error) {
         throw Error(std::string("LoD asset: malformed entry: ") + error.what());
+    }
+    if (asset.thick_levels.empty() || asset.thick_levels[0].centre_offset.empty()) {
+        py::gil_scoped_release release;
+        asset.validate_structure();
+        fit_sections(asset);
     }
     asset.validate();
     return asset;
@@ -239,6 +257,7 @@ void bind_lod(py::module_& m) {
         .def_property_readonly("strand_count", &LodAsset::strand_count)
         .def_property_readonly("level_count", &LodAsset::level_count)
         .def_property_readonly("memory_bytes", &LodAsset::memory_bytes)
+        .def_property_readonly("stored_bytes", &LodAsset::stored_bytes)
         .def_property_readonly("guide_strands", [](const LodAsset& a) { return to_numpy<int64_t>(a.guide_strands, {as_size(a.guide_strands.size())}); })
         .def_property_readonly("rest_guides", [](const LodAsset& a) {
             return to_numpy<float>(a.rest_guides, {as_size(a.guide_count()), static_cast<py::ssize_t>(a.control_points), 3});
@@ -265,8 +284,10 @@ void bind_lod(py::module_& m) {
             for (size_t l = 0; l < a.thick_levels.size(); ++l) levels.append(level_dict(a, l, rest.levels[l]));
             return levels;
         }, "Per thick level: rest centres, decoded axes and radii, density, n_total, parent, membership, coverage.")
-        .def("arrays", &asset_arrays, "Every stored array by name (flat [n] or [n, components]); 'levels' holds one dict per thick level.")
-        .def("scalars", &asset_scalars, "control_points, radius_exponent, and coverage and mean_area per thick level.")
+        .def("arrays", &asset_arrays, py::arg("sections") = true,
+             "Every array by name (flat [n] or [n, components]); 'levels' holds one dict per thick level, with its "
+             "cross-sections unless sections is False (from_arrays fits them again from the strands: fit_sections).")
+        .def("scalars", &asset_scalars, "control_points, radius_exponent, ellipse_coverage, and coverage and mean_area per thick level.")
         .def_static("from_arrays", &asset_from, py::arg("scalars"), py::arg("arrays"),
                     "Rebuilds an asset from scalars() and arrays(); raises ValueError naming an inconsistent array.")
         .def("with_levels", [](const LodAsset& a, const std::vector<size_t>& kept) { return a.with_levels(kept); },

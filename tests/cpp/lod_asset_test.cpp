@@ -119,6 +119,43 @@ TEST_F(LodAssetTest, CoverageAndAreaRatioPerLevel) {
     EXPECT_GE(static_cast<double>(inside) / (3000.0 * 8.0), 0.95);
 }
 
+TEST_F(LodAssetTest, CrossSectionsAreAFunctionOfTheStoredStrands) {
+    // A file leaves the cross-sections out; fitting them again gives exactly the build's, and the
+    // centre is the mean of the members' decoded points (Sec. 5.1 step 3).
+    const LodAsset& built = *asset_;
+    LodAsset read = built;
+    for (ThickHairLevel& level : read.thick_levels) {
+        ThickHairLevel::visit_section_arrays(level, [](const char*, auto& values) { values.clear(); });
+        level.coverage = level.mean_area = 0.0;
+    }
+    EXPECT_THROW(read.validate(), Error);
+    read.validate_structure();
+    fit_sections(read);
+    read.validate();
+    for (size_t l = 0; l < built.thick_levels.size(); ++l) {
+        const ThickHairLevel &a = built.thick_levels[l], &b = read.thick_levels[l];
+        EXPECT_TRUE(a.centre_offset == b.centre_offset && a.major_axis == b.major_axis && a.minor_axis == b.minor_axis &&
+                    a.radii == b.radii)
+            << "level " << l;
+        EXPECT_EQ(a.coverage, b.coverage);
+        EXPECT_EQ(a.mean_area, b.mean_area);
+    }
+    const LodGeometry rest = read.rest_geometry();
+    const ThickHairLevel& finest = read.thick_levels.back();
+    for (size_t h = 0; h < finest.hair_count(); h += 7) {
+        for (size_t k = 0; k < 8; k += 3) {
+            glm::dvec3 mean(0.0);
+            for (int32_t i = finest.member_first[h]; i < finest.member_first[h + 1]; ++i)
+                mean += glm::dvec3(rest.strands.points[static_cast<size_t>(read.strand_order[static_cast<size_t>(i)]) * 8 + k]);
+            mean /= static_cast<double>(finest.n_total(h));
+            // The centre is stored in 16-bit steps of its cluster's box: within a step of the mean.
+            EXPECT_LT(glm::distance(glm::vec3(mean), rest.levels.back().centre[h * 8 + k]), 1e-3f) << h << " " << k;
+        }
+    }
+    read.ellipse_coverage = 0.0f;
+    EXPECT_THROW(fit_sections(read), Error);
+}
+
 // Hairs per level of each L0 cluster: counts[l][c].
 std::vector<std::vector<int32_t>> hairs_per_cluster(const LodAsset& a) {
     std::vector<std::vector<int32_t>> counts;

@@ -218,7 +218,7 @@ def test_bench_lod_json():
     report = json.loads(result.stdout)
     assert set(report["stages"]) == {"resample", "kmeans", "clusters", "levels", "fitting", "weights"}
     assert all(entry["seconds_per_frame"] > 0 for entry in report["selection"].values())
-    assert report["memory_ratio"] > 0 and len(report["area_ratios"]) == len(report["levels"]) - 1
+    assert report["memory_ratio"] > report["stored_ratio"] > 0 and len(report["area_ratios"]) == len(report["levels"]) - 1
 
 
 def test_bench_skinning_json():

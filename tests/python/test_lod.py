@@ -145,29 +145,79 @@ def test_save_load_gives_an_identical_asset(asset, tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["asset"]
 
 
-def test_strand_radius_once_per_strand_and_format_2_folders_still_load(asset, tmp_path):
+def _write_older_format(asset, folder, version):
+    """Rewrites the format-4 folder `folder` of `asset` as format `version` (2 or 3) wrote it: the
+    compact cross-sections stored beside the other level arrays, no ellipse_coverage."""
+    manifest_path = folder / "manifest.json"
+    manifest = json.loads(manifest_path.read_text())
+    for position, level_arrays in enumerate(asset.arrays()["levels"]):
+        for name in ("centre_offset", "major_axis", "minor_axis", "radii"):
+            file_name = f"level{position}_{name}.npy"
+            np.save(folder / file_name, level_arrays[name])
+            manifest["thick_levels"][position]["arrays"][f"level{position}_{name}"] = {
+                "file": file_name, "dtype": str(level_arrays[name].dtype), "shape": list(level_arrays[name].shape)}
+    manifest.pop("ellipse_coverage", None)
+    manifest["format"] = f"hairlod-lod/{version}"
+    manifest_path.write_text(json.dumps(manifest))
+    return manifest
+
+
+def test_strand_radius_once_per_strand_and_older_folders_still_load(asset, tmp_path):
     from hairlod import lod
 
     # The hanging hair's radius is the same along every strand: stored once per strand.
     assert asset.arrays()["strand_radius"].shape == (asset.strand_count,)
-    # A tapered hair keeps one radius per control point; written as format 2 did (the same arrays),
-    # it loads back unchanged.
+    # A tapered hair keeps one radius per control point; written as formats 2 and 3 did (with the
+    # cross-sections), it loads back unchanged.
     hair = hanging_hair(curves=300)
     radius = hair.radius.copy()
     radius[hair.offsets[1:] - 1] *= 0.5  # every tip
     tapered = lod.build_lod(Strands(hair.points, hair.offsets, radius), guides=8)
     assert tapered.arrays()["strand_radius"].shape == (tapered.strand_count * tapered.control_points,)
     lod.save(tapered, tmp_path / "tapered")
-    manifest_path = tmp_path / "tapered" / "manifest.json"
-    manifest = json.loads(manifest_path.read_text())
-    assert manifest["format"] == "hairlod-lod/3"
-    manifest["format"] = "hairlod-lod/2"
-    manifest_path.write_text(json.dumps(manifest))
-    _assert_same_asset(tapered, lod.load(tmp_path / "tapered"))
-    manifest["format"] = "hairlod-lod/1"
-    manifest_path.write_text(json.dumps(manifest))
-    with pytest.raises(ValueError, match="format must be one of hairlod-lod/2, hairlod-lod/3"):
+    manifest = json.loads((tmp_path / "tapered" / "manifest.json").read_text())
+    assert manifest["format"] == "hairlod-lod/4"
+    assert not any("centre_offset" in name for level in manifest["thick_levels"] for name in level["arrays"])
+    for version in (3, 2):
+        manifest = _write_older_format(tapered, tmp_path / "tapered", version)
+        _assert_same_asset(tapered, lod.load(tmp_path / "tapered"))
+    # Sections stored for some levels only are refused, naming the first one missing.
+    broken = json.loads(json.dumps(manifest))
+    broken["thick_levels"][1]["arrays"] = {name: entry for name, entry in broken["thick_levels"][1]["arrays"].items()
+                                           if not name.endswith(("centre_offset", "major_axis", "minor_axis", "radii"))}
+    (tmp_path / "tapered" / "manifest.json").write_text(json.dumps(broken))
+    with pytest.raises(ValueError, match="level1_centre_offset"):
         lod.load(tmp_path / "tapered")
+    manifest["format"] = "hairlod-lod/1"
+    (tmp_path / "tapered" / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(ValueError, match="format must be one of hairlod-lod/2, hairlod-lod/3, hairlod-lod/4"):
+        lod.load(tmp_path / "tapered")
+
+
+def test_cross_sections_are_fitted_again_on_reading_exactly_as_built(asset, tmp_path):
+    from hairlod import lod
+
+    # Format 4 leaves the cross-sections out; reading fits them to the stored strands, bit for bit
+    # what the build stored (it fits the same decoded strands), for every level kept.
+    for kept in ([0, 1, 2], [0, 2]):
+        subset = asset.with_levels(kept)
+        again = lod.unpack(lod.pack(subset))
+        _assert_same_asset(subset, again)
+        assert again.memory_bytes == subset.memory_bytes
+    sections = sum(level[name].nbytes for level in asset.arrays()["levels"]
+                   for name in ("centre_offset", "major_axis", "minor_axis", "radii"))
+    assert asset.stored_bytes == asset.memory_bytes - sections
+    manifest = lod.save(asset, tmp_path / "asset")
+    assert manifest["stored_bytes"] == asset.stored_bytes and manifest["ellipse_coverage"] == pytest.approx(0.95)
+    # A format-4 description without the coverage the sections are fitted with is refused by name.
+    del manifest["ellipse_coverage"]
+    (tmp_path / "asset" / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(ValueError, match="ellipse_coverage"):
+        lod.load(tmp_path / "asset")
+    manifest["ellipse_coverage"] = 1.5
+    (tmp_path / "asset" / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(ValueError, match=r"ellipse_coverage must be in \(0, 1\]"):
+        lod.load(tmp_path / "asset")
 
 
 def test_load_rejects_broken_folders(asset, tmp_path):

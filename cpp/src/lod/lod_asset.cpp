@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -15,6 +16,7 @@
 #include "hairlod/curves/resample.h"
 #include "hairlod/lod/cross_section.h"
 #include "hairlod/lod/kmeans.h"
+#include "hairlod/lod/skinning.h"
 
 namespace hairlod {
 
@@ -279,10 +281,11 @@ CrossSection world_section(const RestSection& rest, const GuideFrame& frame) {
     return section;
 }
 
-// Encodes the exact `sections` of thick level l into the asset. The decoded ellipse's radii grow
+// Encodes the exact `sections` of thick level l into the asset (`ordered`: the strands in hierarchy
+// order, whose members the sections were fitted to). The decoded ellipse's radii grow
 // (before rounding up) until it holds as many members as the exact one, so storage never lowers
 // coverage; coverage and mean area are then measured on the decoded ellipses.
-void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sections, const StrandSet& resampled,
+void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sections, const StrandSet& ordered,
                  const std::vector<GuideFrame>& frames) {
     ThickHairLevel& level = asset.thick_levels[l];
     const auto nc = static_cast<size_t>(asset.control_points);
@@ -300,8 +303,7 @@ void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sec
             const auto first = static_cast<size_t>(level.member_first[h]);
             points.resize(static_cast<size_t>(level.n_total(h)));
             for (size_t k = 0; k < nc; ++k) {
-                for (size_t j = 0; j < points.size(); ++j)
-                    points[j] = resampled.points[static_cast<size_t>(asset.strand_order[first + j]) * nc + k];
+                for (size_t j = 0; j < points.size(); ++j) points[j] = ordered.points[(first + j) * nc + k];
                 const CrossSection& exact = sections[h * nc + k];
                 const GuideFrame& frame = frames[c * nc + k];
                 const size_t at = h * nc + k;
@@ -330,6 +332,31 @@ void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sec
     level.mean_area = area_total / static_cast<double>(hairs * nc);
 }
 
+// The asset's strands at the rest pose as stored (decoded), in hierarchy order: position i is
+// curve i. What the stored cross-sections are fitted to, at the build and when read back.
+StrandSet decoded_rest_strands(const LodAsset& asset, const std::vector<GuideFrame>& frames) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    StrandSet strands;
+    strands.points.resize(asset.strand_count() * nc);
+    strands.radius.resize(strands.points.size());
+    strands.offsets.resize(asset.strand_count() + 1);
+    for (size_t i = 0; i < strands.offsets.size(); ++i) strands.offsets[i] = static_cast<int64_t>(i * nc);
+    tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
+        const auto [first, end] = asset.cluster_strands(c);
+        for (auto i = static_cast<size_t>(first); i < static_cast<size_t>(end); ++i) {
+            for (size_t k = 0; k < nc; ++k) {
+                strands.points[i * nc + k] = frames[c * nc + k].origin + asset.offset_boxes[c * nc + k].decode(asset.strand_offset[i * nc + k]);
+                strands.radius[i * nc + k] = decode_half(asset.strand_radius_code(i, k), asset.radius_exponent);
+            }
+        }
+    });
+    return strands;
+}
+
+void check_coverage(float ellipse_coverage, const std::string& where) {
+    if (!(ellipse_coverage > 0.0f && ellipse_coverage <= 1.0f)) throw Error(where + ": ellipse_coverage must be in (0, 1]");
+}
+
 void check_options(const LodOptions& options) {
     if (options.guides < 0) throw Error("build_lod: guides must be >= 1 (or 0: automatic), got " + std::to_string(options.guides));
     if (options.levels < kMinLevels || options.levels > kMaxLevels)
@@ -342,8 +369,7 @@ void check_options(const LodOptions& options) {
     if (!(options.kmeans_stop_fraction >= 0.0 && options.kmeans_stop_fraction < 1.0))
         throw Error("build_lod: kmeans_stop_fraction must be in [0, 1)");
     if (options.arc_length_subdivisions < 1) throw Error("build_lod: arc_length_subdivisions must be >= 1");
-    if (!(options.ellipse_coverage > 0.0f && options.ellipse_coverage <= 1.0f))
-        throw Error("build_lod: ellipse_coverage must be in (0, 1]");
+    check_coverage(options.ellipse_coverage, "build_lod");
 }
 
 }  // namespace
@@ -428,14 +454,11 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     // cluster's box; skinning maps the offset by deformed axes x rest axes^-1, which equals the
     // deformed axes applied to the prism coordinates rest axes^-1 x offset.
     asset.frame_kinds.resize(cluster_count * nc);
-    std::vector<GuideFrame> frames(cluster_count * nc);
     tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
         const GuideSet guides = guide_set(asset.cluster_guides[c], asset.rest_guides.data(), options.control_points);
-        for (size_t k = 0; k < nc; ++k) {
-            asset.frame_kinds[c * nc + k] = choose_frame_kind(guides, static_cast<int>(k));
-            frames[c * nc + k] = guide_frame(asset.frame_kinds[c * nc + k], guides, static_cast<int>(k));
-        }
+        for (size_t k = 0; k < nc; ++k) asset.frame_kinds[c * nc + k] = choose_frame_kind(guides, static_cast<int>(k));
     });
+    const std::vector<GuideFrame> frames = rest_frames(asset);
     asset.offset_boxes.resize(cluster_count * nc);
     asset.strand_offset.resize(strand_count * nc);
     tbb::parallel_for(size_t{0}, cluster_count, [&](size_t c) {
@@ -453,7 +476,6 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
     asset.timings.weights = watch.lap();
     report_step(options.progress);
 
-    std::vector<std::vector<CrossSection>> level_sections;
     float largest_radius = 0.0f;
     for (size_t l = 0; l < level_groups.size(); ++l) {
         ThickHairLevel& level = asset.thick_levels.emplace_back();
@@ -466,10 +488,11 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
             ++level.cluster_first[static_cast<size_t>(strand_cluster[static_cast<size_t>(groups[h][0])]) + 1];
         }
         for (size_t c = 0; c < cluster_count; ++c) level.cluster_first[c + 1] += level.cluster_first[c];
-        level_sections.push_back(fit_level(groups, resampled, tangents, options.control_points, options.ellipse_coverage));
-        report_step(options.progress);
-        for (const CrossSection& section : level_sections.back())
+        // The exact sections only size the radius codes: those stored are fitted again to the strands
+        // as stored (fit_sections), which the asset read back from a file can do as well.
+        for (const CrossSection& section : fit_level(groups, resampled, tangents, options.control_points, options.ellipse_coverage))
             largest_radius = std::max({largest_radius, section.major_radius, section.minor_radius});
+        report_step(options.progress);
     }
     for (float r : resampled.radius) largest_radius = std::max(largest_radius, r);
     std::frexp(largest_radius, &asset.radius_exponent);
@@ -488,10 +511,27 @@ LodAsset build_lod(const StrandSet& strands, const LodOptions& options) {
         asset.strand_radius.resize(strand_count);
         asset.strand_radius.shrink_to_fit();
     }
-    for (size_t l = 0; l < level_sections.size(); ++l) store_level(asset, l, level_sections[l], resampled, frames);
+    asset.ellipse_coverage = options.ellipse_coverage;
+    fit_sections(asset);
     asset.timings.fitting = watch.lap();
     if (options.progress != nullptr) options.progress->done = options.progress->total.load();
     return asset;
+}
+
+void fit_sections(LodAsset& asset) {
+    check_coverage(asset.ellipse_coverage, "LoD asset");
+    const std::vector<GuideFrame> frames = rest_frames(asset);
+    const StrandSet ordered = decoded_rest_strands(asset, frames);
+    const std::vector<glm::vec3> tangents = unit_tangents(ordered, asset.control_points);
+    for (size_t l = 0; l < asset.thick_levels.size(); ++l) {
+        const ThickHairLevel& level = asset.thick_levels[l];
+        Groups groups(level.hair_count());
+        for (size_t h = 0; h < groups.size(); ++h) {
+            groups[h].resize(static_cast<size_t>(level.n_total(h)));
+            std::iota(groups[h].begin(), groups[h].end(), level.member_first[h]);
+        }
+        store_level(asset, l, fit_level(groups, ordered, tangents, asset.control_points, asset.ellipse_coverage), ordered, frames);
+    }
 }
 
 std::vector<int32_t> LodAsset::strand_hairs(size_t level) const {
@@ -537,11 +577,18 @@ std::vector<float> LodAsset::density(size_t level) const {
 }
 
 size_t LodAsset::memory_bytes() const {
-    size_t total = sizeof(control_points) + sizeof(radius_exponent) + sizeof(timings);
+    size_t total = stored_bytes();
+    auto add = [&](const char*, const auto& array) { total += array.size() * sizeof(array[0]); };
+    for (const ThickHairLevel& level : thick_levels) ThickHairLevel::visit_section_arrays(level, add);
+    return total;
+}
+
+size_t LodAsset::stored_bytes() const {
+    size_t total = sizeof(control_points) + sizeof(radius_exponent) + sizeof(ellipse_coverage) + sizeof(timings);
     auto add = [&](const char*, const auto& array) { total += array.size() * sizeof(array[0]); };
     visit_arrays(*this, add);
     for (const ThickHairLevel& level : thick_levels) {
-        ThickHairLevel::visit_arrays(level, add);
+        ThickHairLevel::visit_hierarchy_arrays(level, add);
         total += sizeof(level.coverage) + sizeof(level.mean_area);
     }
     return total;
@@ -576,6 +623,25 @@ void require_indices(const std::vector<T>& indices, int64_t lowest, size_t count
 }  // namespace
 
 void LodAsset::validate() const {
+    validate_structure();
+    const auto nc = static_cast<size_t>(control_points);
+    const auto finite_radius = [&](uint16_t code) {
+        const float radius = decode_half(code, radius_exponent);
+        return std::isfinite(radius) && radius >= 0.0f;
+    };
+    for (size_t l = 0; l < thick_levels.size(); ++l) {
+        const ThickHairLevel& level = thick_levels[l];
+        const std::string name = "level " + std::to_string(l) + " ";
+        const size_t hairs = level.hair_count();
+        ThickHairLevel::visit_section_arrays(level, [&](const char* array, const auto& values) {
+            require(values.size() == hairs * nc, name + array + " must hold n_c entries per hair");
+        });
+        for (const glm::u16vec2& code : level.radii)
+            require(finite_radius(code.x) && finite_radius(code.y), name + "radii holds a radius that is not finite");
+    }
+}
+
+void LodAsset::validate_structure() const {
     require(control_points >= 2, "control_points must be >= 2");
     const auto nc = static_cast<size_t>(control_points);
     require(!strand_order.empty(), "needs at least one strand");
@@ -633,15 +699,6 @@ void LodAsset::validate() const {
             require(coarser.member_first[p] <= level.member_first[h] && level.member_first[h + 1] <= coarser.member_first[p + 1],
                     name + "member_first puts a hair's strands outside its parent");
         }
-        for (const char* array : {"centre_offset", "major_axis", "minor_axis", "radii"}) {
-            size_t size = 0;
-            ThickHairLevel::visit_arrays(level, [&](const char* n, const auto& values) {
-                if (std::string(n) == array) size = values.size();
-            });
-            require(size == hairs * nc, name + array + " must hold n_c entries per hair");
-        }
-        for (const glm::u16vec2& code : level.radii)
-            require(finite_radius(code.x) && finite_radius(code.y), name + "radii holds a radius that is not finite");
     }
 }
 

@@ -55,7 +55,8 @@ struct LodOptions {
 // [cluster_first[c], cluster_first[c + 1]). Per-control-point arrays hold hairs * n_c entries.
 // Strands are stored in hierarchy order (LodAsset::strand_order), so the members of hair h are the
 // contiguous positions [member_first[h], member_first[h + 1]) on every level.
-// Cross-sections are stored compactly (compact.h); LodAsset::section decodes them. Coverage and
+// Cross-sections are held compactly (compact.h); LodAsset::section decodes them. They are derived
+// from the members (fit_sections), so files may leave them out. Coverage and
 // mean_area are measured on the decoded ellipses. The 4 corner control points of Sec. 5.1 step 3
 // are the ends of the decoded axes, skinned like the centre, so they need no storage.
 struct ThickHairLevel {
@@ -72,12 +73,21 @@ struct ThickHairLevel {
     size_t hair_count() const { return parent.size(); }
     int32_t n_total(size_t hair) const { return member_first[hair + 1] - member_first[hair]; }
 
-    // Calls visit(name, array) for every stored array, in a fixed order (serialisation, memory).
+    // Calls visit(name, array) for every array, in a fixed order (serialisation, memory): the
+    // hierarchy (visit_hierarchy_arrays), then the cross-sections (visit_section_arrays).
     template <typename Level, typename Visit>
     static void visit_arrays(Level& level, Visit&& visit) {
+        visit_hierarchy_arrays(level, visit);
+        visit_section_arrays(level, visit);
+    }
+    template <typename Level, typename Visit>
+    static void visit_hierarchy_arrays(Level& level, Visit&& visit) {
         visit("cluster_first", level.cluster_first);
         visit("parent", level.parent);
         visit("member_first", level.member_first);
+    }
+    template <typename Level, typename Visit>
+    static void visit_section_arrays(Level& level, Visit&& visit) {
         visit("centre_offset", level.centre_offset);
         visit("major_axis", level.major_axis);
         visit("minor_axis", level.minor_axis);
@@ -138,6 +148,9 @@ struct LodAsset {
     // Radii (strands' and thick hairs') are stored as halves of radius * 2^-radius_exponent, the
     // exponent putting the largest radius near 2^10: ample range both ways within the half's.
     int radius_exponent = 0;
+    // The fraction of member control points each ellipse holds (LodOptions::ellipse_coverage): the
+    // cross-sections are a function of the stored strands and this (fit_sections).
+    float ellipse_coverage = LodOptions{}.ellipse_coverage;
     std::vector<ThickHairLevel> thick_levels;  // L0 first; the strands are level thick_levels.size()
     LodBuildTimings timings;
 
@@ -145,7 +158,8 @@ struct LodAsset {
     size_t guide_count() const { return guide_strands.size(); }
     size_t cluster_count() const { return cluster_guides.size(); }
     size_t level_count() const { return thick_levels.size() + 1; }
-    size_t memory_bytes() const;
+    size_t memory_bytes() const;  // held in memory: stored_bytes() and the cross-sections
+    size_t stored_bytes() const;  // what a file or pack holds (the cross-sections are fitted on reading)
     // The radius code of the strand at hierarchy position i, control point k (either layout).
     uint16_t strand_radius_code(size_t i, size_t k) const {
         return strand_radius.size() == strand_order.size() ? strand_radius[i]
@@ -182,6 +196,8 @@ struct LodAsset {
     // Throws Error naming the first array whose size or indices are inconsistent (an asset read
     // back from files must be checked before skinning indexes with it).
     void validate() const;
+    // The same checks except the thick levels' cross-sections: what fit_sections needs.
+    void validate_structure() const;
 
     // A copy keeping only the thick levels at positions `kept` (L0 first); each kept level's parents
     // point to the next kept coarser level, composed through the dropped ones (-1 on the first kept).
@@ -196,6 +212,13 @@ struct LodAsset {
     // the stencils).
     LodGeometry rest_geometry() const;
 };
+
+// Fits every thick hair's rest cross-sections (Sec. 5.1 step 3: the members' mean, PCA axes, radii
+// holding ellipse_coverage of their points) to its member strands as the asset stores them, and
+// stores them with each level's coverage and mean area. build_lod ends with it; an asset read back
+// without its cross-sections (they take about a quarter of its bytes) gets the same ones from it.
+// Needs validate_structure(); throws Error for an ellipse_coverage outside (0, 1].
+void fit_sections(LodAsset& asset);
 
 // The default guide count: one guide per kStrandsPerGuide strands, from kMinAutoGuides (or every
 // strand, when there are fewer) to kMaxAutoGuides. L0 clusters (strands sharing their 3 nearest
