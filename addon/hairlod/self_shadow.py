@@ -102,14 +102,19 @@ WORLD_DIRECTIONS = np.concatenate([np.vstack([np.eye(3), -np.eye(3)]),
                                    np.array([(x, y, z) for x in (1, -1) for y in (1, -1) for z in (1, -1)]) / np.sqrt(3.0)])
 
 
-def world_transmittance(points, volume, strength):
+def world_transmittance(points, volume, strength, keep=None):
     """The share of a uniform world's light that reaches points [N, 3] through the hair volume:
-    transmittance() averaged over WORLD_DIRECTIONS taken as suns. The world lights the hair's inside
-    through the hair as the suns do; without it the preview's interior was lit by the whole sky (2.2x the
-    path-traced hair radiance on generated hair)."""
+    transmittance() over WORLD_DIRECTIONS taken as suns, averaged; float64 [N]. The world lights the
+    hair's inside through the hair as the suns do; without it the preview's interior was lit by the
+    whole sky (2.2x the path-traced hair radiance on generated hair). With `keep` (per channel, [3]:
+    1 - a_f, the share the strands on the way do not pass on forwards) each direction's T is raised to
+    it before the average, [N, 3], as self_shadow.glsl's hair_world_transmittance does."""
     points = np.atleast_2d(np.asarray(points, dtype=np.float64))
-    return np.mean([transmittance(points, np.append(direction, 0.0), volume, strength) for direction in WORLD_DIRECTIONS],
-                   axis=0)
+    per_direction = np.array([transmittance(points, np.append(direction, 0.0), volume, strength)
+                              for direction in WORLD_DIRECTIONS])
+    if keep is None:
+        return per_direction.mean(axis=0)
+    return np.mean(per_direction[:, :, None] ** np.asarray(keep, dtype=np.float64)[None, None, :], axis=0)
 
 
 def transmittance(points, light_vectors, volume, strength):

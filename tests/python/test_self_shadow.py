@@ -132,6 +132,16 @@ def test_world_transmittance_averages_the_suns_of_its_directions():
     far_away = self_shadow.world_transmittance([[100.0, 0.0, 0.0]], volume, 1.0)[0]
     assert 1.0 > far_away > 13.0 / 14.0  # only the direction back through the sphere is shadowed
     assert self_shadow.world_transmittance([[0.5, 0.2, 0.1]], volume, 0.0)[0] == 1.0
+    # Per channel, each direction's T raised to keep before the average: at the centre of the sphere every
+    # direction is the same, exp(-keep); off centre the mean of T^keep is below (mean T)^keep (Jensen),
+    # and keep = 1 gives the plain average.
+    keep = np.array([0.3, 0.6, 1.0])
+    np.testing.assert_allclose(self_shadow.world_transmittance([[0.0, 0.0, 0.0]], volume, 1.0, keep=keep)[0],
+                               np.exp(-keep), rtol=1e-12)
+    off_centre = [[1.2, 0.4, -0.3]]
+    per_channel = self_shadow.world_transmittance(off_centre, volume, 1.0, keep=keep)[0]
+    plain = self_shadow.world_transmittance(off_centre, volume, 1.0)[0]
+    assert np.all(per_channel[:2] < plain ** keep[:2]) and per_channel[2] == pytest.approx(plain, rel=1e-12)
     assert len(self_shadow.WORLD_DIRECTIONS) == 14
     np.testing.assert_allclose(np.linalg.norm(self_shadow.WORLD_DIRECTIONS, axis=1), 1.0)
 

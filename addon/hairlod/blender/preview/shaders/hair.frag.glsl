@@ -46,7 +46,7 @@ void main()
    * the mean free path 1 / sigma into the hair; sigma the density under the first mapped light's lit
    * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
    * Zinke et al. 2008): over an optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per
-   * channel, the world's at normal incidence (applied to the average over its directions). */
+   * channel and direction, the world's a_f at normal incidence. */
   float first_density = frame.light_shadow[0].w > 0.5 ? light_side_density(0, seen) : 0.0;
   float visible_density = frame.light_shadow[0].w > 0.5 ? first_density : frame.hair_centre.w;
   vec3 into_object = (frame.model_inverse * vec4(-wo, 0.0)).xyz;
@@ -54,10 +54,9 @@ void main()
                                               : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
   float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
   vec3 seen_object = (frame.model_inverse * vec4(seen, 1.0)).xyz;
-  float world_light = hair_world_transmittance(seen_object + world_depth * into_object, frame.hair_centre.xyz,
-                                               frame.hair_axes.xyz, frame.hair_centre.w);
-  vec3 world_shadow = pow(vec3(world_light),
-                          vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
+  vec3 world_shadow = hair_world_transmittance(
+      seen_object + world_depth * into_object, frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w,
+      vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - v_position * frame.light_vectors[k].w;
     /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */

@@ -21,17 +21,21 @@ float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 s
   return exp(-sigma * max(t_exit - t_enter, 0.0) * length(to_light));
 }
 
-/* The share of a uniform world's light that reaches p through the hair volume: hair_transmittance
- * averaged over 14 directions spread over the sphere (the 6 axes and the 8 cube diagonals), the
- * world occluded by the hair as the suns are. */
-float hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma)
+/* The share of a uniform world's light that reaches p through the hair volume, per channel:
+ * hair_transmittance over 14 directions spread over the sphere (the 6 axes and the 8 cube diagonals),
+ * the world occluded by the hair as the suns are, each direction's T raised to `keep` (1 - a_f: the
+ * strands on the way pass a_f of the light on forwards) before the average. Averaging T first and
+ * raising the mean overstates the light wherever the directions differ (Jensen's inequality: the mean
+ * of T^keep is at most the mean of T to the power keep, for keep <= 1), most in the channels hair
+ * scatters forwards most, red for brown hair. */
+vec3 hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma, vec3 keep)
 {
   const vec3 directions[14] = vec3[](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1),
                                      vec3(0, 0, -1), vec3(1, 1, 1), vec3(1, 1, -1), vec3(1, -1, 1), vec3(1, -1, -1),
                                      vec3(-1, 1, 1), vec3(-1, 1, -1), vec3(-1, -1, 1), vec3(-1, -1, -1));
-  float sum = 0.0;
+  vec3 sum = vec3(0.0);
   for (int k = 0; k < 14; ++k) {
-    sum += hair_transmittance(p, normalize(directions[k]), 1e30, centre, semi_axes, sigma);
+    sum += pow(vec3(hair_transmittance(p, normalize(directions[k]), 1e30, centre, semi_axes, sigma)), keep);
   }
   return sum / 14.0;
 }
