@@ -19,7 +19,7 @@ The strands' vertex LoD (hair-meshes-realtime.txt Sec. 3.6.2 halves a strand's v
 steps): each block of the strand level also has index buffers that draw every strand through control
 points 0, s, 2s, ... and its last (``STRAND_STRIDES``). Per frame each block takes the longest stride
 whose chords stay within a tolerance in pixels of the control points they skip (``stride_deviation``
-at the rest pose, ``cluster_pixel_size``, ``block_strides``). The selection test is unchanged: a
+at the rest pose, ``view_block_strides``). The selection test is unchanged: a
 fragment of chord (a, b) reads the level of segment floor(t), t running from a to b along it."""
 
 import numpy as np
@@ -27,8 +27,7 @@ import numpy as np
 from . import _core
 
 __all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "blocks_to_draw", "STRAND_STRIDES",
-           "strided_lines", "stride_deviation", "cluster_pixel_size", "block_strides", "view_block_strides",
-           "cluster_strides", "strided_exact", "chords_drawn"]
+           "strided_lines", "stride_deviation", "view_block_strides", "cluster_strides", "strided_exact", "chords_drawn"]
 
 # Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
 # segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
@@ -38,7 +37,7 @@ BLOCK_SEGMENTS = 1 << 12
 STRAND_STRIDES = (1, 2, 4, 8, 16)
 # The viewport's default tolerance of the strands' vertex LoD, in pixels: half a pixel, the error the
 # preview's lines (1 px, not anti-aliased) already have from snapping to pixel centres. Per block it is
-# met by the worst strand of every cluster at the block's nearest point, so most chords stay well
+# met by the worst strand of every cluster at the cluster's nearest depth, so most chords stay well
 # within it. (The renderer's default, lod.DEFAULT_VERTEX_TOLERANCE_PX, is per strand and point.)
 PREVIEW_VERTEX_TOLERANCE_PX = 0.5
 
@@ -127,48 +126,18 @@ def stride_deviation(points, control_points, item_first):
                                                  np.ascontiguousarray(item_first, dtype=np.int64), list(STRAND_STRIDES))
 
 
-def cluster_pixel_size(bounds, model_view, projection, height):
-    """World (object-space) length of one pixel at the nearest point of each cluster's bounding sphere
-    (bounds [C, 4]: centre, radius, object space) under the 4 x 4 ``model_view`` and ``projection``
-    of a viewport ``height`` pixels high; 0 where the sphere reaches the eye (nothing may be left out
-    there) or is not finite. Object units: the model's scale divides the pixel's world length."""
-    bounds = np.asarray(bounds, dtype=np.float64)
-    model_view = np.asarray(model_view, dtype=np.float64)
-    projection = np.asarray(projection, dtype=np.float64)
-    # The largest stretch of object space under the model-view: a pixel is smallest along it.
-    scale = float(np.linalg.norm(model_view[:3, :3], ord=2))
-    focal = abs(projection[1, 1]) * height / 2.0  # pixels per unit at depth 1 (perspective), per unit (orthographic)
-    if not (scale > 0.0 and focal > 0.0):
-        return np.zeros(len(bounds))
-    if projection[3, 3] == 1.0:  # orthographic: one pixel size everywhere
-        size = np.full(len(bounds), 1.0 / (focal * scale))
-    else:
-        depth = -(bounds[:, :3] @ model_view[2, :3] + model_view[2, 3]) - scale * bounds[:, 3]
-        size = np.where(depth > 0.0, depth / (focal * scale), 0.0)
-    return np.where(np.isfinite(size) & np.isfinite(bounds).all(axis=1), size, 0.0)
-
-
-def block_strides(deviation, pixel_size, tolerance_px, bounds):
-    """int [blocks]: per block of ``bounds`` (cluster_blocks), the index into STRAND_STRIDES of the
-    longest stride whose deviation (stride_deviation) stays within ``tolerance_px`` pixels
-    (``pixel_size`` per cluster, cluster_pixel_size) in every cluster of the block; 0 (every point)
-    when ``tolerance_px`` is 0."""
-    bounds = np.asarray(bounds, dtype=np.int64)
-    if len(bounds) < 2:
-        return np.zeros(0, np.int64)
-    allowed = float(tolerance_px) * np.asarray(pixel_size, dtype=np.float64)
-    fits = np.asarray(deviation, dtype=np.float64) <= allowed[:, None]
-    fits[:, 0] = True  # stride 1 leaves nothing out
-    # A block's clusters all need the stride; the longest that every one of them allows.
-    block_fits = np.logical_and.reduceat(fits, bounds[:-1], axis=0)
-    return len(STRAND_STRIDES) - 1 - np.argmax(block_fits[:, ::-1], axis=1)
-
-
-def view_block_strides(deviation, cluster_bounds, model_view, projection, height, tolerance_px, bounds):
-    """block_strides for a view: the strides each block of ``bounds`` may take at the clusters'
-    distances (``cluster_bounds`` [C, 4] at the pose drawn, object space)."""
-    pixel = cluster_pixel_size(cluster_bounds, model_view, projection, height)
-    return block_strides(deviation, pixel, tolerance_px, bounds)
+def view_block_strides(deviation, cluster_bounds, model_view, projection, viewport_size, tolerance_px, bounds):
+    """int32 [blocks]: per block of ``bounds`` (cluster_blocks), the index into STRAND_STRIDES of the
+    longest stride whose chords stay within ``tolerance_px`` pixels of the points they skip
+    (``deviation``, stride_deviation) in every cluster of the block, a pixel the size of one at the
+    nearest depth of the cluster's bounding sphere (``cluster_bounds`` [C, 4] at the pose drawn, object
+    space, under the 4 x 4 ``model_view`` and ``projection`` of a viewport ``viewport_size`` (width,
+    height) pixels); 0 (every point) where a sphere reaches the eye or ``tolerance_px`` is 0 (C++
+    lod/vertex_lod.h)."""
+    return _core.view_block_strides(np.ascontiguousarray(deviation, dtype=np.float32),
+                                    np.ascontiguousarray(cluster_bounds, dtype=np.float32),
+                                    np.ascontiguousarray(bounds, dtype=np.int64), np.asarray(model_view, np.float32),
+                                    np.asarray(projection, np.float32), tuple(viewport_size), float(tolerance_px))
 
 
 def cluster_strides(block_stride_index, bounds):
@@ -203,12 +172,12 @@ def chords_drawn(selected, cluster_stride, items_per_cluster):
     selected = np.asarray(selected, dtype=bool)
     cluster_stride = np.asarray(cluster_stride, dtype=np.int64)
     items = np.asarray(items_per_cluster, dtype=np.int64)
-    segments = selected.shape[1]
-    total = 0
-    for stride in np.unique(cluster_stride):
-        rows = cluster_stride == stride
-        chords = -(-segments // int(stride))
-        padded = np.zeros((int(rows.sum()), chords * int(stride)), bool)
-        padded[:, :segments] = selected[rows]
-        total += int(np.sum(padded.reshape(len(padded), chords, int(stride)).any(axis=2).sum(axis=1) * items[rows]))
+    whole = cluster_stride == 1  # every selected segment is a chord of its own
+    total = int(selected[whole].sum(axis=1) @ items[whole])
+    clusters, segments = np.nonzero(selected & ~whole[:, None])
+    if len(clusters):
+        # Each selected cell marks its chord (cluster, segment // stride); marked chords count once.
+        chords = np.zeros(selected.shape, bool)
+        chords[clusters, segments // cluster_stride[clusters]] = True
+        total += int(chords.sum(axis=1) @ items)
     return total

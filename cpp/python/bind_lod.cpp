@@ -515,6 +515,22 @@ void bind_lod(py::module_& m) {
     }, py::arg("points"), py::arg("control_points"), py::arg("item_first"), py::arg("strides"),
        "Per group of items (items [item_first[g], item_first[g + 1]) of control_points points each) and stride: the "
        "largest distance of a control point from the chord drawn in its place at that stride (lod/vertex_lod.h).");
+    m.def("view_block_strides", [](const FloatArray& deviation, const FloatArray& bounds, const Int64Array& block_first,
+                                   const FloatArray& view, const FloatArray& projection, std::pair<float, float> viewport,
+                                   float tolerance_px) {
+        if (deviation.ndim() != 2 || bounds.ndim() != 2 || bounds.shape(1) != 4 || deviation.shape(0) != bounds.shape(0))
+            throw Error("deviation must be [groups, strides] and bounds [groups, 4]");
+        if (block_first.ndim() != 1) throw Error("block_first must be one-dimensional");
+        const Camera camera{matrix_from(view, "view"), matrix_from(projection, "projection"), {viewport.first, viewport.second}};
+        const std::vector<int32_t> strides = view_block_strides(
+            {deviation.data(), static_cast<size_t>(deviation.size())}, static_cast<size_t>(deviation.shape(1)),
+            {reinterpret_cast<const glm::vec4*>(bounds.data()), static_cast<size_t>(bounds.shape(0))},
+            {block_first.data(), static_cast<size_t>(block_first.size())}, camera, tolerance_px);
+        return to_numpy<int32_t>(strides, {as_size(strides.size())});
+    }, py::arg("deviation"), py::arg("bounds"), py::arg("block_first"), py::arg("view"), py::arg("projection"),
+       py::arg("viewport_size"), py::arg("tolerance_px"),
+       "Per block of groups, the index of the longest stride whose chord deviation stays within tolerance_px pixels "
+       "at every group's nearest depth (lod/vertex_lod.h).");
     m.def("auto_guide_count", &auto_guide_count, py::arg("strand_count"),
           "The guide count build_lod uses when guides is 0.");
 }

@@ -235,5 +235,22 @@ TEST(StrideChordDeviation, BadInputIsRefused) {
     EXPECT_THROW(stride_chord_deviation(curves.points, 4, std::vector<int64_t>{}, std::vector<int>{1}), Error);
 }
 
+TEST(ViewBlockStrides, LongestStrideEveryGroupOfTheBlockAllows) {
+    const Camera camera = camera_at(10.0f);  // the eye at z = 10 looking at the origin
+    // Groups at the origin (nearest depth 9), deviations in pixels there of 0 / 1 / 3 for strides 1, 2, 4.
+    const float pixel = pixel_at(9.0f);
+    const std::vector<float> deviation{0, 1 * pixel, 3 * pixel, 0, 0.5f * pixel, 1 * pixel};
+    const std::vector<glm::vec4> bounds{{0, 0, 0, 1}, {0, 0, 0, 1}};
+    EXPECT_EQ(view_block_strides(deviation, 3, bounds, std::vector<int64_t>{0, 1, 2}, camera, 2.0f), (std::vector<int32_t>{1, 2}));
+    EXPECT_EQ(view_block_strides(deviation, 3, bounds, std::vector<int64_t>{0, 2}, camera, 2.0f), (std::vector<int32_t>{1}));
+    EXPECT_EQ(view_block_strides(deviation, 3, bounds, std::vector<int64_t>{0, 2}, camera, 0.0f), (std::vector<int32_t>{0}));
+    // A sphere reaching the eye keeps every point.
+    const std::vector<glm::vec4> at_eye{{0, 0, 0, 1}, {0, 0, 9.5f, 1}};
+    EXPECT_EQ(view_block_strides(deviation, 3, at_eye, std::vector<int64_t>{0, 1, 2}, camera, 100.0f), (std::vector<int32_t>{2, 0}));
+    EXPECT_THROW(view_block_strides(deviation, 3, bounds, std::vector<int64_t>{0, 1}, camera, 1.0f), Error);
+    EXPECT_THROW(view_block_strides(deviation, 4, bounds, std::vector<int64_t>{0, 2}, camera, 1.0f), Error);
+    EXPECT_THROW(view_block_strides(deviation, 3, bounds, std::vector<int64_t>{0, 2}, camera, -1.0f), Error);
+}
+
 }  // namespace
 }  // namespace hairlod

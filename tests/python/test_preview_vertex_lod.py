@@ -62,33 +62,48 @@ def test_stride_deviation_is_each_points_distance_from_its_chord(real_asset):
         np.testing.assert_allclose(deviation[:, j], expected, rtol=1e-4, atol=1e-7)
 
 
-def test_pixel_size_is_the_pixels_length_at_the_spheres_nearest_point():
-    bounds = np.array([[0.0, 0.0, -10.0, 1.0], [0.0, 0.0, -1.0, 2.0], [0.0, 0.0, np.nan, 1.0]])
+def _pixel(depth, fov_y=np.radians(40), height=500):
+    """World length of a pixel at `depth` for a perspective camera of `fov_y` on `height` pixels."""
+    return 2.0 * depth * np.tan(fov_y / 2.0) / height
+
+
+def test_each_block_takes_the_longest_stride_its_clusters_allow_at_their_nearest_depth():
     projection = perspective(np.radians(40), 1.0, 0.1, 100.0)
-    size = preview_buffers.cluster_pixel_size(bounds, np.eye(4), projection, 500)
-    np.testing.assert_allclose(size[0], 9.0 * 2.0 * np.tan(np.radians(20)) / 500, rtol=1e-6)
-    assert size[1] == 0.0 and size[2] == 0.0  # reaches the eye; not finite
-    # A model scaled 2x: twice as many pixels per object unit.
+    # Three clusters on the view axis (the camera at the origin looking down -z), nearest depths 9, 9, 4.
+    bounds = np.array([[0, 0, -10, 1], [0, 0, -10, 1], [0, 0, -5, 1]], np.float32)
+    deviation = np.array([[0, 1, 2, 4, 8], [0, 1, 3, 9, 9], [0, 0.5, 0.5, 0.5, 5]], np.float32) * _pixel(9.0)
+
+    def strides(tolerance, blocks, cluster_bounds=bounds, model_view=np.eye(4), projection=projection):
+        return preview_buffers.view_block_strides(deviation, cluster_bounds, model_view, projection, (500, 500),
+                                                  tolerance, blocks).tolist()
+
+    # 2.5 px at depth 9: cluster 0 allows stride 4, cluster 1 stride 2 (3 > 2.5), together stride 2;
+    # cluster 2, nearer (a pixel of depth 4 = 4/9 of depth 9's), allows 0.5 / (4/9) = 1.1 px: stride 8.
+    assert strides(2.5, [0, 2, 3]) == [1, 3]
+    assert strides(0.0, [0, 1, 3]) == [0, 0]
+    assert strides(100.0, [0, 3]) == [4]
+    # Just under and over a threshold: cluster 0's stride 8 deviates by exactly 4 pixels at depth 9.
+    assert strides(4.0 * 1.001, [0, 1, 3])[0] == 3 and strides(4.0 * 0.999, [0, 1, 3])[0] == 2
+    # A model scaled 2x doubles every deviation and the spheres (nearest depth 20 - 2 = 18): 4 px again.
     scaled = np.diag([2.0, 2.0, 2.0, 1.0])
-    size2 = preview_buffers.cluster_pixel_size(bounds[:1] * [1, 1, 2.5, 1], scaled, projection, 500)
-    np.testing.assert_allclose(size2[0], (50.0 - 2.0) * 2.0 * np.tan(np.radians(20)) / 500 / 2.0, rtol=1e-6)
+    assert strides(4.0 * 2.0 * 9.0 / 18.0 * 1.001, [0, 1, 3], model_view=scaled)[0] == 3
+    assert strides(4.0 * 2.0 * 9.0 / 18.0 * 0.999, [0, 1, 3], model_view=scaled)[0] == 2
+    # A sphere reaching the eye, or not finite, keeps every point; so does an infinite deviation.
+    at_eye = bounds.copy()
+    at_eye[1, 3] = 10.5
+    assert strides(100.0, [0, 1, 2, 3], cluster_bounds=at_eye) == [4, 0, 4]
+    not_finite = bounds.copy()
+    not_finite[0, 2] = np.nan
+    assert strides(100.0, [0, 1, 3], cluster_bounds=not_finite) == [0, 4]
+    # Orthographic: one pixel size everywhere (2 / (P[1][1] x 500) units).
     orthographic = np.diag([0.1, 0.1, -0.02, 1.0])
-    np.testing.assert_allclose(preview_buffers.cluster_pixel_size(bounds[:2], np.eye(4), orthographic, 500),
-                               1.0 / (0.1 * 250.0))
-
-
-def test_each_block_takes_the_longest_stride_all_its_clusters_allow():
-    deviation = np.array([[0, 1, 2, 4, 8], [0, 1, 3, 9, 9], [0, 0.5, 0.5, 0.5, 5]], np.float32)
-    pixel = np.array([1.0, 1.0, 1.0])
-    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, pixel, 2.5, [0, 2, 3]), [1, 3])
-    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, pixel, 0.0, [0, 1, 3]), [0, 0])
-    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, pixel, 100.0, [0, 3]), [4])
-    # A cluster at the eye (pixel 0) keeps every point; a non-finite deviation never fits.
-    np.testing.assert_array_equal(preview_buffers.block_strides(deviation, [0.0, 1.0, 1.0], 100.0, [0, 1, 3]), [0, 4])
-    infinite = deviation.copy()
-    infinite[2, 1:] = np.inf
-    np.testing.assert_array_equal(preview_buffers.block_strides(infinite, pixel, 100.0, [0, 2, 3]), [4, 0])
+    ortho_pixel = 2.0 / (0.1 * 500)
+    assert strides(4.0 * _pixel(9.0) / ortho_pixel * 1.001, [0, 1, 3], projection=orthographic)[0] == 3
     np.testing.assert_array_equal(preview_buffers.cluster_strides([1, 3], [0, 2, 3]), [2, 2, 8])
+    with pytest.raises(ValueError, match="tolerance_px"):
+        strides(-1.0, [0, 3])
+    with pytest.raises(ValueError, match="block_first"):
+        strides(1.0, [0, 2])
 
 
 def test_exact_lists_draw_the_chords_spanning_the_selected_segments():
@@ -137,7 +152,8 @@ def test_real_hair_far_view_draws_ten_times_fewer_segments_than_its_strands(real
     cluster_bounds = asset.frame_skinning().selection_geometry()["cluster_bounds"]
 
     def drawn(tolerance_px):
-        block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, 720, tolerance_px, bounds)
+        block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, (1280, 720), tolerance_px,
+                                                   bounds)
         segments = view_selection.segments_per_level()
         segments[strands] = preview_buffers.chords_drawn(values == strands, preview_buffers.cluster_strides(block, bounds),
                                                          np.diff(first))
@@ -146,11 +162,14 @@ def test_real_hair_far_view_draws_ten_times_fewer_segments_than_its_strands(real
     every_strand = real_hair.point_count - len(real_hair)
     assert every_strand / drawn(preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX) >= 10.0
     assert every_strand / drawn(0.0) < 5.0  # the selection alone is far from it
-    # Every chord left out stays within the tolerance of the skipped points: checked per strand.
-    block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, 720,
-                                               preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX, bounds)
-    pixel = preview_buffers.cluster_pixel_size(cluster_bounds, view, projection, 720)
-    chosen = np.asarray(STRIDES)[block]
-    assert chosen.max() > 1
+    # Every chord stays within the tolerance of the points it skips, a pixel taken at the cluster's
+    # nearest depth (brute force over the clusters' spheres in view space).
+    tolerance = preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX
+    block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, (1280, 720), tolerance,
+                                               bounds)
+    assert np.asarray(STRIDES)[block].max() > 1
+    centres = cluster_bounds[:, :3].astype(np.float64) @ view[:3, :3].T + view[:3, 3]
+    nearest = -centres[:, 2] - cluster_bounds[:, 3]
+    pixel = 2.0 * nearest * np.tan(np.radians(20)) / 720
     stride_index = np.repeat(block, np.diff(bounds))
-    assert np.all(deviation[np.arange(asset.cluster_count), stride_index] <= 0.5 * pixel + 1e-12)
+    assert np.all(deviation[np.arange(asset.cluster_count), stride_index] <= tolerance * pixel * (1 + 1e-4))

@@ -125,4 +125,31 @@ std::vector<float> stride_chord_deviation(std::span<const float> points, int con
     return deviation;
 }
 
+std::vector<int32_t> view_block_strides(std::span<const float> deviation, size_t stride_count,
+                                        std::span<const glm::vec4> bounds, std::span<const int64_t> block_first,
+                                        const Camera& camera, float tolerance_px) {
+    if (!(tolerance_px >= 0.0f) || !std::isfinite(tolerance_px))
+        throw Error("vertex LoD: tolerance_px must be >= 0 and finite, got " + std::to_string(tolerance_px));
+    if (stride_count == 0 || deviation.size() != bounds.size() * stride_count)
+        throw Error("vertex LoD: deviation must hold stride_count values per group of bounds");
+    if (block_first.empty() || block_first.front() != 0 || static_cast<size_t>(block_first.back()) != bounds.size())
+        throw Error("vertex LoD: block_first must run from 0 to the group count (" + std::to_string(bounds.size()) + ")");
+    for (size_t b = 1; b < block_first.size(); ++b)
+        if (block_first[b] < block_first[b - 1]) throw Error("vertex LoD: block_first must not decrease");
+    const ScreenWidthBound pixels(camera);
+    std::vector<int32_t> strides(block_first.size() - 1, 0);
+    for (size_t b = 0; b + 1 < block_first.size(); ++b) {
+        size_t longest = stride_count - 1;
+        for (auto g = static_cast<size_t>(block_first[b]); g < static_cast<size_t>(block_first[b + 1]) && longest > 0; ++g) {
+            const glm::vec4& sphere = bounds[g];
+            // The deviation a tolerance of tolerance_px pixels allows there; 0 at the eye or for a sphere
+            // that is not finite (NaN fails every comparison below).
+            const float allowed = tolerance_px / pixels.at_nearest(glm::vec3(sphere), sphere.w, 1.0f);
+            while (longest > 0 && !(deviation[g * stride_count + longest] <= allowed)) --longest;
+        }
+        strides[b] = static_cast<int32_t>(longest);
+    }
+    return strides;
+}
+
 }  // namespace hairlod

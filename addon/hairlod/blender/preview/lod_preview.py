@@ -385,15 +385,15 @@ class LodPreview:
             self._item_cluster = np.repeat(np.arange(len(first) - 1), np.diff(first))
         return self._item_cluster
 
-    def update_strides(self, state, model_view, projection, height, tolerance_px):
+    def update_strides(self, state, model_view, projection, viewport_size, tolerance_px):
         """Per block of the strand level, the longest stride of the vertex LoD whose chords stay within
         `tolerance_px` pixels of the control points they skip, at this view; True when it changed."""
-        key = (model_view.tobytes(), projection.tobytes(), height, tolerance_px, self.pose_version)
+        key = (model_view.tobytes(), projection.tobytes(), viewport_size, tolerance_px, self.pose_version)
         if key == state.strides_key:
             return False
         state.strides_key = key
         strides = preview_buffers.view_block_strides(self.stride_deviation, self.cluster_bounds, model_view, projection,
-                                                     height, tolerance_px, self.blocks[-1].bounds)
+                                                     viewport_size, tolerance_px, self.blocks[-1].bounds)
         changed = state.block_strides is None or not np.array_equal(strides, state.block_strides)
         state.block_strides = strides
         return changed
@@ -406,6 +406,8 @@ class LodPreview:
         """Segments per level as drawn: the thick levels' selected segments, and the strands' chords
         at their strides that span a selected segment."""
         segments = state.selection.segments_per_level()
+        if not state.block_strides.any():
+            return segments  # every block at stride 1: what was selected
         strands = self.level_count - 1
         first = preview_buffers.cluster_items(self.asset, strands)
         segments[strands] = preview_buffers.chords_drawn(values == strands, self.cluster_strides(state), np.diff(first))
@@ -544,9 +546,9 @@ class LodPreview:
         state = self.view_state(region_3d.as_pointer())
         model_view = region_3d.view_matrix @ obj.matrix_world
         projection = region_3d.window_matrix
-        changed = state.selection.update(np.array(model_view, dtype=np.float32), np.array(projection, dtype=np.float32),
-                                         (region.width, region.height), settings.width_px)
-        strides_changed = self.update_strides(state, np.array(model_view), np.array(projection), region.height,
+        model_view_array, projection_array = np.array(model_view, np.float32), np.array(projection, np.float32)
+        changed = state.selection.update(model_view_array, projection_array, (region.width, region.height), settings.width_px)
+        strides_changed = self.update_strides(state, model_view_array, projection_array, (region.width, region.height),
                                               settings.vertex_tolerance_px)
         if changed or strides_changed or state.texture is None:
             self.upload_selection(state)

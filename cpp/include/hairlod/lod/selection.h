@@ -65,6 +65,14 @@ public:
         const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w;
         return w > 0.0f ? diameter * pixels_per_unit_ / w : std::numeric_limits<float>::infinity();
     }
+    // The same at the nearest depth of the sphere (centre, radius): the most pixels `diameter` may
+    // take anywhere in it. Infinite when the sphere reaches the eye.
+    float at_nearest(const glm::vec3& centre, float radius, float diameter) const {
+        const glm::vec3 gradient(depth_row_);
+        const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w -
+                        radius * std::sqrt(gradient.x * gradient.x + gradient.y * gradient.y + gradient.z * gradient.z);
+        return w > 0.0f ? diameter * pixels_per_unit_ / w : std::numeric_limits<float>::infinity();
+    }
 
 private:
     glm::vec4 depth_row_;  // row 3 of projection * view: clip w

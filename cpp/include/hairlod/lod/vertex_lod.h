@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include <glm/vec4.hpp>
+
 #include "hairlod/lod/selection.h"
 
 namespace hairlod {
@@ -40,5 +42,14 @@ std::vector<uint8_t> vertex_lod_keep(std::span<const float> points, std::span<co
 // is not finite. strides: each >= 1.
 std::vector<float> stride_chord_deviation(std::span<const float> points, int control_points,
                                           std::span<const int64_t> item_first, std::span<const int> strides);
+
+// Per block of groups [block_first[b], block_first[b + 1]): the index (into the strides the
+// deviation [groups * stride_count] was measured for, stride 1 first) of the last stride whose
+// deviation stays within tolerance_px pixels in every group of the block, a pixel the size of one at
+// the nearest depth of the group's bounding sphere (`bounds`: centre, radius; ScreenWidthBound::
+// at_nearest). 0 (every point) where a sphere reaches the eye or tolerance_px is 0.
+std::vector<int32_t> view_block_strides(std::span<const float> deviation, size_t stride_count,
+                                        std::span<const glm::vec4> bounds, std::span<const int64_t> block_first,
+                                        const Camera& camera, float tolerance_px);
 
 }  // namespace hairlod
