@@ -6,7 +6,7 @@ Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their 
 levels) and previews it on an empty, lit by a sun (--shadowing: the panel's Shadowing, else its default;
 0 turns the self-shadowing and the opacity maps off). A camera dolly from 0.7x to 30x the hair's size
 over --frames frames (one redraw per frame) is captured twice: with the LoD at
-eps_w = 2 px and with every strand. Prints one JSON object: per frame the segments drawn, the
+eps_w = 2 px (and the default vertex LoD) and with every strand at every control point. Prints one JSON object: per frame the segments drawn, the
 selection + selection-texture upload time, the PSNR of the LoD frame against the all-strand frame, and the
 adjacent-frame PSNR of both (over the hair's bounding box) (the paper's Fig. 9 measure of popping); and the draw time of a frame at
 the far view without hair, with the LoD and with every strand (wm.redraw_timer, 10 redraws).
@@ -70,6 +70,8 @@ def run(args):
 
     def dolly(width_px):
         settings.width_px = width_px
+        # Every strand means every control point too (the strands' vertex LoD off), as Blender draws them.
+        settings.vertex_tolerance_px = default_tolerance if width_px >= 1.0 else 0.0
         preview.views.clear()
         frames = []
         for k, distance in enumerate(distances):
@@ -79,6 +81,7 @@ def run(args):
             frames.append((capture(window, area, os.path.join(out_dir, f"dolly_{k}.png")), stats))
         return frames
 
+    default_tolerance = settings.vertex_tolerance_px
     settings.enabled = False
     redraw(window, area, region)
     background = capture(window, area, os.path.join(out_dir, "dolly_background.png"))
@@ -103,6 +106,7 @@ def run(args):
     for name, width_px, enabled in (("no_hair", 2.0, False), ("lod", 2.0, True), ("all_strands", 1e-3, True)):
         settings.enabled = enabled
         settings.width_px = width_px
+        settings.vertex_tolerance_px = default_tolerance if width_px >= 1.0 else 0.0
         preview.views.clear()
         for _ in range(12):
             redraw(window, area, region)

@@ -91,8 +91,12 @@ def run(args):
     background = capture(window, area, os.path.join(out_dir, "animation_background.png"))
     obj.hide_set(False)
 
+    default_tolerance = settings.vertex_tolerance_px
+
     def play(name, enabled, width_px):
         settings.enabled, settings.width_px = enabled, width_px
+        # Every strand means every control point too (the strands' vertex LoD off), as Blender draws them.
+        settings.vertex_tolerance_px = default_tolerance if width_px >= 1.0 else 0.0
         scene.frame_set(args.frames)  # leave the rest pose first: frame 1 is a real change too
         redraw(window, area, region)
         rows, images = [], []

@@ -27,7 +27,7 @@ import numpy as np
 from . import _core
 
 __all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "blocks_to_draw", "STRAND_STRIDES",
-           "strided_lines", "stride_deviation", "view_block_strides", "cluster_strides", "strided_exact", "chords_drawn"]
+           "strided_lines", "stride_deviation", "view_block_strides", "cluster_strides"]
 
 # Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
 # segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
@@ -141,43 +141,7 @@ def view_block_strides(deviation, cluster_bounds, model_view, projection, viewpo
 
 
 def cluster_strides(block_stride_index, bounds):
-    """int64 [clusters]: the stride (a value of STRAND_STRIDES) each cluster is drawn at, its block's."""
-    return np.repeat(np.asarray(STRAND_STRIDES, dtype=np.int64)[np.asarray(block_stride_index, dtype=np.int64)],
+    """int32 [clusters]: the stride (a value of STRAND_STRIDES) each cluster is drawn at, its block's
+    (what ViewSelection.strided_strand_lines and strided_strand_segments take)."""
+    return np.repeat(np.asarray(STRAND_STRIDES, dtype=np.int32)[np.asarray(block_stride_index, dtype=np.int64)],
                      np.diff(np.asarray(bounds, dtype=np.int64)))
-
-
-def strided_exact(lines, control_points, item_cluster, cluster_stride):
-    """The chords drawn in place of the selected strand segments ``lines`` ([S, 2] element indices
-    (v, v + 1), v = item n_c + k, ViewSelection.indices): per item, at its cluster's stride
-    (``item_cluster`` [items], ``cluster_stride`` [clusters] values of STRAND_STRIDES), each chord
-    spanning a selected segment, once. uint32 [S', 2]."""
-    lines = np.asarray(lines, dtype=np.int64).reshape(-1, 2)
-    if not len(lines):
-        return np.zeros((0, 2), np.uint32)
-    items, k = np.divmod(lines[:, 0], control_points)
-    stride = np.asarray(cluster_stride, dtype=np.int64)[np.asarray(item_cluster, dtype=np.int64)[items]]
-    start = k // stride * stride
-    first = np.unique(items * control_points + start)
-    # Each chord's end from its own item's stride: starts are multiples of it.
-    first_items, first_k = np.divmod(first, control_points)
-    first_stride = np.asarray(cluster_stride, dtype=np.int64)[np.asarray(item_cluster, dtype=np.int64)[first_items]]
-    end = first_items * control_points + np.minimum(first_k + first_stride, control_points - 1)
-    return np.ascontiguousarray(np.stack([first, end], axis=1).astype(np.uint32))
-
-
-def chords_drawn(selected, cluster_stride, items_per_cluster):
-    """Strand segments drawn: per cluster (rows of ``selected`` [C, n_c - 1], True where the
-    cluster's segment is selected at the strand level), its items times the chords at its stride
-    (``cluster_stride`` [C]) that span a selected segment."""
-    selected = np.asarray(selected, dtype=bool)
-    cluster_stride = np.asarray(cluster_stride, dtype=np.int64)
-    items = np.asarray(items_per_cluster, dtype=np.int64)
-    whole = cluster_stride == 1  # every selected segment is a chord of its own
-    total = int(selected[whole].sum(axis=1) @ items[whole])
-    clusters, segments = np.nonzero(selected & ~whole[:, None])
-    if len(clusters):
-        # Each selected cell marks its chord (cluster, segment // stride); marked chords count once.
-        chords = np.zeros(selected.shape, bool)
-        chords[clusters, segments // cluster_stride[clusters]] = True
-        total += int(chords.sum(axis=1) @ items)
-    return total

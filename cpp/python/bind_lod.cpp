@@ -443,6 +443,15 @@ void bind_lod(py::module_& m) {
             const std::vector<int64_t> s = v.segments_per_level();
             return to_numpy<int64_t>(s, {as_size(s.size())});
         })
+        .def("strided_strand_lines", [](const ViewSelection& v, const IntArray& cluster_strides) {
+            const std::vector<uint32_t> lines = v.strided_strand_lines({cluster_strides.data(), static_cast<size_t>(cluster_strides.size())});
+            return to_numpy<uint32_t>(lines, {as_size(lines.size() / 2), 2});
+        }, py::arg("cluster_strides"),
+           "LINES indices [S, 2] of the selected strands drawn at a stride per L0 cluster (vertex LoD): the chords "
+           "spanning a selected segment, each once.")
+        .def("strided_strand_segments", [](const ViewSelection& v, const IntArray& cluster_strides) {
+            return v.strided_strand_segments({cluster_strides.data(), static_cast<size_t>(cluster_strides.size())});
+        }, py::arg("cluster_strides"), "How many chords strided_strand_lines draws.")
         .def("frame_levels", [](const ViewSelection& v) {
             std::vector<float> levels;
             std::vector<uint8_t> present;

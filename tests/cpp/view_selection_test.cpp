@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <set>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -93,6 +96,44 @@ TEST_F(ViewSelectionTest, IndicesCoverEveryVisibleSegmentOnce) {
             }
         }
     }
+}
+
+// The strands drawn at a stride per cluster (vertex LoD): every chord spanning a selected strand
+// segment, once, each within one strand, starting at a multiple of its cluster's stride.
+TEST_F(ViewSelectionTest, StridedStrandsCoverTheSelectedSegmentsWithChords) {
+    ViewSelection view(*asset_, asset_->rest_geometry());
+    view.update(camera_at(2.0f), 2.0f);
+    const auto nc = static_cast<uint32_t>(asset_->control_points);
+    const int strands = view.level_count() - 1;
+    const std::vector<uint32_t> segments = view.indices(strands, DrawPrimitive::lines);
+    ASSERT_FALSE(segments.empty());
+    std::vector<int32_t> strides(asset_->cluster_count());
+    for (size_t c = 0; c < strides.size(); ++c) strides[c] = std::array<int32_t, 4>{1, 2, 3, 8}[c % 4];
+    std::vector<int32_t> strand_stride(asset_->strand_count());
+    for (size_t c = 0; c < asset_->cluster_count(); ++c) {
+        const auto [first, end] = asset_->cluster_strands(c);
+        for (int32_t i = first; i < end; ++i) strand_stride[static_cast<size_t>(i)] = strides[c];
+    }
+    const std::vector<uint32_t> chords = view.strided_strand_lines(strides);
+    ASSERT_EQ(chords.size(), 2 * static_cast<size_t>(view.strided_strand_segments(strides)));
+    std::set<std::pair<uint32_t, uint32_t>> drawn;
+    for (size_t i = 0; i < chords.size(); i += 2) {
+        const uint32_t item = chords[i] / nc, a = chords[i] % nc, b = chords[i + 1] - item * nc;
+        const auto stride = static_cast<uint32_t>(strand_stride[item]);
+        EXPECT_EQ(a % stride, 0u);
+        EXPECT_EQ(b, std::min(a + stride, nc - 1));
+        EXPECT_TRUE(drawn.insert({chords[i], chords[i + 1]}).second) << "a chord drawn twice";
+    }
+    // Each selected segment lies on a drawn chord, and each chord holds a selected segment.
+    std::set<uint32_t> starts;
+    for (size_t i = 0; i < segments.size(); i += 2) {
+        const uint32_t item = segments[i] / nc, k = segments[i] % nc, stride = static_cast<uint32_t>(strand_stride[item]);
+        const uint32_t a = k / stride * stride;
+        EXPECT_TRUE(drawn.count({item * nc + a, item * nc + std::min(a + stride, nc - 1)})) << item << " " << k;
+        starts.insert(item * nc + a);
+    }
+    EXPECT_EQ(starts.size(), drawn.size());
+    EXPECT_THROW(view.strided_strand_lines(std::span(strides).first(strides.size() - 1)), Error);
 }
 
 // The per-frame texture and presence flags restate the selection: the level of each visible

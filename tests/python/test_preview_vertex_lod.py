@@ -106,32 +106,37 @@ def test_each_block_takes_the_longest_stride_its_clusters_allow_at_their_nearest
         strides(1.0, [0, 2])
 
 
-def test_exact_lists_draw_the_chords_spanning_the_selected_segments():
-    n_c = 9
-    # Items 0 and 1 in cluster 0 (stride 4), item 2 in cluster 1 (stride 1); the selection is per
-    # cluster and segment, the same for every item of a cluster.
-    selected = {0: [0, 5, 7], 1: [0, 5, 7], 2: [2, 3]}
-    lines = np.array([(item * n_c + k, item * n_c + k + 1) for item, ks in selected.items() for k in ks])
-    chords = preview_buffers.strided_exact(lines, n_c, np.array([0, 0, 1]), np.array([4, 1]))
-    expected = {(0, 4), (4, 8), (9, 13), (13, 17), (20, 21), (21, 22)}
-    assert {tuple(c) for c in chords} == expected and len(chords) == len(expected)
-    # The statistics count the same chords from the selection's mask.
-    mask = np.zeros((2, n_c - 1), bool)
-    mask[0, [0, 5, 7]] = True
-    mask[1, [2, 3]] = True
-    assert preview_buffers.chords_drawn(mask, [4, 1], [2, 1]) == len(expected)
-    assert preview_buffers.strided_exact(np.zeros((0, 2)), n_c, [0], [1]).shape == (0, 2)
-
-
-def test_strides_one_draw_what_the_selection_selected(real_asset):
+@pytest.mark.parametrize("distance", [0.8, 3.0, 12.0])
+def test_strided_strands_draw_the_chords_spanning_the_selected_segments(real_asset, distance):
+    # Brute force from the selection's own strand segments (ViewSelection.indices): per strand, the
+    # chords at its cluster's stride that hold a selected segment, once each.
     asset, _, first = real_asset
-    strands = len(asset.levels)
+    n_c = asset.control_points
     view_selection = asset.view_selection()
     projection = perspective(np.radians(40), 16 / 9, 0.01, 100.0)
-    view_selection.update(look_at(np.array([0.0, -3.0, 0.5]), np.zeros(3)), projection, (1280, 720), 2.0)
-    values, _ = view_selection.frame_levels()
-    ones = np.ones(asset.cluster_count, np.int64)
-    assert preview_buffers.chords_drawn(values == strands, ones, np.diff(first)) == view_selection.segments_per_level()[strands]
+    view_selection.update(look_at(np.array([0.0, -distance, 0.5]), np.zeros(3)), projection, (1280, 720), 2.0)
+    selected = view_selection.indices(len(asset.levels), "lines").reshape(-1, 2).astype(np.int64)
+    assert len(selected) > 0
+    strand_cluster = np.repeat(np.arange(asset.cluster_count), np.diff(first))
+    rng = np.random.default_rng(4)
+    for strides in (np.ones(asset.cluster_count, np.int32), rng.choice(STRIDES, asset.cluster_count).astype(np.int32)):
+        items, k = np.divmod(selected[:, 0], n_c)
+        stride = strides[strand_cluster[items]]
+        start = k // stride * stride
+        expected = {(item * n_c + a, item * n_c + min(a + s, n_c - 1)) for item, a, s in zip(items, start, stride)}
+        lines = view_selection.strided_strand_lines(strides)
+        assert lines.dtype == np.uint32 and lines.shape[1] == 2
+        assert len(lines) == len(expected) and {tuple(line) for line in lines.tolist()} == expected
+        assert view_selection.strided_strand_segments(strides) == len(expected)
+    # Every stride 1: exactly the selected segments.
+    ones = np.ones(asset.cluster_count, np.int32)
+    assert view_selection.strided_strand_segments(ones) == view_selection.segments_per_level()[len(asset.levels)]
+    lines = view_selection.strided_strand_lines(ones).astype(np.int64)
+    np.testing.assert_array_equal(lines[np.lexsort(lines.T[::-1])], selected[np.lexsort(selected.T[::-1])])
+    with pytest.raises(ValueError, match="one stride per L0 cluster"):
+        view_selection.strided_strand_lines(ones[:-1])
+    with pytest.raises(ValueError, match="strides must be >= 1"):
+        view_selection.strided_strand_segments(ones * 0)
 
 
 def test_real_hair_far_view_draws_ten_times_fewer_segments_than_its_strands(real_hair, real_asset):
@@ -146,7 +151,6 @@ def test_real_hair_far_view_draws_ten_times_fewer_segments_than_its_strands(real
     view = look_at(centre + np.array([0.0, -25.0 * size, 0.2 * size]), centre)
     view_selection = asset.view_selection()
     view_selection.update(view, projection, (1280, 720), 2.0)
-    values, _ = view_selection.frame_levels()
     bounds = preview_buffers.cluster_blocks(first, n_c, preview_buffers.BLOCK_SEGMENTS)
     deviation = preview_buffers.stride_deviation(points, n_c, first)
     cluster_bounds = asset.frame_skinning().selection_geometry()["cluster_bounds"]
@@ -155,8 +159,7 @@ def test_real_hair_far_view_draws_ten_times_fewer_segments_than_its_strands(real
         block = preview_buffers.view_block_strides(deviation, cluster_bounds, view, projection, (1280, 720), tolerance_px,
                                                    bounds)
         segments = view_selection.segments_per_level()
-        segments[strands] = preview_buffers.chords_drawn(values == strands, preview_buffers.cluster_strides(block, bounds),
-                                                         np.diff(first))
+        segments[strands] = view_selection.strided_strand_segments(preview_buffers.cluster_strides(block, bounds))
         return int(segments.sum())
 
     every_strand = real_hair.point_count - len(real_hair)

@@ -79,9 +79,11 @@ def follow(window, scene, obj, name, size, view_location):
         scene.frame_set(frame)  # frame_change_post: the preview reads the moved guides
         yield from shot(f"background_{frame}", False, hidden=True)
         yield from shot(f"own_{frame}", False)
-        settings.width_px = 0.01  # every strand: the same hair Blender draws
+        settings.width_px = 0.01  # every strand at every control point: the same hair Blender draws
+        settings.vertex_tolerance_px = 0.0
         yield from shot(f"strands_{frame}", True)
         settings.width_px = 2.0
+        settings.property_unset("vertex_tolerance_px")
         yield from shot(f"lod_{frame}", True)
     check(preview.follow_status == "", f"{name}: following the hair ({preview.follow_status or 'no message'})")
     check(preview.guides is not None, f"{name}: the preview drew the moved guides")

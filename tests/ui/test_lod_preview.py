@@ -140,14 +140,17 @@ def steps():
         results[view] = dict(preview.stats)
         with_lod = screenshot(window, area, f"lod_preview_{view}.png")
         if view == "mid":
-            settings.width_px = 0.01  # every cluster at the strands
+            settings.width_px = 0.01  # every cluster at the strands, every control point
+            settings.vertex_tolerance_px = 0.0
             yield from settle(area, preview)
             results["mid_strands"] = dict(preview.stats)
             all_strands = screenshot(window, area, "lod_preview_mid_strands.png")
             settings.width_px = 2.0
+            settings.property_unset("vertex_tolerance_px")
         if view == "far":
             far_lod_ms = frame_ms(window, area, region)
             settings.width_px = 0.01
+            settings.vertex_tolerance_px = 0.0
             yield from settle(area, preview)
             far_strands_ms = frame_ms(window, area, region)
             results["far_strands"] = dict(preview.stats)
@@ -158,6 +161,7 @@ def steps():
                   f"Statistics time the draw with the GPU's work ({preview.stats['draw_ms']:.1f} ms for every strand)")
             settings.show_statistics = False
             settings.width_px = 2.0
+            settings.property_unset("vertex_tolerance_px")
         settings.enabled = False
         area.tag_redraw()
         yield REDRAW_DELAY

@@ -1,5 +1,6 @@
 #include "hairlod/lod/view_selection.h"
 
+#include <algorithm>
 #include <string>
 
 #include "hairlod/core/error.h"
@@ -83,6 +84,44 @@ std::vector<int64_t> ViewSelection::segments_per_level() const {
     for (const DrawRange& draw : selection_.draws)
         segments[static_cast<size_t>(draw.level)] += static_cast<int64_t>(draw.count) * draw.segment_count;
     return segments;
+}
+
+template <typename Chord>
+void ViewSelection::visit_strided_chords(std::span<const int32_t> cluster_strides, Chord&& chord) const {
+    if (cluster_strides.size() != asset_->cluster_count())
+        throw Error("strided strands: cluster_strides needs one stride per L0 cluster (" +
+                    std::to_string(asset_->cluster_count()) + "), got " + std::to_string(cluster_strides.size()));
+    for (int32_t stride : cluster_strides)
+        if (stride < 1) throw Error("strided strands: strides must be >= 1, got " + std::to_string(stride));
+    const int strands = level_count() - 1, last = asset_->control_points - 1;
+    // Draw ranges come per cluster in segment order: a chord spanning two runs is visited once.
+    int32_t cluster = -1, next_free = 0;
+    for (const DrawRange& draw : selection_.draws) {
+        if (draw.level != strands) continue;
+        if (draw.cluster != cluster) cluster = draw.cluster, next_free = 0;
+        const int32_t stride = cluster_strides[static_cast<size_t>(draw.cluster)];
+        const int32_t from = std::max(draw.first_segment / stride * stride, next_free);
+        for (int32_t a = from; a < draw.first_segment + draw.segment_count; a += stride) {
+            chord(draw.first, draw.count, a, std::min(a + stride, last));
+            next_free = a + stride;
+        }
+    }
+}
+
+std::vector<uint32_t> ViewSelection::strided_strand_lines(std::span<const int32_t> cluster_strides) const {
+    std::vector<uint32_t> out;
+    const auto nc = static_cast<uint32_t>(asset_->control_points);
+    visit_strided_chords(cluster_strides, [&](int32_t first, int32_t count, int32_t a, int32_t b) {
+        for (auto item = static_cast<uint32_t>(first); item < static_cast<uint32_t>(first + count); ++item)
+            out.insert(out.end(), {item * nc + static_cast<uint32_t>(a), item * nc + static_cast<uint32_t>(b)});
+    });
+    return out;
+}
+
+int64_t ViewSelection::strided_strand_segments(std::span<const int32_t> cluster_strides) const {
+    int64_t chords = 0;
+    visit_strided_chords(cluster_strides, [&](int32_t, int32_t count, int32_t, int32_t) { chords += count; });
+    return chords;
 }
 
 }  // namespace hairlod

@@ -194,7 +194,8 @@ class LevelBlocks:
     strands also the same blocks at the longer strides of the vertex LoD, made on first use."""
 
     def __init__(self, kind, buffers, item_first, control_points):
-        self.bounds = preview_buffers.cluster_blocks(item_first, control_points, preview_buffers.BLOCK_SEGMENTS)
+        self.bounds = np.asarray(preview_buffers.cluster_blocks(item_first, control_points, preview_buffers.BLOCK_SEGMENTS),
+                                 dtype=np.int64)
         self.kind, self.buffers, self.item_first, self.control_points = kind, buffers, item_first, control_points
         primitive = "strips" if kind == "thick" else "lines"
         # Every segment's elements at once, cut per block: item-major, so a block's clusters are one
@@ -266,7 +267,6 @@ class LodPreview:
         # pose drawn.
         self.stride_deviation = None
         self.cluster_bounds = None
-        self._item_cluster = None
 
     @property
     def level_count(self):
@@ -352,7 +352,7 @@ class LodPreview:
         the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
         when its selected segments change. A few tens of kB per frame and small index lists."""
         values, present = state.selection.frame_levels()
-        state.segments = self.segments_drawn(state, values)
+        state.segments = self.segments_drawn(state)
         clusters, segments = values.shape
         state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
                                              data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
@@ -371,19 +371,10 @@ class LodPreview:
             if key == state.exact_keys[level]:
                 continue
             state.exact_keys[level] = key
-            elements = state.selection.indices(level, "strips" if thick else "lines").reshape(-1, 3 if thick else 2)
-            if not thick:
-                elements = preview_buffers.strided_exact(elements, self.asset.control_points, self.item_cluster, strides)
+            elements = (state.selection.indices(level, "strips").reshape(-1, 3) if thick else
+                        state.selection.strided_strand_lines(strides))
             state.exact[level] = (_batch("thick" if thick else "strand", self.vertex_buffers[level], elements)
                                   if elements.size else None)
-
-    @property
-    def item_cluster(self):
-        """int64 [strands]: the L0 cluster of each strand (hierarchy order)."""
-        if self._item_cluster is None:
-            first = preview_buffers.cluster_items(self.asset, len(self.asset.levels))
-            self._item_cluster = np.repeat(np.arange(len(first) - 1), np.diff(first))
-        return self._item_cluster
 
     def update_strides(self, state, model_view, projection, viewport_size, tolerance_px):
         """Per block of the strand level, the longest stride of the vertex LoD whose chords stay within
@@ -399,18 +390,15 @@ class LodPreview:
         return changed
 
     def cluster_strides(self, state):
-        """int64 [clusters]: the stride each L0 cluster's strands are drawn at (its block's)."""
+        """int32 [clusters]: the stride each L0 cluster's strands are drawn at (its block's)."""
         return preview_buffers.cluster_strides(state.block_strides, self.blocks[-1].bounds)
 
-    def segments_drawn(self, state, values):
+    def segments_drawn(self, state):
         """Segments per level as drawn: the thick levels' selected segments, and the strands' chords
         at their strides that span a selected segment."""
         segments = state.selection.segments_per_level()
-        if not state.block_strides.any():
-            return segments  # every block at stride 1: what was selected
-        strands = self.level_count - 1
-        first = preview_buffers.cluster_items(self.asset, strands)
-        segments[strands] = preview_buffers.chords_drawn(values == strands, self.cluster_strides(state), np.diff(first))
+        if state.block_strides.any():  # else every block at stride 1: what was selected
+            segments[-1] = state.selection.strided_strand_segments(self.cluster_strides(state))
         return segments
 
     def _draw_level(self, state, level, program):

@@ -7,6 +7,7 @@
 // refer to vertex buffers laid out item-major with n_c control points per item:
 // thick hairs of a level in asset order, strands in hierarchy order (LodAsset::strand_order).
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "hairlod/lod/lod_asset.h"
@@ -49,8 +50,19 @@ public:
     void frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present) const;
     // Segments selected per level (thick hairs or strands times their selected segments).
     std::vector<int64_t> segments_per_level() const;
+    // The strands drawn through fewer control points (vertex LoD, vertex_lod.h): each L0 cluster's
+    // strands at its stride (`cluster_strides` [clusters], >= 1) as the chords (a, min(a + s, n_c -
+    // 1)), a = 0, s, 2s, ..., that span a segment selected at the strand level, each once. LINES
+    // indices [2 per chord] in the strand layout of indices(); and the number of chords (what is drawn
+    // in place of the strands' segments_per_level()).
+    std::vector<uint32_t> strided_strand_lines(std::span<const int32_t> cluster_strides) const;
+    int64_t strided_strand_segments(std::span<const int32_t> cluster_strides) const;
 
 private:
+    // Calls chord(cluster, first strand, strand count, a, b) for every chord the strided strands draw.
+    template <typename Chord>
+    void visit_strided_chords(std::span<const int32_t> cluster_strides, Chord&& chord) const;
+
     const LodAsset* asset_;
     LodGeometry geometry_;
     Selection selection_;
