@@ -620,15 +620,17 @@ void require_indices(const std::vector<T>& indices, int64_t lowest, size_t count
                 name + " holds an index outside [" + std::to_string(lowest) + ", " + std::to_string(count) + ")");
 }
 
+// Whether a radius code decodes to a finite radius >= 0 (what skinning and shading may read).
+bool finite_radius(uint16_t code, int radius_exponent) {
+    const float radius = decode_half(code, radius_exponent);
+    return std::isfinite(radius) && radius >= 0.0f;
+}
+
 }  // namespace
 
 void LodAsset::validate() const {
     validate_structure();
     const auto nc = static_cast<size_t>(control_points);
-    const auto finite_radius = [&](uint16_t code) {
-        const float radius = decode_half(code, radius_exponent);
-        return std::isfinite(radius) && radius >= 0.0f;
-    };
     for (size_t l = 0; l < thick_levels.size(); ++l) {
         const ThickHairLevel& level = thick_levels[l];
         const std::string name = "level " + std::to_string(l) + " ";
@@ -637,7 +639,7 @@ void LodAsset::validate() const {
             require(values.size() == hairs * nc, name + array + " must hold n_c entries per hair");
         });
         for (const glm::u16vec2& code : level.radii)
-            require(finite_radius(code.x) && finite_radius(code.y), name + "radii holds a radius that is not finite");
+            require(finite_radius(code.x, radius_exponent) && finite_radius(code.y, radius_exponent), name + "radii holds a radius that is not finite");
     }
 }
 
@@ -670,11 +672,7 @@ void LodAsset::validate_structure() const {
         require(finite(box.lower) && finite(box.step) && glm::all(glm::greaterThanEqual(box.step, glm::vec3(0.0f))) &&
                     finite(box.decode(glm::u16vec3(std::numeric_limits<uint16_t>::max()))),
                 "offset_boxes holds a box that is not finite (or has a negative step)");
-    const auto finite_radius = [&](uint16_t code) {
-        const float radius = decode_half(code, radius_exponent);
-        return std::isfinite(radius) && radius >= 0.0f;
-    };
-    for (uint16_t code : strand_radius) require(finite_radius(code), "strand_radius holds a radius that is not finite");
+    for (uint16_t code : strand_radius) require(finite_radius(code, radius_exponent), "strand_radius holds a radius that is not finite");
     require_size(strand_order, strands, "strand_order");
     require_indices(strand_order, 0, strands, "strand_order");
     std::vector<bool> seen(strands, false);
