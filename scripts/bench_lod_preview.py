@@ -1,13 +1,14 @@
 """Benchmarks the viewport LoD preview in a real Blender window (run under Xvfb).
 
 Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_lod_preview.py
-     [-- --count 100000 --frames 24 --guides 256 --shadowing S --out FILE.json]
+     [-- --count 100000 --frames 24 --guides 256 --rounds R --shadowing S --out FILE.json]
 Generates --count strands in examples/data/wavy_cap.hairmesh.json, builds their LoD (--guides guides, 6
 levels) and previews it on an empty, lit by a sun (--shadowing: the panel's Shadowing, else its default;
 0 turns the self-shadowing and the opacity maps off). A camera dolly from 0.7x to 30x the hair's size
 over --frames frames (one redraw per frame) is captured twice: with the LoD at
 eps_w = 2 px (and the default vertex LoD) and with every strand at every control point. Prints one JSON object: per frame the segments drawn, the
-selection + selection-texture upload time, the PSNR of the LoD frame against the all-strand frame, and the
+selection + selection-texture upload time (in each of --rounds dollies; their median and maximum over
+every frame but the first), the PSNR of the LoD frame against the all-strand frame, and the
 adjacent-frame PSNR of both (over the hair's bounding box) (the paper's Fig. 9 measure of popping); and the draw time of a frame at
 the far view without hair, with the LoD and with every strand (wm.redraw_timer, 10 redraws).
 """
@@ -36,6 +37,8 @@ def parse_args():
     parser.add_argument("--count", type=int, default=100000)
     parser.add_argument("--frames", type=int, default=24)
     parser.add_argument("--guides", type=int, default=256)
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="dollies with the LoD whose selection times count (the first is also captured)")
     parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
@@ -87,6 +90,16 @@ def run(args):
     background = capture(window, area, os.path.join(out_dir, "dolly_background.png"))
     settings.enabled = True
     with_lod = dolly(2.0)
+    # More dollies with the LoD, not captured, for more samples of the selection time per frame (each
+    # starts from a new view, so that every frame changes the selection as in the first).
+    select_rounds = [[stats["select_ms"] for _, stats in with_lod]]
+    for _ in range(args.rounds - 1):
+        preview.views.clear()
+        select_rounds.append([])
+        for distance in distances:
+            region_3d.view_distance = float(distance)
+            redraw(window, area, region)
+            select_rounds[-1].append(preview.stats["select_ms"])
     with_strands = dolly(1e-3)
     frames = []
     for k in range(args.frames):
@@ -94,7 +107,8 @@ def run(args):
         reference = with_strands[k][0]
         frame = {"distance_over_size": float(distances[k] / size), "segments": stats["segments"],
                  "segments_all_strands": with_strands[k][1]["segments"],
-                 "select_ms": stats["select_ms"], "psnr_vs_strands": psnr(image, reference, background)}
+                 "select_ms": stats["select_ms"], "select_ms_rounds": [times[k] for times in select_rounds],
+                 "psnr_vs_strands": psnr(image, reference, background)}
         if k > 0:
             frame["adjacent_psnr_lod"] = psnr(image, with_lod[k - 1][0], background)
             frame["adjacent_psnr_strands"] = psnr(reference, with_strands[k - 1][0], background)
@@ -111,7 +125,11 @@ def run(args):
         for _ in range(12):
             redraw(window, area, region)
         timings[name] = 1e3 * min(redraw(window, area, region, 10) for _ in range(3))
+    # The first frame builds the vertex buffers and the first batches: the per-frame figure is the others'.
+    later_select = [times[k] for times in select_rounds for k in range(1, args.frames)]
     result = {"strands": len(strands), "build_seconds": build_seconds,
+              "select_ms_median": float(np.median(later_select)), "select_ms_max": float(np.max(later_select)),
+              "select_frames_over_1ms": f"{sum(t > 1.0 for t in later_select)} of {len(later_select)}",
               "clusters": asset.cluster_count, "levels": [len(level.n_total) for level in asset.levels], "frames": frames,
               "far_frame_ms": timings,
               "far_hair_ms_ratio": (timings["all_strands"] - timings["no_hair"]) /

@@ -231,7 +231,7 @@ class ViewState:
         self.exact_keys = [None] * level_count  # the selected segments each exact batch was built for
         self.block_strides = None  # per block of the strand level: index into STRAND_STRIDES (vertex LoD)
         self.strides_key = None    # the view and pose block_strides were chosen for
-        self.segments = None       # segments drawn per level (LodPreview.segments_drawn)
+        self.segments = None       # segments drawn per level (LodPreview.segments_drawn), counted when read
 
 
 class LodPreview:
@@ -243,7 +243,7 @@ class LodPreview:
         self.vertex_buffers = None
         self.blocks = None       # per level: LevelBlocks
         self.hair_volume = None  # self_shadow.HairVolume of the rest strands, with the vertex buffers
-        self.stats = {}
+        self.last_draw = None    # (ViewState, its timings) of the last draw, what `stats` reports
         self.max_hair_count = None
         self.textures = None
         self.textures_key = None
@@ -352,7 +352,7 @@ class LodPreview:
         the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
         when its selected segments change. A few tens of kB per frame and small index lists."""
         values, present = state.selection.frame_levels()
-        state.segments = self.segments_drawn(state)
+        state.segments = None  # counted again when the statistics are read
         clusters, segments = values.shape
         state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
                                              data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
@@ -586,14 +586,24 @@ class LodPreview:
         if finish is not None:
             finish()
 
-        selected_segments = state.selection.segments_per_level()
-        segments = state.segments
-        self.stats = {"segments": int(segments.sum()), "segments_per_level": segments.tolist(),
-                      "selected_segments": int(selected_segments.sum()),
-                      "select_ms": 1e3 * (selected - start - follow_seconds),
-                      "draw_ms": 1e3 * (time.perf_counter() - start),
-                      "changed": bool(changed), "gpu_timed": finish is not None}
+        self.last_draw = (state, {"select_ms": 1e3 * (selected - start - follow_seconds),
+                                  "draw_ms": 1e3 * (time.perf_counter() - start),
+                                  "changed": bool(changed), "gpu_timed": finish is not None})
         return changed
+
+    @property
+    def stats(self):
+        """The last draw's statistics: segments drawn (in all and per level), those selected, its
+        selection + update and draw times in ms, whether the selection changed and whether the draw time
+        holds the GPU's work. The segments are counted here, when read (the panel reads them only with
+        Statistics on), not in every frame's selection."""
+        if self.last_draw is None:
+            return {}
+        state, timings = self.last_draw
+        if state.segments is None:
+            state.segments = self.segments_drawn(state)
+        return {"segments": int(state.segments.sum()), "segments_per_level": state.segments.tolist(),
+                "selected_segments": int(state.selection.segments_per_level().sum()), **timings}
 
 
 def _gpu_finish():
