@@ -38,7 +38,7 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
-_shaders = {}      # ("thick" / "strand", a purpose of _create_shader) -> GPUShader, built on first draw
+_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity") -> GPUShader, built on first draw
 _view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
 # Custom property of an object whose drawing the preview replaces: its own display type, to restore.
 SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
@@ -99,8 +99,7 @@ def frame_block(model, view_projection, camera, viewport, ambient, light_count, 
 
 def _create_shader(kind, purpose="shade"):
     """The program drawing a level of `kind` ("thick" or "strand") for `purpose`: "shade" (the
-    viewport), "prepass" (the viewport's depth before shading), or a light's pass of the opacity maps,
-    "depth" or "opacity"."""
+    viewport), or a light's pass of the opacity maps, "depth" or "opacity"."""
     from . import bcsdf_textures, world_srbf
 
     interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_interface")
@@ -120,9 +119,7 @@ def _create_shader(kind, purpose="shade"):
     info.push_constant('INT', "draw_level")
     info.sampler(SELECTION_SLOT, 'FLOAT_2D', "selection_levels")
     info.sampler(SKIN_SLOT, 'FLOAT_2D', "skin_maps")
-    if purpose == "prepass":
-        pass  # the selection and the skinning only
-    elif purpose == "shade":
+    if purpose == "shade":
         world_srbf.declare(info)
         info.push_constant('VEC4', "level_colour")
         info.push_constant('INT', "shading_mode")
@@ -138,9 +135,7 @@ def _create_shader(kind, purpose="shade"):
     info.fragment_out(0, 'VEC4', "fragColor")
     info.vertex_source(f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n" +
                        glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
-    if purpose == "prepass":
-        info.fragment_source(glsl_source("selection.glsl", "depth_prepass.frag.glsl"))
-    elif purpose == "shade":
+    if purpose == "shade":
         info.fragment_source(view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
                              glsl_source("selection.glsl", "aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
                                          "opacity_map.glsl", "view_transform.glsl", "hair.frag.glsl"))
@@ -159,7 +154,7 @@ def shader(kind, purpose="shade"):
 def compile_shaders():
     """Builds the preview's shaders now (once a session), so that a first frame does not wait for them."""
     for kind in ("thick", "strand"):
-        for purpose in ("prepass", "shade", "depth", "opacity"):
+        for purpose in ("shade", "depth", "opacity"):
             shader(kind, purpose)
 
 
@@ -565,27 +560,11 @@ class LodPreview:
         frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
                             light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows)
-        drawn = [level for level in range(self.level_count)
-                 if state.exact[level] is not None or (state.to_draw[level] is not None and state.to_draw[level].any())]
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
-        if shaded:
-            # Depth first, then the shading only where its fragment is the nearest (the same pixels). A
-            # software GPU runs a shader that can discard on every fragment before the depth test, and
-            # dense hair covers a pixel many times: a near view of 100k strands redrew in 1.6 s instead
-            # of 2.6 s on llvmpipe. The flat level colours are cheap enough for one pass.
-            gpu.state.color_mask_set(False, False, False, False)
-            for level in drawn:
-                program = shader("thick" if level < self.level_count - 1 else "strand", "prepass")
-                program.bind()
-                program.uniform_block("frame", frame)
-                program.uniform_int("draw_level", level)
-                program.uniform_sampler("selection_levels", state.texture)
-                program.uniform_sampler("skin_maps", self.skin_texture)
-                self._draw_level(state, level, program)
-            gpu.state.color_mask_set(True, True, True, True)
-            gpu.state.depth_mask_set(False)
-        for level in drawn:
+        for level in range(self.level_count):
+            if state.exact[level] is None and (state.to_draw[level] is None or not state.to_draw[level].any()):
+                continue
             program = shader("thick" if level < self.level_count - 1 else "strand")
             program.bind()
             program.uniform_block("frame", frame)
