@@ -104,7 +104,7 @@ def run(args):
             start = time.perf_counter()
             scene.frame_set(frame)
             changed = time.perf_counter()
-            redraw(window, area, region)
+            redraw(window, area, region, finish=True)
             drawn = time.perf_counter()
             row = {"frame_change_ms": 1e3 * (changed - start), "redraw_ms": 1e3 * (drawn - changed)}
             if enabled:
@@ -112,7 +112,7 @@ def run(args):
                 row.update(select_ms=preview.stats["select_ms"], segments=preview.stats["segments"])
             rows.append(row)
             images.append(capture(window, area, os.path.join(out_dir, f"animation_{name}_{frame}.png")))
-        static = [1e3 * redraw(window, area, region) for _ in range(5)]
+        static = [1e3 * redraw(window, area, region, finish=True) for _ in range(5)]
         summary = {key: median([row[key] for row in rows if key in row])
                    for key in ("frame_change_ms", "redraw_ms", "read_ms", "skin_ms", "upload_ms", "select_ms", "segments")}
         summary["frame_ms"] = median([row["frame_change_ms"] + row["redraw_ms"] for row in rows])

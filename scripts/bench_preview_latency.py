@@ -9,7 +9,9 @@ export with the BCSDF tables baked (pipeline.export_lod), the same build from th
 asset being packed to the first draw of the preview ending, and that draw's own time, with the part of
 it spent making vertex buffers and tables, which a faster GPU does not shorten), and the median of the
 next 3 draws of the same view (drawing that frame once everything is set up: the floor of the first
-frame on this GPU). Prints one JSON
+frame on this GPU). Every draw timed waits for the GPU to finish it (a pixel read back). Then, for
+comparison, whole redraws of the viewport region (3 each, median) with the preview on and with Blender
+drawing the strands itself (the preview off). Prints one JSON
 object with every run and the medians; the ratio of button to direct build in the same run.
 """
 
@@ -27,6 +29,7 @@ REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
+from viewport_capture import redraw  # noqa: E402  (scripts/viewport_capture.py)
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 POLL = 0.02
 LATER_DRAWS = 3  # redraws of the same view after the first, their median reported
@@ -62,6 +65,9 @@ def steps(args):
     def timed_draw(preview, *draw_args):
         start = time.perf_counter()
         result = original_draw(preview, *draw_args)
+        # Until the GPU has drawn what the preview queued: a software GPU (llvmpipe) may still be
+        # rasterising when the draw calls return.
+        lod_preview.gpu_finish()()
         draws.append((start, time.perf_counter()))
         return result
 
@@ -120,10 +126,18 @@ def steps(args):
             while len(draws) == count:
                 yield POLL
         later_draw = statistics.median(end - begin for begin, end in draws[1:1 + LATER_DRAWS])
+        region = next(r for r in area.regions if r.type == 'WINDOW')
+        region_redraws = {}
+        for name, enabled in (("preview", True), ("blender", False)):
+            source.hairlod_lod_preview.enabled = enabled
+            redraw(window, area, region, finish=True)  # the display change settles
+            region_redraws[name] = statistics.median(redraw(window, area, region, finish=True) for _ in range(LATER_DRAWS))
+        source.hairlod_lod_preview.enabled = True
         runs.append({"direct_build_s": direct, "export_bake_s": export, "button_build_s": packed - start,
                      "button_over_direct": (packed - start) / direct, "first_frame_s": first_end - packed,
                      "first_draw_s": first_end - first_start, "first_draw_setup_s": sum(first_setup.values()),
-                     "later_draw_s": later_draw,
+                     "later_draw_s": later_draw, "preview_region_redraw_s": region_redraws["preview"],
+                     "blender_region_redraw_s": region_redraws["blender"],
                      **{f"setup_{name.lstrip('_')}_s": first_setup.get(name, 0.0) for name in setup_methods},
                      "viewport_redraws_during_build": redraws_during_build})
         print(json.dumps(runs[-1]), flush=True)

@@ -56,9 +56,24 @@ def capture(window, area, path):
     return pixels.reshape(size[1], size[0], 4)[..., :3]
 
 
-def redraw(window, area, region, iterations=1):
-    """Seconds per redraw of `region`, over `iterations` redraws."""
-    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-        start = time.perf_counter()
-        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
-    return (time.perf_counter() - start) / iterations
+def _finish_drawing():
+    from hairlod.blender.preview.lod_preview import gpu_finish  # the add-on's, once it is enabled
+
+    gpu_finish()()
+
+
+def redraw(window, area, region, iterations=1, finish=False):
+    """Seconds per redraw of `region`, over `iterations` redraws. With `finish`, each redraw ends by
+    reading a pixel back in a POST_PIXEL handler, so that the time holds the GPU's work on it: without,
+    a software GPU (llvmpipe) may still be drawing when the call returns, and whatever runs next (a
+    screenshot, the next frame) pays for the rest."""
+    handle = bpy.types.SpaceView3D.draw_handler_add(_finish_drawing, (), 'WINDOW', 'POST_PIXEL') if finish else None
+    try:
+        with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
+            start = time.perf_counter()
+            bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
+            seconds = time.perf_counter() - start
+    finally:
+        if handle is not None:
+            bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    return seconds / iterations

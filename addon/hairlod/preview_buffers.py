@@ -8,7 +8,10 @@ L0 clusters with static index buffers over all their segments (``cluster_blocks`
 ``block_indices``); each vertex carries its L0 cluster and control point (``select_key``); per
 frame the selection's level per cluster and segment goes to the GPU as a small texture
 (``ViewSelection.frame_levels``), the shader drops the fragments of segments selected at another
-level, and only blocks holding some segment selected at a level are drawn (``blocks_to_draw``).
+level, and only blocks holding some segment selected at a level are drawn (``level_blocks``).
+Blocks whose every segment is at the level drawn (the same function's second flags) go through a shader
+without that test: a fragment shader that may discard keeps the GPU from testing depth before
+shading, and a near view's hidden strands were then all shaded.
 
 Thick-hair vertices carry what the viewport shader needs to shade the aggregated BCSDF
 (hair-lod-aggregated-bcsdf.txt Sec. 4): the centre, tangent, the major and minor semi-axis vectors
@@ -26,7 +29,8 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "blocks_to_draw", "STRAND_STRIDES",
+__all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "level_blocks", "block_centres",
+           "blocks_near_to_far", "STRAND_STRIDES",
            "strided_lines", "stride_deviation", "view_block_strides", "cluster_strides"]
 
 # Segments per block of whole L0 clusters: a dense level draws its blocks that hold a selected
@@ -90,14 +94,34 @@ def block_indices(item_first, first_cluster, end_cluster, control_points, primit
     raise ValueError(f"primitive must be 'lines' or 'strips', got {primitive!r}")
 
 
-def blocks_to_draw(present, bounds):
-    """bool per block of ``bounds`` (cluster_blocks): whether any of its clusters is ``present``
-    (one level's column of ``ViewSelection.frame_levels``)."""
-    present = np.asarray(present, dtype=bool)
+def level_blocks(present, whole, level, bounds):
+    """(to_draw, one_level), bool per block of ``bounds`` (cluster_blocks) of ``level``, from
+    ``ViewSelection.frame_levels``' ``present`` and ``whole``: whether some visible cluster of the block
+    has a segment at the level (the block is drawn), and whether every cluster of it is visible with
+    all its segments at the level, so that its fragments need no test of the selection: the shader
+    then has no discard, and the GPU may test depth before shading (C++ lod/view_selection.h)."""
+    return _core.level_blocks(np.asarray(present, dtype=bool), np.asarray(whole, dtype=np.int8), int(level),
+                              np.asarray(bounds, dtype=np.int64))
+
+
+def block_centres(cluster_bounds, bounds):
+    """float64 [blocks, 3]: per block of ``bounds`` (cluster_blocks), the mean centre of its clusters'
+    bounding spheres (``cluster_bounds`` [C, 4])."""
     bounds = np.asarray(bounds, dtype=np.int64)
     if len(bounds) < 2:
-        return np.zeros(0, bool)
-    return np.logical_or.reduceat(present, bounds[:-1])
+        return np.zeros((0, 3))
+    sums = np.zeros((len(cluster_bounds) + 1, 3))
+    np.cumsum(np.asarray(cluster_bounds, dtype=np.float64)[:, :3], axis=0, out=sums[1:])
+    return (sums[bounds[1:]] - sums[bounds[:-1]]) / np.diff(bounds)[:, None]
+
+
+def blocks_near_to_far(centres, model_view):
+    """int64 [blocks]: blocks ordered nearest first by the view depth of their ``centres``
+    (block_centres, object space) under the 4 x 4 ``model_view``: drawn in that order, the strands in
+    front fill the depth buffer first and the GPU skips shading most of those behind (with the
+    shader of level_blocks' one_level blocks)."""
+    row = np.asarray(model_view, dtype=np.float64)[2]
+    return np.argsort(-(np.asarray(centres) @ row[:3] + row[3]), kind="stable")  # the view looks down -z
 
 
 def _stride_starts(control_points, stride):

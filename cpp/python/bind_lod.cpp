@@ -455,12 +455,16 @@ void bind_lod(py::module_& m) {
         .def("frame_levels", [](const ViewSelection& v) {
             std::vector<float> levels;
             std::vector<uint8_t> present;
-            v.frame_levels(levels, present);
+            std::vector<int8_t> whole;
+            v.frame_levels(levels, present, whole);
             const auto clusters = as_size(v.selection().visible.size());
             return py::make_tuple(to_numpy<float>(levels, {clusters, static_cast<py::ssize_t>(v.selection().segments)}),
-                                  to_numpy<uint8_t>(present, {clusters, static_cast<py::ssize_t>(v.level_count())}).attr("astype")("bool"));
-        }, "(levels float32 [clusters, segments], -1 where culled; present bool [clusters, level_count]): the "
-           "selection as a texture and which levels each visible cluster uses.")
+                                  to_numpy<uint8_t>(present, {clusters, static_cast<py::ssize_t>(v.level_count())}).attr("astype")("bool"),
+                                  to_numpy<int8_t>(whole, {clusters}));
+        }, "(levels float32 [clusters, segments], -1 where culled; present bool [clusters, level_count]; whole int8 "
+           "[clusters], the level all of a visible cluster's segments are at, -1 where they differ or it is culled): "
+           "the selection as a texture, which levels each visible cluster uses, and where no fragment needs the "
+           "texture.")
         .def("indices", [](const ViewSelection& v, int level, const std::string& primitive) {
             if (primitive != "lines" && primitive != "strips")
                 throw Error("primitive must be 'lines' or 'strips', got '" + primitive + "'");
@@ -540,6 +544,21 @@ void bind_lod(py::module_& m) {
        py::arg("viewport_size"), py::arg("tolerance_px"),
        "Per block of groups, the index of the longest stride whose chord deviation stays within tolerance_px pixels "
        "at every group's nearest depth (lod/vertex_lod.h).");
+    m.def("level_blocks", [](const NumpyArray<bool>& present, const NumpyArray<int8_t>& whole, int level,
+                             const Int64Array& block_first) {
+        if (present.ndim() != 2 || whole.ndim() != 1 || present.shape(0) != whole.shape(0) || block_first.ndim() != 1)
+            throw Error("level_blocks: present must be [clusters, levels], whole [clusters] and block_first one-dimensional");
+        std::vector<uint8_t> draw, one_level;
+        level_blocks({reinterpret_cast<const uint8_t*>(present.data()), static_cast<size_t>(present.size())},
+                     static_cast<size_t>(present.shape(1)), {whole.data(), static_cast<size_t>(whole.size())}, level,
+                     {block_first.data(), static_cast<size_t>(block_first.size())}, draw, one_level);
+        const auto blocks = as_size(draw.size());
+        return py::make_tuple(to_numpy<uint8_t>(draw, {blocks}).attr("astype")("bool"),
+                              to_numpy<uint8_t>(one_level, {blocks}).attr("astype")("bool"));
+    }, py::arg("present"), py::arg("whole"), py::arg("level"), py::arg("block_first"),
+       "(draw, one_level) bool per block of clusters [block_first[b], block_first[b + 1]): some visible cluster has a "
+       "segment at level / every cluster is visible with all its segments at it (ViewSelection.frame_levels' present "
+       "and whole).");
     m.def("auto_guide_count", &auto_guide_count, py::arg("strand_count"),
           "The guide count build_lod uses when guides is 0.");
 }

@@ -65,3 +65,28 @@ def test_environment_directions_match_cycles(environment_scene):
         row, column = np.unravel_index(np.argmax(directions.reshape(-1, 3) @ forward), (HEIGHT, WIDTH))
         np.testing.assert_allclose(seen, pixels[row, column, :3], atol=0.05,
                                    err_msg=f"looking along {forward.round(2)}: mapped to row {row}, column {column}")
+
+
+def test_world_block_holds_only_the_lobes_that_carry_light():
+    """The shader loops over every lobe the block gives it: a uniform world (the default world) gives
+    none, and lobes of coefficient 0 are left out of any fit, the others kept in order."""
+    from hairlod.blender.preview import world_srbf
+    from hairlod.world_lighting import WorldLights, uniform_world
+
+    uniform = uniform_world((0.2, 0.3, 0.4), world_srbf.MAX_LOBES)
+    data = world_srbf.world_block_data(uniform)
+    assert data[4] == 0.0
+    np.testing.assert_allclose(data[0:4], (0.2, 0.3, 0.4, 1.0), rtol=1e-6)
+
+    directions = np.eye(3)[[0, 1, 2, 0]] * np.array([[1.0], [1.0], [1.0], [-1.0]])
+    coefficients = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 2.0]])
+    lights = WorldLights(constant=np.array([0.1, 0.1, 0.1]), directions=directions, lam=4.0,
+                         coefficients=coefficients, relative_error=0.0)
+    data = world_srbf.world_block_data(lights)
+    assert data[4] == 2.0
+    block_directions = data[8:8 + 4 * world_srbf.MAX_LOBES].reshape(-1, 4)
+    block_colours = data[8 + 4 * world_srbf.MAX_LOBES:].reshape(-1, 4)
+    np.testing.assert_array_equal(block_directions[:2, :3], directions[[1, 3]])
+    np.testing.assert_array_equal(block_colours[:2, :3], coefficients[[1, 3]])
+    assert not block_colours[2:].any()
+    assert world_srbf.world_block_data(None)[3] == 0.0  # the ambient path

@@ -138,7 +138,8 @@ TEST_F(ViewSelectionTest, StridedStrandsCoverTheSelectedSegmentsWithChords) {
 
 // The per-frame texture and presence flags restate the selection: the level of each visible
 // cluster and segment, -1 for culled clusters, and a flag per (visible cluster, level in use);
-// a camera that sees only part of the hair culls some clusters.
+// a camera that sees only part of the hair culls some clusters; and per cluster the level all its
+// segments share, where they do and it is visible.
 TEST_F(ViewSelectionTest, FrameLevelsRestateTheSelection) {
     for (const auto& [distance, direction] : {std::pair{6.0f, glm::vec3(1.0f, 0.3f, 0.2f)}, {0.4f, glm::vec3(0.2f, 1.0f, 0.1f)}}) {
         ViewSelection view(*asset_, asset_->rest_geometry());
@@ -146,7 +147,8 @@ TEST_F(ViewSelectionTest, FrameLevelsRestateTheSelection) {
         const Selection& selection = view.selection();
         std::vector<float> levels;
         std::vector<uint8_t> present;
-        view.frame_levels(levels, present);
+        std::vector<int8_t> whole;
+        view.frame_levels(levels, present, whole);
         const size_t clusters = selection.visible.size(), segments = static_cast<size_t>(selection.segments);
         const auto level_count = static_cast<size_t>(view.level_count());
         ASSERT_EQ(levels.size(), clusters * segments);
@@ -159,6 +161,15 @@ TEST_F(ViewSelectionTest, FrameLevelsRestateTheSelection) {
                 if (selection.visible[c]) expected_present[c * level_count + level] = 1;
             }
         EXPECT_EQ(present, expected_present);
+        ASSERT_EQ(whole.size(), clusters);
+        size_t whole_clusters = 0;
+        for (size_t c = 0; c < clusters; ++c) {
+            const auto first = selection.level.begin() + static_cast<std::ptrdiff_t>(c * segments);
+            const bool one_level = std::all_of(first, first + static_cast<std::ptrdiff_t>(segments), [&](uint8_t level) { return level == *first; });
+            EXPECT_EQ(whole[c], selection.visible[c] && one_level ? static_cast<int8_t>(*first) : int8_t{-1}) << c;
+            whole_clusters += whole[c] >= 0;
+        }
+        EXPECT_GT(whole_clusters, 0u);
         if (distance < 1.0f) {
             EXPECT_NE(std::count(selection.visible.begin(), selection.visible.end(), uint8_t{0}), 0) << "some cluster culled";
         }

@@ -148,12 +148,16 @@ def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and
         selected = view_selection.indices(level, primitive).reshape(-1, width)
         assert all(tuple(e) in elements for e in selected)
         # A block is drawn exactly when the selection puts one of its visible segments at this level.
-        texture, present = view_selection.frame_levels()
+        texture, present, whole = view_selection.frame_levels()
         np.testing.assert_array_equal(texture, np.where(selection.visible[:, None], selection.levels, -1))
-        to_draw = preview_buffers.blocks_to_draw(present[:, level], bounds)
+        # A block skips the per-fragment test exactly when every segment of every cluster in it is
+        # visible and at this level.
+        to_draw, one_level = preview_buffers.level_blocks(present, whole, level, bounds)
         for block, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
             wanted = ((selection.levels[a:b] == level) & selection.visible[a:b, None]).any()
             assert to_draw[block] == wanted
+            assert one_level[block] == ((selection.levels[a:b] == level).all() and selection.visible[a:b].all())
+            assert to_draw[block] or not one_level[block]
     with pytest.raises(ValueError, match="primitive"):
         preview_buffers.block_indices(first, 0, 1, n_c, "points")
 
@@ -170,3 +174,33 @@ def test_blocks_are_runs_of_the_whole_levels_elements(asset_and_strands):
         for a, b in zip(bounds[:-1], bounds[1:]):
             np.testing.assert_array_equal(whole[row_first[a]:row_first[b]],
                                           preview_buffers.block_indices(first, a, b, n_c, primitive))
+
+
+def test_blocks_near_to_far_orders_by_view_depth():
+    # Three blocks of clusters along the view axis; the camera at z = 10 looks down -z: the block whose
+    # clusters' mean centre is nearest (largest z) comes first, whatever the spheres' radii.
+    bounds = np.array([0, 2, 3, 5])
+    spheres = np.array([[0, 0, -4, 1], [0, 0, -2, 9],   # block 0: mean z -3
+                        [5, 0, 6, 0.1],                  # block 1: z 6
+                        [0, 1, 0, 2], [0, -1, 2, 2]],    # block 2: mean z 1
+                       dtype=np.float32)
+    view = look_at(np.array([0.0, 0.0, 10.0]), np.zeros(3), up=(0.0, 1.0, 0.0))
+    centres = preview_buffers.block_centres(spheres, bounds)
+    np.testing.assert_allclose(centres[:, 2], [-3, 6, 1])
+    np.testing.assert_array_equal(preview_buffers.blocks_near_to_far(centres, view), [1, 2, 0])
+    # From the other side the order turns round.
+    view = look_at(np.array([0.0, 0.0, -10.0]), np.zeros(3), up=(0.0, 1.0, 0.0))
+    np.testing.assert_array_equal(preview_buffers.blocks_near_to_far(centres, view), [0, 2, 1])
+    assert preview_buffers.block_centres(spheres, np.array([0])).shape == (0, 3)
+
+
+def test_level_blocks_refuses_arrays_that_do_not_match():
+    present, whole = np.ones((4, 2), bool), np.zeros(4, np.int8)
+    to_draw, one_level = preview_buffers.level_blocks(present, whole, 0, np.array([0, 1, 4]))
+    assert to_draw.tolist() == [True, True] and one_level.tolist() == [True, True]
+    with pytest.raises(ValueError, match="block_first"):
+        preview_buffers.level_blocks(present, whole, 0, np.array([0, 1, 3]))
+    with pytest.raises(ValueError, match="level 2"):
+        preview_buffers.level_blocks(present, whole, 2, np.array([0, 4]))
+    with pytest.raises(ValueError, match="present"):
+        preview_buffers.level_blocks(present[:3], whole, 0, np.array([0, 4]))

@@ -102,6 +102,12 @@ def steps():
     blocks_image = screenshot(window, area, "lod_preview_mixed_blocks.png")
     state = next(iter(preview.views.values()))
     check(any(flags is not None for flags in state.to_draw), "mixed view: some level is drawn from its blocks")
+    # Blocks whose every segment is at the level drawn go through the shader without the test (and its
+    # discard), the others through the shader with it: both are in this image.
+    check(any(flags is not None and (flags & one).any() for flags, one in zip(state.to_draw, state.one_level)),
+          "mixed view: some blocks are drawn without the per-fragment selection test")
+    check(any(flags is not None and (flags & ~one).any() for flags, one in zip(state.to_draw, state.one_level)),
+          "mixed view: some blocks are drawn with the per-fragment selection test")
     saved = list(state.to_draw), list(state.exact)
     for level in range(preview.level_count):
         kind = "thick" if level < preview.level_count - 1 else "strand"

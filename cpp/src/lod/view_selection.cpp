@@ -64,18 +64,23 @@ std::vector<uint32_t> ViewSelection::indices(int level, DrawPrimitive primitive)
     return out;
 }
 
-void ViewSelection::frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present) const {
+void ViewSelection::frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present,
+                                 std::vector<int8_t>& whole) const {
     const size_t clusters = selection_.visible.size(), segments = static_cast<size_t>(selection_.segments);
     const auto level_total = static_cast<size_t>(level_count());
     levels.resize(clusters * segments);
     present.assign(clusters * level_total, 0);
+    whole.assign(clusters, -1);
     for (size_t c = 0; c < clusters; ++c) {
         const bool visible = selection_.visible[c] != 0;
+        bool one_level = visible && segments > 0;
         for (size_t s = 0; s < segments; ++s) {
             const uint8_t level = selection_.level[c * segments + s];
             levels[c * segments + s] = visible ? static_cast<float>(level) : -1.0f;
             if (visible && level < level_total) present[c * level_total + level] = 1;
+            one_level = one_level && level == selection_.level[c * segments];
         }
+        if (one_level && selection_.level[c * segments] < level_total) whole[c] = static_cast<int8_t>(selection_.level[c * segments]);
     }
 }
 
@@ -122,6 +127,30 @@ int64_t ViewSelection::strided_strand_segments(std::span<const int32_t> cluster_
     int64_t chords = 0;
     visit_strided_chords(cluster_strides, [&](int32_t, int32_t count, int32_t, int32_t) { chords += count; });
     return chords;
+}
+
+void level_blocks(std::span<const uint8_t> present, size_t level_count, std::span<const int8_t> whole, int level,
+                  std::span<const int64_t> block_first, std::vector<uint8_t>& draw, std::vector<uint8_t>& one_level) {
+    const size_t clusters = whole.size();
+    if (level_count == 0 || present.size() != clusters * level_count)
+        throw Error("level_blocks: present must hold level_count entries per cluster of whole");
+    if (level < 0 || static_cast<size_t>(level) >= level_count)
+        throw Error("level_blocks: level " + std::to_string(level) + " outside [0, " + std::to_string(level_count) + ")");
+    if (block_first.empty() || block_first.front() != 0 || static_cast<size_t>(block_first.back()) != clusters ||
+        !std::is_sorted(block_first.begin(), block_first.end()))
+        throw Error("level_blocks: block_first must rise from 0 to the cluster count");
+    const size_t blocks = block_first.size() - 1;
+    draw.assign(blocks, 0);
+    one_level.assign(blocks, 0);
+    for (size_t b = 0; b < blocks; ++b) {
+        bool any = false, all = block_first[b] < block_first[b + 1];
+        for (auto c = static_cast<size_t>(block_first[b]); c < static_cast<size_t>(block_first[b + 1]); ++c) {
+            any = any || present[c * level_count + static_cast<size_t>(level)] != 0;
+            all = all && whole[c] == level;
+        }
+        draw[b] = any;
+        one_level[b] = all;
+    }
 }
 
 }  // namespace hairlod

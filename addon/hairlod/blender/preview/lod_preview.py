@@ -29,7 +29,7 @@ from mathutils import Vector
 from ... import lod, opacity_map, preview_buffers, self_shadow
 from .shaders import glsl_source
 from ..principled_hair import material_params, object_hair_params
-from . import opacity_maps, view_transform
+from . import opacity_maps, view_transform, world_srbf
 from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -38,7 +38,7 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
-_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity") -> GPUShader, built on first draw
+_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity", test_level) -> GPUShader, built on first draw
 _view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
 # Custom property of an object whose drawing the preview replaces: its own display type, to restore.
 SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
@@ -97,10 +97,11 @@ def frame_block(model, view_projection, camera, viewport, ambient, light_count, 
     return gpu.types.GPUUniformBuf(gpu.types.Buffer('FLOAT', data.size, data))
 
 
-def _create_shader(kind, purpose="shade"):
+def _create_shader(kind, purpose="shade", test_level=True):
     """The program drawing a level of `kind` ("thick" or "strand") for `purpose`: "shade" (the
-    viewport), or a light's pass of the opacity maps, "depth" or "opacity"."""
-    from . import bcsdf_textures, world_srbf
+    viewport), or a light's pass of the opacity maps, "depth" or "opacity". A shading program without
+    `test_level` draws segments all selected at its level (no selection test, no discard)."""
+    from . import bcsdf_textures
 
     interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_interface")
     interface.smooth('VEC3', "v_position")
@@ -136,7 +137,8 @@ def _create_shader(kind, purpose="shade"):
     info.vertex_source(f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n" +
                        glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
-        info.fragment_source(view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
+        info.fragment_source(("" if test_level else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") +
+                             view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
                              glsl_source("selection.glsl", "aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
                                          "opacity_map.glsl", "view_transform.glsl", "hair.frag.glsl"))
     else:
@@ -145,10 +147,11 @@ def _create_shader(kind, purpose="shade"):
     return gpu.shader.create_from_info(info)
 
 
-def shader(kind, purpose="shade"):
-    if (kind, purpose) not in _shaders:
-        _shaders[kind, purpose] = _create_shader(kind, purpose)
-    return _shaders[kind, purpose]
+def shader(kind, purpose="shade", test_level=True):
+    key = (kind, purpose, bool(test_level))
+    if key not in _shaders:
+        _shaders[key] = _create_shader(kind, purpose, test_level)
+    return _shaders[key]
 
 
 def compile_shaders():
@@ -156,6 +159,7 @@ def compile_shaders():
     for kind in ("thick", "strand"):
         for purpose in ("shade", "depth", "opacity"):
             shader(kind, purpose)
+        shader(kind, "shade", test_level=False)
 
 
 def _attributes(kind):
@@ -227,10 +231,13 @@ class ViewState:
         self.selection = selection
         self.texture = None                  # GPUTexture [segments x clusters] of selected levels, -1 when culled
         self.to_draw = [None] * level_count  # per dense level: bool per block; None for a sparse level
+        self.one_level = [None] * level_count  # per dense level: bool per block, every segment at the level
         self.exact = [None] * level_count    # per sparse level: GPUBatch of its selected segments, or None
         self.exact_keys = [None] * level_count  # the selected segments each exact batch was built for
         self.block_strides = None  # per block of the strand level: index into STRAND_STRIDES (vertex LoD)
         self.strides_key = None    # the view and pose block_strides were chosen for
+        self.block_order = {}      # level drawn from blocks -> its blocks nearest first (blocks_near_to_far)
+        self.order_key = None      # the view and pose block_order was made for
         self.segments = None       # segments drawn per level (LodPreview.segments_drawn), counted when read
 
 
@@ -267,6 +274,7 @@ class LodPreview:
         # pose drawn.
         self.stride_deviation = None
         self.cluster_bounds = None
+        self.block_centres = None  # (pose_version, per level preview_buffers.block_centres)
 
     @property
     def level_count(self):
@@ -351,7 +359,7 @@ class LodPreview:
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
         the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
         when its selected segments change. A few tens of kB per frame and small index lists."""
-        values, present = state.selection.frame_levels()
+        values, present, whole = state.selection.frame_levels()
         state.segments = None  # counted again when the statistics are read
         clusters, segments = values.shape
         state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
@@ -359,7 +367,8 @@ class LodPreview:
         selected = state.selection.segments_per_level()
         for level, blocks in enumerate(self.blocks):
             if selected[level] > EXACT_SEGMENTS:
-                state.to_draw[level] = preview_buffers.blocks_to_draw(present[:, level], blocks.bounds)
+                state.to_draw[level], state.one_level[level] = preview_buffers.level_blocks(present, whole, level,
+                                                                                            blocks.bounds)
                 state.exact[level], state.exact_keys[level] = None, None
                 continue
             state.to_draw[level] = None
@@ -389,6 +398,22 @@ class LodPreview:
         state.block_strides = strides
         return changed
 
+    def update_block_order(self, state, model_view):
+        """For each level drawn from its blocks, the blocks nearest the camera first; made again when
+        the view or the pose changed (the blocks' centres once per pose)."""
+        key = (model_view.tobytes(), self.pose_version)
+        if key != state.order_key:
+            state.order_key, state.block_order = key, {}
+        if self.block_centres is None or self.block_centres[0] != self.pose_version:
+            self.block_centres = (self.pose_version, [None] * self.level_count)
+        centres = self.block_centres[1]
+        for level, flags in enumerate(state.to_draw):
+            if flags is None or level in state.block_order:
+                continue
+            if centres[level] is None:
+                centres[level] = preview_buffers.block_centres(self.cluster_bounds, self.blocks[level].bounds)
+            state.block_order[level] = preview_buffers.blocks_near_to_far(centres[level], model_view)
+
     def cluster_strides(self, state):
         """int32 [clusters]: the stride each L0 cluster's strands are drawn at (its block's)."""
         return preview_buffers.cluster_strides(state.block_strides, self.blocks[-1].bounds)
@@ -401,17 +426,29 @@ class LodPreview:
             segments[-1] = state.selection.strided_strand_segments(self.cluster_strides(state))
         return segments
 
-    def _draw_level(self, state, level, program):
+    def _draw_level(self, state, level, program_for):
+        """Draws `level` with program_for(test_level), which binds the level's program with or without
+        the per-fragment test of the selection: the blocks whose every segment is at this level go
+        without it (no discard, so the GPU can test depth before shading), the others with it."""
+        thick = level < self.level_count - 1
         if state.to_draw[level] is None:
             if state.exact[level] is not None:
-                state.exact[level].draw(program)
+                # A thick level's exact list holds only its selected segments; the strands' chords may
+                # span segments selected at other levels (vertex LoD), which the test drops.
+                state.exact[level].draw(program_for(not thick))
             return
         blocks = self.blocks[level]
-        strides = state.block_strides if level == self.level_count - 1 else None
-        for block in np.flatnonzero(state.to_draw[level]):
-            batch = blocks.batch(block, 0 if strides is None else strides[block])
-            if batch is not None:
-                batch.draw(program)
+        strides = None if thick else state.block_strides
+        order = state.block_order[level]
+        for test_level in (False, True):
+            chosen = order[(state.to_draw[level] & (state.one_level[level] != test_level))[order]]
+            if not chosen.size:
+                continue
+            program = program_for(test_level)
+            for block in chosen:
+                batch = blocks.batch(block, 0 if strides is None else strides[block])
+                if batch is not None:
+                    batch.draw(program)
 
     @property
     def shadow_level(self):
@@ -491,7 +528,6 @@ class LodPreview:
         ambient path. Fitted and tabulated again only when the world or the hair's parameters change;
         `self.world_status` says which path is in use and why."""
         from ... import hair_params, preview_luts
-        from . import world_srbf
 
         world = bpy.context.scene.world
         params = object_hair_params(obj)
@@ -503,7 +539,7 @@ class LodPreview:
                 texture = world_srbf.empty_texture()
             else:
                 # A uniform world (the default one, any world colour) has no lobes: its row alone.
-                lobes = bool(np.any(lights.coefficients > 0.0))
+                lobes = bool(world_srbf.lit_lobes(lights).any())
                 texture = world_srbf.response_texture(preview_luts.srbf_tables(params, lights.lam, lobes=lobes))
             self.world = (key, lights, reason, world_srbf.world_block(lights), texture)
         return self.world[3], self.world[4]
@@ -516,12 +552,15 @@ class LodPreview:
         lights, reason = self.world[1], self.world[2]
         if lights is None:
             return f"World: ambient ({reason})"
-        return f"World: {len(lights.directions)} SRBF lights, {100.0 * lights.relative_error:.1f}% error"
+        lobes = world_srbf.lit_lobes(lights)
+        if not lobes.any():
+            return f"World: uniform (no SRBF lobes), {100.0 * lights.relative_error:.1f}% error"
+        return f"World: {int(lobes.sum())} SRBF lights, {100.0 * lights.relative_error:.1f}% error"
 
     def draw(self, obj, region, region_3d, settings):
         # With Statistics on, the GPU's queue is drained before and after the preview's commands, so the
         # draw time holds the GPU's work (a little slower; Python has no GPU timer queries).
-        finish = _gpu_finish() if settings.show_statistics else None
+        finish = gpu_finish() if settings.show_statistics else None
         if finish is not None:
             finish()
         start = time.perf_counter()
@@ -541,6 +580,8 @@ class LodPreview:
         if changed or strides_changed or state.texture is None:
             self.upload_selection(state)
         selected = time.perf_counter()
+        # The order the blocks are drawn in (part of drawing, not of the selection: counted in draw_ms).
+        self.update_block_order(state, model_view_array)
 
         textures = self.bcsdf_textures(obj, settings)
         view_lut, self.view_transform_exact = _view_transforms.texture(bpy.context.scene, on_baked=_tag_viewports)
@@ -565,22 +606,26 @@ class LodPreview:
         for level in range(self.level_count):
             if state.exact[level] is None and (state.to_draw[level] is None or not state.to_draw[level].any()):
                 continue
-            program = shader("thick" if level < self.level_count - 1 else "strand")
-            program.bind()
-            program.uniform_block("frame", frame)
-            program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))
-            program.uniform_int("shading_mode", 0 if shaded else 1)
-            program.uniform_int("draw_level", level)
-            program.uniform_sampler("selection_levels", state.texture)
-            program.uniform_sampler("skin_maps", self.skin_texture)
-            if shaded:
-                textures.bind(program)
-                if self.opacity is not None:
-                    self.opacity.bind(program)
-                program.uniform_block("hair_world", world_block)
-                program.uniform_sampler("srbf_lut", world_texture)
-                program.uniform_sampler("view_lut", view_lut)
-            self._draw_level(state, level, program)
+            def program_for(test_level, level=level):
+                program = shader("thick" if level < self.level_count - 1 else "strand", test_level=test_level)
+                program.bind()
+                program.uniform_block("frame", frame)
+                program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))
+                program.uniform_int("shading_mode", 0 if shaded else 1)
+                if test_level:  # else the compiler drops them
+                    program.uniform_int("draw_level", level)
+                    program.uniform_sampler("selection_levels", state.texture)
+                program.uniform_sampler("skin_maps", self.skin_texture)
+                if shaded:
+                    textures.bind(program)
+                    if self.opacity is not None:
+                        self.opacity.bind(program)
+                    program.uniform_block("hair_world", world_block)
+                    program.uniform_sampler("srbf_lut", world_texture)
+                    program.uniform_sampler("view_lut", view_lut)
+                return program
+
+            self._draw_level(state, level, program_for)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')
         if finish is not None:
@@ -606,7 +651,7 @@ class LodPreview:
                 "selected_segments": int(state.selection.segments_per_level().sum()), **timings}
 
 
-def _gpu_finish():
+def gpu_finish():
     """A function that returns once the GPU has done the work queued for the framebuffer being drawn:
     reading one of its pixels back must wait for it (the gpu module has no finish; bgl's glFinish is
     deprecated in 4.x and gone in 5.x)."""

@@ -46,8 +46,10 @@ public:
     // What a renderer drawing from static per-cluster buffers needs each frame, in one pass:
     // `levels` [clusters * segments] the selected level of each L0 cluster and segment as a float,
     // -1 for clusters outside the view (a texture the shader compares with the level it draws);
-    // `present` [clusters * level_count()] 1 where a visible cluster has a segment at that level.
-    void frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present) const;
+    // `present` [clusters * level_count()] 1 where a visible cluster has a segment at that level;
+    // `whole` [clusters] the level every segment of a visible cluster is at, -1 where they differ or
+    // the cluster is culled (its segments need no per-fragment test of the level).
+    void frame_levels(std::vector<float>& levels, std::vector<uint8_t>& present, std::vector<int8_t>& whole) const;
     // Segments selected per level (thick hairs or strands times their selected segments).
     std::vector<int64_t> segments_per_level() const;
     // The strands drawn through fewer control points (vertex LoD, vertex_lod.h): each L0 cluster's
@@ -68,5 +70,12 @@ private:
     Selection selection_;
     bool started_ = false;
 };
+
+// Per block of L0 clusters [block_first[b], block_first[b + 1]) of one level's static buffers, from
+// ViewSelection::frame_levels' `present` [clusters * level_count] and `whole` [clusters]: `draw` 1
+// where some visible cluster of the block has a segment at `level`, `one_level` 1 where every cluster
+// of the block is visible with all its segments at it (a renderer then needs no per-fragment test).
+void level_blocks(std::span<const uint8_t> present, size_t level_count, std::span<const int8_t> whole, int level,
+                  std::span<const int64_t> block_first, std::vector<uint8_t>& draw, std::vector<uint8_t>& one_level);
 
 }  // namespace hairlod

@@ -15,10 +15,14 @@
 
 void main()
 {
-  /* Only the segments Huang 2025 Eq. 16 selected at this batch's level (selection.glsl). */
+  /* Only the segments Huang 2025 Eq. 16 selected at this batch's level (selection.glsl); batches whose
+   * every segment is at it skip the test (HAIRLOD_ALL_AT_DRAW_LEVEL): without a discard the GPU can
+   * test depth before shading. */
+#ifndef HAIRLOD_ALL_AT_DRAW_LEVEL
   if (!selected_at_draw_level()) {
     discard;
   }
+#endif
   float across = clamp(v_across, -1.0, 1.0);
   if (shading_mode == 1) {
     float facing = sqrt(max(1.0 - across * across, 0.0));
