@@ -468,7 +468,8 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
     bent_guides = temporal.bend(rest_guides, 0.4)
     cpu_skin_ms = 1e3 * median_seconds(lambda: asset.skin(bent_guides), repeats=5)
 
-    rest = asset.skin(rest_guides)["strands"].points.reshape(-1, control_points, 3)
+    rest_geometry = asset.skin(rest_guides)
+    rest = rest_geometry["strands"].points.reshape(-1, control_points, 3)
     size = float(np.linalg.norm(rest.reshape(-1, 3).max(0) - rest.reshape(-1, 3).min(0)))
     radius = float(np.median(hair.radius))
     turn_angle, bend_angle = np.radians(30.0), 0.4
@@ -501,4 +502,18 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
         # The skinned thick hairs against the skinned strands, and against the strands really bent.
         "coverage_bent": _skinned_coverage(asset, bent),
         "coverage_of_bent_strands": _skinned_coverage(asset, bent, temporal.bend(rest, bend_angle)),
+        # The same as strands passing through their hair's sections (thick_hair_check.strands_through_sections):
+        # at rest, skinned, and the strands really bent.
+        "through_sections_rest": _through_sections(asset, rest_geometry, rest),
+        "through_sections_bent": _through_sections(asset, bent, bent_points),
+        "through_sections_of_bent_strands": _through_sections(asset, bent, temporal.bend(rest, bend_angle)),
     }
+
+
+def _through_sections(asset, geometry, points):
+    """Per thick level of `geometry` (LodAsset.skin): the share of strands (`points` [S, n_c, 3]) passing
+    through their hair's sections."""
+    from .thick_hair_check import strands_through_sections
+
+    return [strands_through_sections(skinned["centres"], skinned["major"], skinned["minor"], level.membership, points)
+            for level, skinned in zip(asset.levels, geometry["levels"])]

@@ -29,7 +29,7 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "level_blocks", "block_centres",
+__all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "whole_chunks", "cluster_blocks", "block_indices", "level_blocks", "blocks_wasteful", "block_centres",
            "blocks_near_to_far", "STRAND_STRIDES",
            "strided_lines", "stride_deviation", "view_block_strides", "cluster_strides"]
 
@@ -37,6 +37,14 @@ __all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "wh
 # segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
 # levels). About 1100 blocks for 100k strands of 32 points; a frame draws only the flagged ones.
 BLOCK_SEGMENTS = 1 << 12
+# A thick level is drawn from an exact index list instead of its blocks when the blocks hold more than
+# this many times its selected segments of segments selected at other levels (blocks_wasteful): a thick
+# hair not selected is wider than the strands selected in its place, so those are many fragments shaded
+# or tested and dropped. At a mid view of 100k strands the finer thick level's blocks held 7.5x what it
+# selected, and drawing the thick levels took about 300 ms a redraw on llvmpipe against 30 ms from exact
+# lists. A thick level has a few times fewer segments than the strands (>= 4 strands a hair, Sec. 5.1),
+# so its list is cheap to rebuild.
+THICK_WASTE_RATIO = 3.0
 # Strides of the strand level's index buffers, finest first (1 draws every control point).
 STRAND_STRIDES = (1, 2, 4, 8, 16)
 # The viewport's default tolerance of the strands' vertex LoD, in pixels: half a pixel, the error the
@@ -102,6 +110,15 @@ def level_blocks(present, whole, level, bounds):
     then has no discard, and the GPU may test depth before shading (C++ lod/view_selection.h)."""
     return _core.level_blocks(np.asarray(present, dtype=bool), np.asarray(whole, dtype=np.int8), int(level),
                               np.asarray(bounds, dtype=np.int64))
+
+
+def blocks_wasteful(block_segments, to_draw, selected, ratio=None):
+    """Whether the blocks flagged in ``to_draw`` (level_blocks), of ``block_segments`` segments each,
+    hold more than ``ratio`` (default THICK_WASTE_RATIO) times the level's ``selected`` segments of
+    segments selected elsewhere."""
+    ratio = THICK_WASTE_RATIO if ratio is None else ratio
+    drawn = int(np.asarray(block_segments, dtype=np.int64)[np.asarray(to_draw, dtype=bool)].sum())
+    return drawn - int(selected) > ratio * int(selected)
 
 
 def block_centres(cluster_bounds, bounds):

@@ -8,6 +8,8 @@ is checked against what that model assumes, one number per cause:
 - ends: how far the members' tips run past the hair's last cross-section and their roots before its
   first, along the end segments, in segment lengths (the model holds no strands there, and all of
   them up to there);
+- through sections: the share of members passing through each cross-section's ellipse where they
+  cross its plane (the model holds them all in its sections; strands_through_sections);
 - crossings: lines in the plane of sampled cross-sections, across the ellipse (uniform direction and
   offset) and from a member inside it outwards, counting the members they pass within a strand radius
   against the model's expected count (bcsdf::expected_hairs_met), and the share passing none against
@@ -27,7 +29,8 @@ import numpy as np
 from . import _core, bcsdf, lod, render
 from .hair_params import as_params
 
-__all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_HAIRS", "SPP", "bench_thick_hairs", "crossings", "format_tables", "member_ends", "renders_against_members"]
+__all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_HAIRS", "SPP", "bench_thick_hairs", "crossings", "format_tables", "member_ends",
+           "renders_against_members", "strands_through_sections"]
 
 # The suns of renders_against_members(), towards the light in the hair's frame at its middle section:
 # weights of the view axis (towards the camera), of the axis across the view, and of the hair's direction.
@@ -57,6 +60,45 @@ def member_ends(level, points):
     before = np.einsum("ij,ij->i", centres[hair, 0] - points[:, 0], start[hair]) / np.maximum(start_length[hair], 1e-30)
     return {"tips_beyond_fraction": float(np.mean(beyond > 0.0)), "tips_beyond_p90": float(np.percentile(beyond, 90)),
             "tips_beyond_max": float(beyond.max()), "roots_before_p90": float(np.percentile(before, 90))}
+
+
+def strands_through_sections(centres, major, minor, membership, points):
+    """The share of member strands that pass through their hair's elliptical sections: per hair h and
+    control point k (`centres`, `major`, `minor` semi-axis vectors [H, n_c, 3]), each member strand
+    (`membership` [S] its hair; `points` [S, n_c, 3] its polyline) is crossed with the plane of the
+    section's axes where it crosses nearest to its own k-th point, and counted when that crossing lies
+    inside the ellipse (a strand that never crosses the plane is outside). This is whether the thick
+    hair, a tube of these sections, holds the strand there. The build's coverage (ThickLevel.coverage)
+    instead projects each member's k-th point onto the plane, which holds the strand only where the
+    k-th points of a cluster lie in its plane: they do not where the strands differ in length or
+    spread, and the plane fitted to them tilts from the strands."""
+    centres, major, minor = (np.asarray(v, np.float64) for v in (centres, major, minor))
+    points = np.asarray(points, np.float64)
+    hair = np.asarray(membership, np.int64)
+    strands, nc = points.shape[:2]
+    if strands == 0:
+        return float("nan")
+    inside = np.zeros((strands, nc), bool)
+    for k in range(nc):
+        c, a, b = centres[hair, k], major[hair, k], minor[hair, k]
+        normal, _ = _unit(np.cross(a, b))
+        depth = np.einsum("sjx,sx->sj", points - c[:, None], normal)  # each point's side of the plane
+        nearest, crossing = np.full(strands, np.inf), np.zeros((strands, 3))
+        for j in range(nc - 1):
+            d0, d1 = depth[:, j], depth[:, j + 1]
+            crosses = (d0 * d1 <= 0.0) & (d0 != d1)
+            f = np.where(crosses, d0 / np.where(crosses, d0 - d1, 1.0), 0.0)
+            closer = crosses & (np.abs(j + f - k) < nearest)
+            nearest[closer] = np.abs(j + f - k)[closer]
+            crossing[closer] = (points[:, j] + f[:, None] * (points[:, j + 1] - points[:, j]))[closer]
+        # The crossing lies in the plane: its coordinates on the (possibly skewed) axes, by least squares.
+        offset = crossing - c
+        aa, bb, ab = (a * a).sum(-1), (b * b).sum(-1), (a * b).sum(-1)
+        da, db = (offset * a).sum(-1), (offset * b).sum(-1)
+        det = np.maximum(aa * bb - ab * ab, 1e-300)
+        x, y = (bb * da - ab * db) / det, (aa * db - ab * da) / det
+        inside[:, k] = np.isfinite(nearest) & (x * x + y * y <= 1.0 + 1e-5)
+    return float(inside.mean())
 
 
 def _line_counts(x, y, r, ox, oy, dx, dy, length, skip=None):
@@ -191,6 +233,10 @@ def bench_thick_hairs(strands, asset=None, guides=None, params=None, hairs=RENDE
         levels.append({"level": asset.level_ids[position], "hairs": int(len(level.n_total)),
                        "mean_members": float(np.mean(level.n_total)),
                        "ends": member_ends(level, points),
+                       "through_sections": strands_through_sections(
+                           level.centres, level.major_axis * level.radii[..., :1], level.minor_axis * level.radii[..., 1:],
+                           level.membership, points),
+                       "coverage_in_plane": float(level.coverage),
                        "crossings": crossings(level, members, points, radius, rng, hairs=lines_hairs),
                        "renders": renders_against_members(level, members, points, radius, params, rng, hairs=hairs,
                                                           spp=spp, seed=seed)})
@@ -206,14 +252,16 @@ def format_tables(result):
     """Markdown: one row per thick level, after a line saying what it measures."""
     lines = [f"Each thick level against its member strands ({result['strands']} strands at {result['control_points']} "
              f"control points). Ends: members' tips past the last section (share, 90th percentile and most, in "
-             f"segment lengths), roots before the first (90th percentile). Lines in sampled sections' planes: "
+             f"segment lengths), roots before the first (90th percentile). Through: the share of member strands "
+             f"passing through their sections' ellipses where they cross each section's plane (in brackets the "
+             f"build's coverage: their k-th points projected onto the plane). Lines in sampled sections' planes: "
              f"members passed over the model's count, and the share passing none (members / model), across the "
              f"ellipse and from a member outwards. Renders: hairs alone at {result['spp']} spp, the thick hair "
              f"(lod-single) over its strands (pt), R / G / B, per sun.", "",
-             "| level | hairs | strands per hair | tips past the end | roots before | across: count ratio, none | "
+             "| level | hairs | strands per hair | tips past the end | roots before | through | across: count ratio, none | "
              "from a member: count ratio, none | attenuated: viewer / side / behind | scattering: viewer / side / "
              "behind |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for level in result["levels"]:
         ends, lines_ = level["ends"], level["crossings"]
 
@@ -225,7 +273,8 @@ def format_tables(result):
         ratios = level["renders"]["ratios"]
         lines.append(f"| {level['level']} | {level['hairs']} | {level['mean_members']:.1f} | "
                      f"{100 * ends['tips_beyond_fraction']:.0f} %, {ends['tips_beyond_p90']:.2f}, {ends['tips_beyond_max']:.1f} | "
-                     f"{ends['roots_before_p90']:.2f} | {line_cell('across')} | {line_cell('from_member')} | "
+                     f"{ends['roots_before_p90']:.2f} | {level['through_sections']:.2f} ({level['coverage_in_plane']:.2f}) | "
+                     f"{line_cell('across')} | {line_cell('from_member')} | "
                      + " ; ".join(_rgb(ratios["attenuate"][side]) for side in LIGHT_SIDES) + " | "
                      + " ; ".join(_rgb(ratios["scatter"][side]) for side in LIGHT_SIDES) + " |")
     return "\n".join(lines)

@@ -176,6 +176,23 @@ def test_blocks_are_runs_of_the_whole_levels_elements(asset_and_strands):
                                           preview_buffers.block_indices(first, a, b, n_c, primitive))
 
 
+def test_blocks_wasteful_counts_the_segments_drawn_but_selected_elsewhere():
+    # Blocks of 10, 20 and 30 segments; the level selected 12 of them. Drawing blocks 0 and 2 rasterises
+    # 40 segments, 28 of them selected at other levels: more than 2x the 12 selected, within 3x.
+    segments = np.array([10, 20, 30])
+    to_draw = np.array([True, False, True])
+    assert preview_buffers.blocks_wasteful(segments, to_draw, 12, ratio=1.0)
+    assert preview_buffers.blocks_wasteful(segments, to_draw, 12, ratio=2.0)
+    assert not preview_buffers.blocks_wasteful(segments, to_draw, 12, ratio=3.0)
+    # Blocks holding only selected segments waste nothing; nothing drawn wastes nothing.
+    assert not preview_buffers.blocks_wasteful(segments, to_draw, 40, ratio=0.0)
+    assert not preview_buffers.blocks_wasteful(segments, np.zeros(3, bool), 0, ratio=0.0)
+    # Without a ratio, the preview's: 3 selected of 40 drawn waste 37 > 3 x 3 (at its default of 3).
+    assert preview_buffers.THICK_WASTE_RATIO == 3.0
+    assert preview_buffers.blocks_wasteful(segments, to_draw, 3)
+    assert not preview_buffers.blocks_wasteful(segments, to_draw, 12)
+
+
 def test_blocks_near_to_far_orders_by_view_depth():
     # Three blocks of clusters along the view axis; the camera at z = 10 looks down -z: the block whose
     # clusters' mean centre is nearest (largest z) comes first, whatever the spheres' radii.

@@ -6,14 +6,15 @@ LoD and attaches it to an empty object. Screenshots the viewport at a near, a mi
 distance with the preview on and off: the preview must draw hair pixels; the far view must draw at
 least 10x fewer segments than the near one; at mid distance the LoD image must be close to drawing
 every strand (PSNR reported). At a view with several levels, drawing the static cluster blocks with
-the per-segment discard must give the image of the exact per-level index lists. Draw times per frame (wm.redraw_timer) at the far view with the LoD and
+the per-segment discard must give the image of the exact per-level index lists, and so must the
+preview's own choice (a thick level whose blocks hold mostly other levels' segments drawn from an
+exact list). Draw times per frame (wm.redraw_timer) at the far view with the LoD and
 with every strand are printed, not asserted. Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
 """
 
 import math
 import os
 import sys
-import time
 
 import bpy
 import numpy as np
@@ -23,6 +24,8 @@ import harness  # noqa: E402  (tests/ui/harness.py)
 from harness import REPO_ROOT, check, screenshot  # noqa: E402
 
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
+sys.path.insert(0, os.path.join(REPO_ROOT, "scripts"))
+from viewport_capture import redraw  # noqa: E402  (scripts/viewport_capture.py: timed redraws the benchmarks share)
 
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
@@ -43,11 +46,9 @@ def psnr(a, b):
 
 
 def frame_ms(window, area, region, iterations=10):
-    """Mean milliseconds of a redraw of the viewport's main region."""
-    with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-        start = time.perf_counter()
-        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
-    return 1e3 * (time.perf_counter() - start) / iterations
+    """Mean milliseconds of a redraw of the viewport's main region, each waiting for the GPU to finish
+    it (without, llvmpipe's unfinished work lands in whatever is timed next)."""
+    return 1e3 * redraw(window, area, region, iterations, finish=True)
 
 
 def settle(area, preview, redraws=40):
@@ -92,10 +93,14 @@ def steps():
 
     # Levels mixed within the view (strands near the camera, thick hairs further back): drawing the
     # static blocks with the shader's per-segment discard must give the image of exact per-level
-    # index lists (what ViewSelection.indices selects), in the Levels overlay.
+    # index lists (what ViewSelection.indices selects), in the Levels overlay. Every level from its
+    # blocks first (a thick level whose blocks are mostly other levels' segments is otherwise drawn
+    # from an exact list, preview_buffers.blocks_wasteful: that is the third image).
     region_3d.view_distance = 6.0 * size
     settings.enabled, settings.overlay = True, 'LEVELS'
     settings.vertex_tolerance_px = 0.0  # every control point, as the exact lists below draw them
+    from hairlod import preview_buffers
+    default_waste_ratio, preview_buffers.THICK_WASTE_RATIO = preview_buffers.THICK_WASTE_RATIO, float("inf")
     yield from settle(area, preview)
     mixed = preview.stats["segments_per_level"]
     check(sum(count > 0 for count in mixed) >= 2, f"mixed view: several levels drawn {mixed}")
@@ -118,6 +123,22 @@ def steps():
     yield REDRAW_DELAY
     exact_image = screenshot(window, area, "lod_preview_mixed_exact.png")
     state.to_draw[:], state.exact[:] = saved
+    # The preview's own choice: the thick levels whose blocks would waste most go exact. This small
+    # hair's thick levels select fewer segments here than make a level dense (EXACT_SEGMENTS), so that
+    # bound is lowered for the image: the choice is then the waste rule's.
+    preview_buffers.THICK_WASTE_RATIO = default_waste_ratio
+    default_exact, lod_preview.EXACT_SEGMENTS = lod_preview.EXACT_SEGMENTS, 64
+    state.texture = None  # the next draw uploads the selection again and chooses how to draw each level
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    chosen_image = screenshot(window, area, "lod_preview_mixed_chosen.png")
+    selected = state.selection.segments_per_level()
+    check(any(state.to_draw[level] is None and selected[level] > lod_preview.EXACT_SEGMENTS
+              for level in range(preview.level_count - 1)),
+          f"mixed view: a thick level with more than {lod_preview.EXACT_SEGMENTS} selected segments is drawn from "
+          f"an exact list, its blocks being wasteful ({selected} selected)")
+    lod_preview.EXACT_SEGMENTS = default_exact
+    state.texture = None
     settings.enabled = False
     settings.property_unset("vertex_tolerance_px")
     area.tag_redraw()
@@ -127,6 +148,10 @@ def steps():
     differ = (np.abs(blocks_image - exact_image).max(axis=2) > 0.05) & hair
     check(hair.sum() > 100 and differ.sum() <= 0.002 * hair.sum(),
           f"mixed view: blocks + discard match the exact selection ({differ.sum()} of {hair.sum()} hair pixels differ)")
+    differ = (np.abs(chosen_image - exact_image).max(axis=2) > 0.05) & hair
+    check(differ.sum() <= 0.002 * hair.sum(),
+          f"mixed view: the preview's choice of blocks and lists matches the exact selection "
+          f"({differ.sum()} of {hair.sum()} hair pixels differ)")
     settings.overlay = 'SHADED'
 
     results = {}

@@ -9,7 +9,10 @@ of whole L0 clusters whose index buffers hold all their segments (preview_buffer
 the selection (level per L0 cluster and segment) as a small texture; the fragment shader drops
 segments selected at another level, and a block is drawn only when one of its clusters has a segment
 at that level. A level with few selected segments (EXACT_SEGMENTS) is drawn from an exact index list
-instead, small enough to rebuild within the frame budget when its ranges change.
+instead, small enough to rebuild within the frame budget when its ranges change; so is a thick level
+whose drawn blocks would mostly be dropped (preview_buffers.blocks_wasteful): a thick hair not
+selected is wider than the strands selected in its place, and the GPU rasterises it before the test
+drops it.
 
 The vertex buffers hold the rest pose. When the hair moves (playback, scrubbing, an edit of what
 deforms it), the frame-change and depsgraph handlers read the evaluated guide curves; the next draw
@@ -97,22 +100,38 @@ def frame_block(model, view_projection, camera, viewport, ambient, light_count, 
     return gpu.types.GPUUniformBuf(gpu.types.Buffer('FLOAT', data.size, data))
 
 
+# What the thick hairs' varyings hold, constant for a strand (one hair of radius r: no ellipse, n = 1,
+# rho = 1, the line drawn through its middle); the direction to the camera from the fragment's position.
+STRAND_CONSTANTS = """#define v_across 0.0
+#define v_widen 1.0
+#define v_ellipse vec3(0.0)
+#define v_cluster vec2(1.0)
+#define v_to_camera (frame.camera.xyz - v_position * frame.camera.w)
+"""
+
+
 def _create_shader(kind, purpose="shade", test_level=True):
     """The program drawing a level of `kind` ("thick" or "strand") for `purpose`: "shade" (the
     viewport), or a light's pass of the opacity maps, "depth" or "opacity". A shading program without
     `test_level` draws segments all selected at its level (no selection test, no discard)."""
     from . import bcsdf_textures
 
-    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_interface")
+    # Strands pass on only what varies along them (a strand is one hair: STRAND_CONSTANTS), and the
+    # selection's key only where the fragment tests it: every varying is set up per primitive and
+    # interpolated per fragment, which on a software GPU costs as much as the shading.
+    selection_varyings = purpose != "shade" or test_level
+    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_{int(selection_varyings)}_interface")
     interface.smooth('VEC3', "v_position")
     interface.smooth('VEC3', "v_tangent")
-    interface.smooth('VEC3', "v_to_camera")
-    interface.smooth('FLOAT', "v_across")
-    interface.smooth('FLOAT', "v_widen")
-    interface.flat('VEC3', "v_ellipse")
-    interface.flat('VEC2', "v_cluster")
-    interface.flat('INT', "v_select_cluster")
-    interface.smooth('FLOAT', "v_select_point")
+    if kind == "thick":
+        interface.smooth('VEC3', "v_to_camera")
+        interface.smooth('FLOAT', "v_across")
+        interface.smooth('FLOAT', "v_widen")
+        interface.flat('VEC3', "v_ellipse")
+        interface.flat('VEC2', "v_cluster")
+    if selection_varyings:
+        interface.flat('INT', "v_select_cluster")
+        interface.smooth('FLOAT', "v_select_point")
     info = gpu.types.GPUShaderCreateInfo()
     # Per-frame data in a uniform block (push constants are limited to 128 bytes).
     info.typedef_source(FRAME_BLOCK + world_srbf.WORLD_BLOCK)
@@ -134,15 +153,17 @@ def _create_shader(kind, purpose="shade", test_level=True):
         info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
-    info.vertex_source(f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n" +
+    defines = ("" if selection_varyings else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") + \
+        ("" if kind == "thick" else STRAND_CONSTANTS)
+    info.vertex_source(defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n" +
                        glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
-        info.fragment_source(("" if test_level else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") +
+        info.fragment_source(defines +
                              view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
                              glsl_source("selection.glsl", "aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
                                          "opacity_map.glsl", "view_transform.glsl", "hair.frag.glsl"))
     else:
-        info.fragment_source(opacity_maps.glsl_constants(purpose == "opacity") +
+        info.fragment_source(defines + opacity_maps.glsl_constants(purpose == "opacity") +
                              glsl_source("selection.glsl", "opacity_map.glsl", "opacity_pass.frag.glsl"))
     return gpu.shader.create_from_info(info)
 
@@ -200,6 +221,7 @@ class LevelBlocks:
     def __init__(self, kind, buffers, item_first, control_points):
         self.bounds = np.asarray(preview_buffers.cluster_blocks(item_first, control_points, preview_buffers.BLOCK_SEGMENTS),
                                  dtype=np.int64)
+        self.segments = np.diff(np.asarray(item_first, np.int64)[self.bounds]) * (control_points - 1)  # per block
         self.kind, self.buffers, self.item_first, self.control_points = kind, buffers, item_first, control_points
         primitive = "strips" if kind == "thick" else "lines"
         # Every segment's elements at once, cut per block: item-major, so a block's clusters are one
@@ -366,15 +388,16 @@ class LodPreview:
                                              data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
         selected = state.selection.segments_per_level()
         for level, blocks in enumerate(self.blocks):
+            thick = level < self.level_count - 1
             if selected[level] > EXACT_SEGMENTS:
-                state.to_draw[level], state.one_level[level] = preview_buffers.level_blocks(present, whole, level,
-                                                                                            blocks.bounds)
-                state.exact[level], state.exact_keys[level] = None, None
-                continue
+                to_draw, one_level = preview_buffers.level_blocks(present, whole, level, blocks.bounds)
+                if not (thick and preview_buffers.blocks_wasteful(blocks.segments, to_draw, selected[level])):
+                    state.to_draw[level], state.one_level[level] = to_draw, one_level
+                    state.exact[level], state.exact_keys[level] = None, None
+                    continue
             state.to_draw[level] = None
             # The level's segments (the texture's cells equal to it) decide its list, and the strands'
             # strides their chords.
-            thick = level < self.level_count - 1
             strides = None if thick else self.cluster_strides(state)
             key = np.packbits(values == level).tobytes() + (b"" if strides is None else strides.tobytes())
             if key == state.exact_keys[level]:

@@ -35,6 +35,8 @@ void main()
   v_ellipse = vec3(length(major_w), length(minor_w), half_width);
   v_widen = drawn_half_width / max(half_width, 1e-20);
   v_cluster = cluster;
+#ifndef HAIRLOD_ALL_AT_DRAW_LEVEL
   v_select_cluster = int(select_key.x + 0.5);
   v_select_point = select_key.y;
+#endif
 }
