@@ -15,6 +15,7 @@ import time
 import numpy as np
 
 from . import _core, bcsdf, bcsdf_bake, hair_params, memory_budget
+from .thick_hair_check import axes_coordinates, strands_through_sections
 
 def median_seconds(function, repeats=3):
     """Median wall time of `repeats` calls of `function()`, in seconds."""
@@ -414,12 +415,7 @@ def _skinned_coverage(asset, geometry, points=None):
     for level, skinned in zip(asset.levels, geometry["levels"]):
         hair = level.membership
         offset = points - skinned["centres"][hair]
-        a, b = skinned["major"][hair].astype(np.float64), skinned["minor"][hair].astype(np.float64)
-        # Solve offset ~ x a + y b in the least-squares sense (a, b need not stay orthogonal).
-        aa, bb, ab = (a * a).sum(-1), (b * b).sum(-1), (a * b).sum(-1)
-        da, db = (offset * a).sum(-1), (offset * b).sum(-1)
-        det = np.maximum(aa * bb - ab * ab, 1e-300)
-        x, y = (bb * da - ab * db) / det, (aa * db - ab * da) / det
+        x, y = axes_coordinates(offset, skinned["major"][hair].astype(np.float64), skinned["minor"][hair].astype(np.float64))
         coverage.append(float(np.mean(x * x + y * y <= 1.0 + 1e-5)))
     return coverage
 
@@ -513,7 +509,5 @@ def bench_skinning(strands=100_000, points=32, guides=None, levels=6, control_po
 def _through_sections(asset, geometry, points):
     """Per thick level of `geometry` (LodAsset.skin): the share of strands (`points` [S, n_c, 3]) passing
     through their hair's sections."""
-    from .thick_hair_check import strands_through_sections
-
     return [strands_through_sections(skinned["centres"], skinned["major"], skinned["minor"], level.membership, points)
             for level, skinned in zip(asset.levels, geometry["levels"])]

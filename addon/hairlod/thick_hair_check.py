@@ -29,8 +29,8 @@ import numpy as np
 from . import _core, bcsdf, lod, render
 from .hair_params import as_params
 
-__all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_HAIRS", "SPP", "bench_thick_hairs", "crossings", "format_tables", "member_ends",
-           "renders_against_members", "strands_through_sections"]
+__all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_HAIRS", "SPP", "axes_coordinates", "bench_thick_hairs", "crossings", "format_tables",
+           "member_ends", "renders_against_members", "strands_through_sections"]
 
 # The suns of renders_against_members(), towards the light in the hair's frame at its middle section:
 # weights of the view axis (towards the camera), of the axis across the view, and of the hair's direction.
@@ -91,14 +91,20 @@ def strands_through_sections(centres, major, minor, membership, points):
             closer = crosses & (np.abs(j + f - k) < nearest)
             nearest[closer] = np.abs(j + f - k)[closer]
             crossing[closer] = (points[:, j] + f[:, None] * (points[:, j + 1] - points[:, j]))[closer]
-        # The crossing lies in the plane: its coordinates on the (possibly skewed) axes, by least squares.
-        offset = crossing - c
-        aa, bb, ab = (a * a).sum(-1), (b * b).sum(-1), (a * b).sum(-1)
-        da, db = (offset * a).sum(-1), (offset * b).sum(-1)
-        det = np.maximum(aa * bb - ab * ab, 1e-300)
-        x, y = (bb * da - ab * db) / det, (aa * db - ab * da) / det
+        # The crossing lies in the plane: its coordinates on the (possibly skewed) axes.
+        x, y = axes_coordinates(crossing - c, a, b)
         inside[:, k] = np.isfinite(nearest) & (x * x + y * y <= 1.0 + 1e-5)
     return float(inside.mean())
+
+
+def axes_coordinates(offset, a, b):
+    """(x, y) with offset ~ x a + y b in the least-squares sense, per row (`a`, `b` [..., 3] need not
+    be orthogonal, as skinned axes are not): exact for an offset in their plane, else its orthogonal
+    projection onto it."""
+    aa, bb, ab = (a * a).sum(-1), (b * b).sum(-1), (a * b).sum(-1)
+    da, db = (offset * a).sum(-1), (offset * b).sum(-1)
+    det = np.maximum(aa * bb - ab * ab, 1e-300)
+    return (bb * da - ab * db) / det, (aa * db - ab * da) / det
 
 
 def _line_counts(x, y, r, ox, oy, dx, dy, length, skip=None):
