@@ -11,7 +11,8 @@
 5. Bake the aggregated BCSDF's lookup tables for the asset's hair counts (out/demo/bcsdf, OpenEXR).
 6. Judge the LoD's look on converged images (hairlod.quality, as `bench quality` does): at the mid and
    far views, a path-traced full-geometry reference at 1024 spp against full geometry with dual
-   scattering and the LoD with the aggregated and with the single-fibre BCSDF, each at 256 spp; print
+   scattering and the LoD with the aggregated and with the single-fibre BCSDF, each at 256 spp (the far
+   view, whose hair covers fewer pixels, at 8x both: quality.view_spp_scales); print
    segments, seconds, blurred PSNR, the mean hair radiance error per channel and the coverage error,
    and write side-by-side images with the error map (out/demo/images/<view>.png).
 
@@ -121,16 +122,18 @@ def bake_tables(asset):
 
 
 def judge_views(asset, strands):
-    print("6. Converged images, 128 px: pt reference at 1024 spp, each method at 256 spp "
-          "(pt: an independent render, the noise floor)")
     result, seconds = timed(quality.bench_quality, strands, asset=asset, views=VIEWS, methods=METHODS, eps_w=(),
                             keep_images=True)
+    samples = ", ".join(f"{view} {entry['reference_spp']} / {entry['spp']} spp" for view, entry in result["views"].items())
+    print(f"6. Converged images, 128 px, pt reference / each method at {samples} (more where the hair covers fewer "
+          "pixels; pt: an independent render, the noise floor, inf where equal to the reference to 8 bits)")
     for view, entry in result["views"].items():
         for method, row in entry["rows"].items():
+            blurred = "  inf" if row["blurred_psnr"] is None else f"{row['blurred_psnr']:5.1f}"
             radiance = " / ".join("n/a" if value is None else f"{100 * value:+.1f}" for value in row["radiance_error"])
             coverage = "n/a" if row["coverage_error"] is None else f"{100 * row['coverage_error']:+.1f} %"
             print(f"   {view:4s} {method:10s}: {row['segments']:7d} segments, {row['seconds']:5.2f} s, blurred PSNR "
-                  f"{row['blurred_psnr']:5.1f} dB, hair radiance {radiance} % (R / G / B), coverage {coverage}")
+                  f"{blurred} dB, hair radiance {radiance} % (R / G / B), coverage {coverage}")
     paths = quality.write_view_images(result, result["images"], OUT / "images")
     print(f"   in {seconds:.0f} s; side-by-side images: {', '.join(str(Path(p).relative_to(REPO)) for p in paths)}")
 

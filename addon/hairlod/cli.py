@@ -526,7 +526,7 @@ def _bench_quality(args):
                                    width_px=args.width_px, guides=args.guides,
                                    params=_read_params(args.params), keep_images=bool(args.images), progress=say,
                                    max_bounces=args.max_bounces, own_hair=args.own_hair,
-                                   vertex_tolerance_px=args.vertex_tolerance_px)
+                                   vertex_tolerance_px=args.vertex_tolerance_px, max_view_spp_scale=args.max_view_spp_scale)
     result.update(component="quality", input=args.input, lod=args.lod, read_seconds=read_seconds,
                   bench_seconds=time.perf_counter() - start)
     if args.images:
@@ -594,7 +594,7 @@ def command_bench(args):
 
 
 def build_parser():
-    from . import thick_hair_check
+    from . import quality, thick_hair_check
     from .render import BLUR_BOX, MAX_BOUNCES, OWN_HAIR, VIEWS
 
     parser = _Parser(prog="python3 -m hairlod", description="Strand hair to real-time LoD assets.")
@@ -734,6 +734,9 @@ def build_parser():
                        help=f"thick-hairs: hairs per level rendered against their strands (default {thick_hair_check.RENDERED_HAIRS})")
     bench.add_argument("--reference-spp", type=_integer(1), default=1024,
                        help="quality: spp of the pt reference (default 1024)")
+    bench.add_argument("--max-view-spp-scale", type=_integer(1), default=quality.MAX_VIEW_SPP_SCALE,
+                       help="quality: the most a view whose hair covers fewer pixels raises --spp and --reference-spp, "
+                       f"a power of two (1: every view at the spp given; default {quality.MAX_VIEW_SPP_SCALE})")
     bench.add_argument("--equal-time-spp", type=_integer(1), default=16,
                        help="quality: spp of the methods in the equal-time table (default 16)")
     bench.add_argument("--width", type=_integer(BLUR_BOX), default=128,

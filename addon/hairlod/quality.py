@@ -11,7 +11,9 @@ the signed relative error of the mean linear radiance per channel (R, G, B) over
 against the strands' (render.coverage: relative error of the total alpha, and mean |alpha difference|
 over all pixels). Every coverage render of a view uses the methods' seed and `spp`, so geometry equal
 to the strands reads exactly 0. The 'pt' row is an independent path-traced render at `spp` (the
-methods' seed): the noise floor the other rows are read against.
+methods' seed): the noise floor the other rows are read against. A view whose hair covers fewer pixels
+renders more samples per pixel (view_spp_scales): the mean hair radiance of a far view, averaged over
+fewer pixels, is otherwise noisier than the near view's by the square root of the ratio.
 
 The equal-time table renders every method again at `equal_time_spp` (default 16) against the same
 reference: the error at a real-time sample budget, noise included. A sweep of the LoD width threshold
@@ -28,8 +30,8 @@ import numpy as np
 
 from . import atomic_output, flip, lod, render
 
-__all__ = ["EPS_W", "HAIR_ALPHA", "IMAGE_METHODS", "PANEL_PIXELS", "bench_quality", "format_tables",
-           "plot_quality", "write_view_images"]
+__all__ = ["EPS_W", "HAIR_ALPHA", "IMAGE_METHODS", "MAX_VIEW_SPP_SCALE", "PANEL_PIXELS", "bench_quality", "format_tables",
+           "plot_quality", "view_spp_scales", "write_view_images"]
 
 EPS_W = (0.5, 1.0, 2.0, 4.0, 8.0)
 # A pixel is the hair's (for the mean radiance) when the strands cover more than half of it.
@@ -38,6 +40,25 @@ HAIR_ALPHA = 0.5
 IMAGE_METHODS = ("ds", "lod", "lod-single")
 PANEL_PIXELS = 256
 _REFERENCE_SEED = 1_000_003
+# The most a view's spp is raised over the given spp (view_spp_scales). At 128 px the default views'
+# hair covers about 2600 / 850 / 85 pixels of the dense hairs: 1x / 4x / 16x keeps their mean hair
+# radiance about equally noisy (at 256 spp and 1x everywhere, the far view's 256-spp pt row read 3-4 %
+# from the 1024-spp reference on the dense hairs, the near view's 0.5 %), at about 2x the bench's time.
+MAX_VIEW_SPP_SCALE = 16
+
+
+def view_spp_scales(hair_pixels, most=MAX_VIEW_SPP_SCALE):
+    """Per view of `hair_pixels` ({view: pixels the strands cover}), the power of two (1 to `most`) closest
+    to the largest count over the view's, by which its spp is raised so that every view's mean hair
+    radiance averages about as many samples; 1 for a view without hair pixels."""
+    if int(most) < 1:
+        raise ValueError(f"the largest view spp scale must be >= 1, got {most}")
+    largest = max(hair_pixels.values(), default=0)
+    scales = {}
+    for view, pixels in hair_pixels.items():
+        ratio = largest / pixels if pixels > 0 else 1.0
+        scales[view] = int(min(int(most), 2 ** max(0, round(np.log2(ratio)))))
+    return scales
 
 
 
@@ -79,7 +100,7 @@ def _db(value):
 def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render.METHODS, spp=256, width=128,
                   reference_spp=1024, equal_time_spp=16, eps_w=EPS_W, sweep_view="mid", width_px=lod.DEFAULT_WIDTH_PX, guides=None,
                   params=None, seed=0, keep_images=False, progress=None, max_bounces=render.MAX_BOUNCES, own_hair=None,
-                  vertex_tolerance_px=lod.DEFAULT_VERTEX_TOLERANCE_PX):
+                  vertex_tolerance_px=lod.DEFAULT_VERTEX_TOLERANCE_PX, max_view_spp_scale=MAX_VIEW_SPP_SCALE):
     """Dict with settings, the LoD build (when `asset` is None it is built here), one entry per view
     {camera, reference, rows: {method: row}}, the equal-time rows per view and the eps_w sweep rows.
     With `keep_images` it also holds "images": {view: {"reference": image, method: image}} (linear
@@ -88,12 +109,17 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
     scatterings after the camera ray's hit (0: direct light only, the light scattered once on its way
     to the camera): what separates single from multiple scattering. `own_hair` (render.OWN_HAIR) is how
     the lod-single renders treat paths inside their own thick hair; `vertex_tolerance_px` the lod
-    methods' vertex LoD (render.lod_geometry; 0 draws every control point)."""
+    methods' vertex LoD (render.lod_geometry; 0 draws every control point). Each view renders its reference
+    and methods at `reference_spp` and `spp` times its view_spp_scales() factor (at most
+    `max_view_spp_scale`; 1 renders every view at the spp given); coverage and the equal-time table stay
+    at `spp` and `equal_time_spp`."""
     if int(max_bounces) < 0:
         raise ValueError(f"max bounces must be >= 0, got {max_bounces}")
     if own_hair is not None and own_hair not in render.OWN_HAIR:
         raise ValueError(f"own_hair must be one of {', '.join(render.OWN_HAIR)}, got {own_hair!r}")
     own_hair = own_hair or render.OWN_HAIR[0]
+    if int(max_view_spp_scale) < 1:
+        raise ValueError(f"max view spp scale must be >= 1, got {max_view_spp_scale}")
     if min(int(spp), int(reference_spp), int(equal_time_spp)) < 1:
         raise ValueError(f"spp, reference spp and equal-time spp must be >= 1, got {spp}, {reference_spp}, "
                          f"{equal_time_spp}")
@@ -121,20 +147,26 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
                              max_bounces=max_bounces, own_hair=own_hair if method == "lod-single" else None,
                              vertex_tolerance_px=vertex_tolerance_px)
 
-    references, hair_pixels, result_views, equal_time, images = {}, {}, {}, {}, {}
-    for view in dict.fromkeys(list(views) + [sweep_view]):
-        say(f"{view}: pt reference at {reference_spp} spp, and the strands' coverage")
-        reference = render.render(strands, "pt", view, width, reference_spp, params=params, seed=_REFERENCE_SEED,
+    references, reference_alphas, hair_pixels, result_views, equal_time, images = {}, {}, {}, {}, {}, {}
+    rendered_views = list(dict.fromkeys(list(views) + [sweep_view]))
+    for view in rendered_views:
+        say(f"{view}: the strands' coverage")
+        reference_alphas[view] = render.coverage(strands, "pt", view, width, spp, seed=seed)
+        hair_pixels[view] = reference_alphas[view] > HAIR_ALPHA
+    scales = view_spp_scales({view: int(hair.sum()) for view, hair in hair_pixels.items()}, max_view_spp_scale)
+    for view in rendered_views:
+        view_spp, view_reference_spp = spp * scales[view], reference_spp * scales[view]
+        say(f"{view}: pt reference at {view_reference_spp} spp")
+        reference = render.render(strands, "pt", view, width, view_reference_spp, params=params, seed=_REFERENCE_SEED,
                                   max_bounces=max_bounces)
-        reference_alpha = render.coverage(strands, "pt", view, width, spp, seed=seed)
-        references[view], hair = reference, reference_alpha > HAIR_ALPHA
-        hair_pixels[view] = hair
+        reference_alpha, hair = reference_alphas[view], hair_pixels[view]
+        references[view] = reference
         if view not in views:
             continue
         rows, equal_rows, view_images = {}, {}, {"reference": reference["image"]}
         for method in methods:
-            say(f"{view}: {method} at {spp} spp, its coverage, and at {equal_time_spp} spp")
-            out = render_method(method, view, spp)
+            say(f"{view}: {method} at {view_spp} spp, its coverage, and at {equal_time_spp} spp")
+            out = render_method(method, view, view_spp)
             alpha = render.coverage(strands, method, view, width, spp, asset=asset, width_px=width_px, seed=seed,
                                     vertex_tolerance_px=vertex_tolerance_px)
             rows[method] = dict(_row(out), **_errors(out["image"], reference["image"], hair),
@@ -143,7 +175,8 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
             quick = render_method(method, view, equal_time_spp)
             equal_rows[method] = dict(_row(quick), **_errors(quick["image"], reference["image"], hair))
         radiance = reference["image"][hair].mean(axis=0).tolist() if hair.any() else None
-        result_views[view] = {"coverage": render.VIEWS[view], "camera": reference["camera"],
+        result_views[view] = {"coverage": render.VIEWS[view], "camera": reference["camera"], "spp": int(view_spp),
+                              "reference_spp": int(view_reference_spp),
                               "reference": dict(_row(reference), alpha_mean=float(reference_alpha.mean()),
                                                 hair_pixels=int(hair.sum()), hair_radiance=radiance),
                               "rows": rows}
@@ -152,7 +185,7 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
     sweep = []
     for eps in eps_w:
         say(f"{sweep_view}: lod at eps_w {eps:g} px")
-        out = render_method("lod", sweep_view, spp, float(eps))
+        out = render_method("lod", sweep_view, spp * scales[sweep_view], float(eps))
         sweep.append(dict(_row(out), eps_w=float(eps),
                           **_errors(out["image"], references[sweep_view]["image"], hair_pixels[sweep_view])))
     summary = {}
@@ -167,15 +200,23 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
                     facts[f"lod_minus_ds_{metric}"] = _difference(rows["lod"][metric], rows["ds"][metric])
         summary[view] = facts
     result = {"strands": len(strands), "points": int(strands.point_count), "width": int(width), "spp": int(spp),
-              "reference_spp": int(reference_spp), "max_bounces": int(max_bounces), "own_hair": own_hair,
+              "reference_spp": int(reference_spp), "max_view_spp_scale": int(max_view_spp_scale),
+              "max_bounces": int(max_bounces), "own_hair": own_hair,
               "vertex_tolerance_px": float(vertex_tolerance_px), "blur_box": render.BLUR_BOX, "hair_alpha": HAIR_ALPHA,
               "width_px": float(width_px), "lod_build": build, "guides": asset.guide_count, "views": result_views,
               "equal_time": {"spp": int(equal_time_spp), "views": equal_time}, "summary": summary,
-              "sweep": {"view": sweep_view, "spp": int(spp), "full_segments": int(references[sweep_view]["segments"]),
+              "sweep": {"view": sweep_view, "spp": int(spp * scales[sweep_view]), "full_segments": int(references[sweep_view]["segments"]),
                         "rows": sweep}}
     if keep_images:
         result["images"] = images
     return result
+
+
+def _view_spp(result, view):
+    """(methods' spp, reference spp) a view of `result` was rendered at (results before views were
+    scaled hold only the run's)."""
+    entry = result["views"][view]
+    return entry.get("spp", result["spp"]), entry.get("reference_spp", result["reference_spp"])
 
 
 def _percent(value, signed=True):
@@ -231,11 +272,12 @@ def write_view_images(result, images, folder):
         shown = [m for m in IMAGE_METHODS if m in view_images]
         top, left, side = _hair_window(reference, [view_images[m] for m in shown])
         factor = -(-PANEL_PIXELS // side)
-        panels = [(f"{view}: pt reference, {result['reference_spp']} spp\nx {left}-{left + side - 1}, "
+        spp, reference_spp = _view_spp(result, view)
+        panels = [(f"{view}: pt reference, {reference_spp} spp\nx {left}-{left + side - 1}, "
                    f"y {top}-{top + side - 1} of {result['width']} px, shown x{factor}", render.to_srgb8(reference), {})]
         for method in shown:
             r = rows[method]
-            panels.append((f"{method}, {result['spp']} spp\nPSNR {_db(r['psnr'])}, blurred {_db(r['blurred_psnr'])} dB\n"
+            panels.append((f"{method}, {spp} spp\nPSNR {_db(r['psnr'])}, blurred {_db(r['blurred_psnr'])} dB\n"
                            f"radiance RGB {_rgb(r['radiance_error'])} %", render.to_srgb8(view_images[method]), {}))
         if "lod" in view_images:
             difference = _luminance(view_images["lod"]) - _luminance(reference)
@@ -312,7 +354,7 @@ def plot_quality(results, path, titles=None):
 def format_tables(result):
     """The result as Markdown tables (converged methods per view; the equal-time methods; the eps_w
     sweep), each after a line saying what it measures, as a string."""
-    spp, reference_spp, box = result["spp"], result["reference_spp"], result["blur_box"]
+    box = result["blur_box"]
     error_columns = "PSNR dB | blurred PSNR dB | FLIP | radiance R / G / B %"
 
     def errors(r):
@@ -329,8 +371,10 @@ def format_tables(result):
     tolerance = result.get("vertex_tolerance_px", lod.DEFAULT_VERTEX_TOLERANCE_PX)
     if tolerance != lod.DEFAULT_VERTEX_TOLERANCE_PX:
         limit += ", every control point drawn" if tolerance == 0 else f", vertex LoD within {tolerance:g} px"
-    lines = [f"Converged: pt reference at {reference_spp} spp, each method at {spp} spp, {result['width']} x "
-             f"{result['width']} px{limit}. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
+    scaled = {view: _view_spp(result, view) for view in result["views"]}
+    samples = ", ".join(f"{view} {reference_spp} / {spp}" for view, (spp, reference_spp) in scaled.items())
+    lines = [f"Converged: spp of the pt reference / each method per view {samples} (more where the hair covers fewer "
+             f"pixels), {result['width']} x {result['width']} px{limit}. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
              f"the mean linear radiance over the hair's pixels (strands' alpha > {result['hair_alpha']:g}). Coverage: "
              "the method's geometry against the strands (total alpha; mean |alpha difference| per pixel). The pt row, "
              "an independent path-traced render, is the noise floor.", "",
@@ -338,6 +382,7 @@ def format_tables(result):
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for view, entry in result["views"].items():
         ref = entry["reference"]
+        spp, reference_spp = scaled[view]
         lines.append(f"| {view} | pt reference ({reference_spp} spp) | {ref['segments']} | {ref['seconds']:.3f} "
                      "| | | | | | |")
         for method, r in entry["rows"].items():

@@ -68,10 +68,12 @@ def strands_through_sections(centres, major, minor, membership, points):
     (`membership` [S] its hair; `points` [S, n_c, 3] its polyline) is crossed with the plane of the
     section's axes where it crosses nearest to its own k-th point, and counted when that crossing lies
     inside the ellipse (a strand that never crosses the plane is outside). This is whether the thick
-    hair, a tube of these sections, holds the strand there. The build's coverage (ThickLevel.coverage)
-    instead projects each member's k-th point onto the plane, which holds the strand only where the
-    k-th points of a cluster lie in its plane: they do not where the strands differ in length or
-    spread, and the plane fitted to them tilts from the strands."""
+    hair, a tube of these sections, holds the strand there. The build fits each section to the same
+    crossings (lod/cross_section.h, strand_plane_crossing), and its coverage (ThickLevel.coverage) counts
+    them too, but takes a member that does not reach the plane (past its ends, near the hair's first and
+    last sections) at its k-th point moved onto the plane, where this counts it outside. Fitted to the
+    k-th points themselves (Sec. 5.1 step 3 as written, the previous release), the sections lay in a
+    plane tilted from the strands wherever they differ in length or spread, and held 0.60-0.75 of them."""
     centres, major, minor = (np.asarray(v, np.float64) for v in (centres, major, minor))
     points = np.asarray(points, np.float64)
     hair = np.asarray(membership, np.int64)
@@ -260,7 +262,7 @@ def format_tables(result):
              f"control points). Ends: members' tips past the last section (share, 90th percentile and most, in "
              f"segment lengths), roots before the first (90th percentile). Through: the share of member strands "
              f"passing through their sections' ellipses where they cross each section's plane (in brackets the "
-             f"build's coverage: their k-th points projected onto the plane). Lines in sampled sections' planes: "
+             f"build's coverage: the same crossings, a member not reaching a plane taken at its k-th point). Lines in sampled sections' planes: "
              f"members passed over the model's count, and the share passing none (members / model), across the "
              f"ellipse and from a member outwards. Renders: hairs alone at {result['spp']} spp, the thick hair "
              f"(lod-single) over its strands (pt), R / G / B, per sun.", "",

@@ -83,5 +83,38 @@ TEST(CrossSection, RejectsMismatchedInput) {
     EXPECT_THROW(fit_cross_section({}, {}, 0.0f, 0.95f, scratch), Error);
 }
 
+
+TEST(CrossSection, StrandCrossesThePlaneWhereItsSegmentMeetsIt) {
+    // A straight strand up x = 0.5 from z = -1 to 3 (5 points), the plane through (0, 0, 1) with normal
+    // (1, 0, 1) / sqrt 2: they meet at z = 1 - 0.5 = 0.5, on segment 1 (z from 0 to 1), wherever k is.
+    const std::vector<glm::vec3> strand = {{0.5f, 0, -1}, {0.5f, 0, 0}, {0.5f, 0, 1}, {0.5f, 0, 2}, {0.5f, 0, 3}};
+    const glm::vec3 normal = glm::normalize(glm::vec3(1, 0, 1));
+    for (size_t k : {size_t{0}, size_t{2}, size_t{4}}) {
+        const glm::vec3 q = strand_plane_crossing(strand, k, {0, 0, 1}, normal);
+        EXPECT_NEAR(q.x, 0.5f, 1e-6f);
+        EXPECT_NEAR(q.z, 0.5f, 1e-6f);
+        EXPECT_NEAR(glm::dot(q - glm::vec3(0, 0, 1), normal), 0.0f, 1e-6f);
+    }
+}
+
+TEST(CrossSection, StrandCrossingNearestItsPointIsTaken) {
+    // A strand zig-zagging across the plane z = 0 crosses it at x = 0.5, 1.5 and 2.5; the crossing nearest
+    // its point k is taken (k = 0: the first, k = 3: the last).
+    const std::vector<glm::vec3> strand = {{0, 0, -1}, {1, 0, 1}, {2, 0, -1}, {3, 0, 1}};
+    EXPECT_NEAR(strand_plane_crossing(strand, 0, {0, 0, 0}, {0, 0, 1}).x, 0.5f, 1e-6f);
+    EXPECT_NEAR(strand_plane_crossing(strand, 1, {0, 0, 0}, {0, 0, 1}).x, 0.5f, 1e-6f);  // 0.5 and 1.5 tie: the first
+    EXPECT_NEAR(strand_plane_crossing(strand, 3, {0, 0, 0}, {0, 0, 1}).x, 2.5f, 1e-6f);
+}
+
+TEST(CrossSection, StrandThatMissesThePlaneIsProjectedOntoIt) {
+    // Entirely above the plane z = 0: its point k moved along the normal onto the plane.
+    const std::vector<glm::vec3> strand = {{0, 0, 1}, {1, 2, 2}, {2, 0, 3}};
+    const glm::vec3 q = strand_plane_crossing(strand, 1, {0, 0, 0}, {0, 0, 1});
+    EXPECT_FLOAT_EQ(q.x, 1.0f);
+    EXPECT_FLOAT_EQ(q.y, 2.0f);
+    EXPECT_FLOAT_EQ(q.z, 0.0f);
+    EXPECT_THROW(strand_plane_crossing(strand, 3, {0, 0, 0}, {0, 0, 1}), Error);
+}
+
 }  // namespace
 }  // namespace hairlod

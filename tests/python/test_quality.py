@@ -201,6 +201,37 @@ def test_bench_quality_tables(tiny_strands):
         assert len({line.count("|") for line in block}) == 1, block  # every row has its header's columns
 
 
+def test_view_spp_scales_equalise_the_hair_samples():
+    # The power of two nearest the largest count over each view's, capped; a view without hair stays.
+    assert quality.view_spp_scales({"near": 2600, "mid": 850, "far": 85}) == {"near": 1, "mid": 4, "far": 16}
+    assert quality.view_spp_scales({"near": 2600, "mid": 850, "far": 85}, most=8) == {"near": 1, "mid": 4, "far": 8}
+    assert quality.view_spp_scales({"near": 100, "far": 0}, most=1) == {"near": 1, "far": 1}
+    assert quality.view_spp_scales({"near": 100, "far": 0}) == {"near": 1, "far": 1}
+    with pytest.raises(ValueError, match="largest view spp scale"):
+        quality.view_spp_scales({"near": 1}, most=0)
+
+
+def test_bench_quality_renders_views_with_fewer_hair_pixels_at_more_spp(tiny_strands):
+    def run(most):
+        return quality.bench_quality(tiny_strands, views=("near", "mid"), methods=("pt",), spp=1, width=32,
+                                     reference_spp=2, equal_time_spp=1, eps_w=(2.0,), sweep_view="mid", guides=20,
+                                     max_view_spp_scale=most)
+    result = run(quality.MAX_VIEW_SPP_SCALE)
+    near, mid = result["views"]["near"], result["views"]["mid"]
+    scales = quality.view_spp_scales({"near": near["reference"]["hair_pixels"], "mid": mid["reference"]["hair_pixels"]})
+    assert near["reference"]["hair_pixels"] > 2 * mid["reference"]["hair_pixels"] > 0 and scales["mid"] > 1
+    assert (near["spp"], near["reference_spp"]) == (scales["near"], 2 * scales["near"])
+    assert (mid["spp"], mid["reference_spp"]) == (scales["mid"], 2 * scales["mid"]) and result["sweep"]["spp"] == mid["spp"]
+    assert result["equal_time"]["spp"] == 1
+    tables = quality.format_tables(result)
+    assert f"| mid | pt (noise floor, {scales['mid']} spp) |" in tables
+    assert f"| mid | pt reference ({2 * scales['mid']} spp) |" in tables
+    plain = run(1)
+    assert plain["views"]["mid"]["spp"] == 1 and plain["views"]["mid"]["reference_spp"] == 2
+    with pytest.raises(ValueError, match="max view spp scale"):
+        run(0)
+
+
 def test_bench_quality_separates_direct_from_multiple_scattering():
     """With paths of 0 bounces every render, the reference's too, shows direct light only: on dense
     hair less light in every channel than with one more scattering, and that less than with all of

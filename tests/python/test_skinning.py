@@ -173,12 +173,12 @@ def test_a_damaged_guide_animation_is_reported(asset, tmp_path):
 
 
 def test_skinned_thick_hairs_keep_the_strands_that_pass_through_them(asset):
-    # A bend shears each cluster along its strands. The skinned thick hairs hold as many of their
-    # skinned strands as at rest, counted where each strand crosses each section's plane: the maps move
-    # both by the same field (to second order: within 0.04 on this small asset of 16 guides, 0.002 on
-    # bench skinning's 100k). Projected onto the plane of the skinned axes (the build's measure) the
-    # same strands look lost, as the shear tilts the points out of the plane.
-    from hairlod.bench import _skinned_coverage
+    # Counted where each strand crosses each section's plane, the thick hairs hold most of their
+    # strands at rest (their sections are fitted there), and skinned to a bend most of their skinned
+    # strands: the maps move both by the same field, but a section at control point k follows map k
+    # while its members cross it on neighbouring segments, which their own maps move (on this small
+    # asset of 16 guides and 8 control points a 0.6 rad bend loses up to 0.15; bench skinning's 100k
+    # strands lose up to 0.09 on their finest level at 0.4 rad).
     from hairlod.thick_hair_check import strands_through_sections
 
     def through(geometry):
@@ -188,11 +188,9 @@ def test_skinned_thick_hairs_keep_the_strands_that_pass_through_them(asset):
 
     rest, bent = asset.skin(asset.rest_guides), asset.skin(bend(asset.rest_guides, 0.6))
     assert len(asset.levels) > 0
-    for level, (at_rest, skinned, plane_rest, plane_bent) in enumerate(zip(
-            through(rest), through(bent), _skinned_coverage(asset, rest), _skinned_coverage(asset, bent))):
-        assert at_rest > 0.1, f"level {level}: {at_rest:.3f} at rest"
-        assert abs(skinned - at_rest) <= 0.04, f"level {level}: {skinned:.3f} bent against {at_rest:.3f} at rest"
-        assert plane_bent < plane_rest - 0.05, f"level {level}: in the plane {plane_bent:.3f} bent, {plane_rest:.3f} at rest"
+    for level, (at_rest, skinned) in enumerate(zip(through(rest), through(bent))):
+        assert at_rest > 0.75, f"level {level}: {at_rest:.3f} at rest"
+        assert skinned > 0.65 and skinned > at_rest - 0.2, f"level {level}: {skinned:.3f} bent against {at_rest:.3f} at rest"
 
 
 def test_strands_through_sections_are_counted_where_they_cross_the_plane():

@@ -46,14 +46,16 @@ def test_lod_frames_follow_the_hair(hair):
 
     asset = lod.build_lod(hair, guides=12, levels=4, control_points=8, seed=1)
     turned = moved(hair, 0.5)
-    camera = render.frame_view(hair.points, "mid", 48)
-    # 16 spp: at 4 the noise alone caps the blurred PSNR near 47-49 dB, within a dB or two of the stale
-    # image's; at 16 the followed image is 53-55 dB against the stale 45-47.
+    # The near view: at mid the hair covers about 10 of the 48 px and a few noisy pixels of the 16-spp
+    # images move the followed image's blurred PSNR by up to 6 dB (49-56 dB over build seeds, the stale
+    # image 47-50). Near, the followed image is 51-54 dB against the stale 42-43 over build seeds and
+    # thick-hair fits.
+    camera = render.frame_view(hair.points, "near", 48)
     truth = render.render(turned, "pt", width=48, spp=16, camera=camera)["image"]
     stale = render.render(turned, "lod", width=48, spp=16, asset=asset, camera=camera)["image"]
     followed = render.render(turned, "lod", width=48, spp=16, asset=asset, camera=camera,
                              guides=lod.frame_guides(asset, turned))["image"]
-    assert render.blurred_psnr(followed, truth) > render.blurred_psnr(stale, truth) + 3.0
+    assert render.blurred_psnr(followed, truth) > render.blurred_psnr(stale, truth) + 6.0
 
 
 def test_bad_animations_are_refused(hair):

@@ -101,3 +101,29 @@ def test_cli_bench_thick_hairs(hanging):
     assert report["component"] == "thick-hairs" and report["spp"] == 2 and report["levels"]
     assert "needs an input hair file" in one_line_error(run_cli("bench", "thick-hairs"))
     assert "--hairs" in one_line_error(run_cli("bench", "thick-hairs", hanging, "--hairs", 0))
+
+
+def test_thick_hairs_hold_the_strands_that_cross_their_sections():
+    # A fanning bundle whose strands grow longer across it (length 10 + 5 x, leaning 0.3 x): the k-th
+    # points of its strands lie on planes tilted from the strands, and a section fitted to them there
+    # misses most strands where they really cross it. The sections are fitted where the strands cross
+    # the plane normal to their mean tangent: every level holds at least 85 % of its members there
+    # (the build asks 95 % of the exact sections; the stored ones are rounded). Fitted to the k-th
+    # points, as Sec. 5.1 step 3 has it, the same bundle's levels held 56-66 %.
+    rng = np.random.default_rng(5)
+    roots = rng.uniform(-1.0, 1.0, (3000, 2))
+    roots = roots[(roots ** 2).sum(axis=1) <= 1.0][:1200]
+    lengths = 10.0 + 5.0 * roots[:, 0]
+    direction = np.stack([0.3 * roots[:, 0], np.zeros(len(roots)), np.ones(len(roots))], axis=1)
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    t = np.linspace(0.0, 1.0, POINTS)[None, :, None] * lengths[:, None, None]
+    points = np.concatenate([roots, np.zeros((len(roots), 1))], axis=1)[:, None, :] + t * direction[:, None, :]
+    offsets = np.arange(len(roots) + 1, dtype=np.int64) * POINTS
+    hair = Strands(points.reshape(-1, 3).astype(np.float32), offsets, np.full(len(roots) * POINTS, 0.01, np.float32))
+    asset = lod.build_lod(hair, guides=16)
+    rest, _ = _rest(asset)
+    assert len(asset.levels) >= 2
+    for level in asset.levels:
+        through = thick_hair_check.strands_through_sections(
+            level.centres, level.major_axis * level.radii[..., :1], level.minor_axis * level.radii[..., 1:], level.membership, rest)
+        assert through >= 0.85, f"{through:.3f} of the members pass through their sections (coverage {level.coverage:.3f})"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -29,6 +30,34 @@ double ellipse_distance_squared(const CrossSection& s, const glm::vec3& point) {
 }  // namespace
 
 bool inside_ellipse(const CrossSection& s, const glm::vec3& point) { return ellipse_distance_squared(s, point) <= 1.0; }
+
+glm::vec3 strand_plane_crossing(std::span<const glm::vec3> strand, size_t k, const glm::vec3& centre, const glm::vec3& normal) {
+    if (k >= strand.size()) throw Error("strand_plane_crossing: control point " + std::to_string(k) + " past the strand's end");
+    const glm::dvec3 c(centre), n(normal);
+    auto depth = [&](size_t j) { return glm::dot(glm::dvec3(strand[j]) - c, n); };
+    glm::dvec3 crossing = glm::dvec3(strand[k]) - depth(k) * n;
+    double nearest = std::numeric_limits<double>::infinity();
+    // Segment j spans control points [j, j + 1]: a crossing on it lies at least max(0, j - k, k - j - 1)
+    // from k. Segments are visited in rings of that bound (k - 1 and k, then k - 2 and k + 1, ...), and
+    // the search stops once a ring cannot beat the crossing found: near k, where strands usually cross,
+    // it reads a few points instead of the whole strand.
+    auto try_segment = [&](size_t j) {
+        const double d0 = depth(j), d1 = depth(j + 1);
+        if (d0 * d1 > 0.0 || d0 == d1) return;
+        const double f = d0 / (d0 - d1);
+        const double distance = std::abs(static_cast<double>(j) + f - static_cast<double>(k));
+        if (distance < nearest) {
+            nearest = distance;
+            crossing = glm::dvec3(strand[j]) + f * (glm::dvec3(strand[j + 1]) - glm::dvec3(strand[j]));
+        }
+    };
+    const size_t segments = strand.size() - 1;
+    for (size_t ring = 0; static_cast<double>(ring) < nearest && (ring < k || k + ring < segments); ++ring) {
+        if (ring < k) try_segment(k - 1 - ring);
+        if (k + ring < segments) try_segment(k + ring);
+    }
+    return glm::vec3(crossing);
+}
 
 double growth_to_cover(const CrossSection& section, std::span<const glm::vec3> points, size_t count,
                        std::vector<float>& scratch) {

@@ -132,26 +132,54 @@ std::vector<glm::vec3> unit_tangents(const StrandSet& resampled, int control_poi
 // One group of strands per thick hair of a level, in hair order.
 using Groups = std::vector<std::vector<int32_t>>;
 
+// Reused buffers of member_section.
+struct SectionScratch {
+    std::vector<glm::vec3> points, tangents;
+    std::vector<float> distances;
+};
+
+// Sec. 5.1 step 3 at control point k for the strands `members` (indices into `strands`, n_c points
+// each; unit `tangents` per point): the ellipse holding `coverage` of where the members cross the
+// plane through their k-th points' mean normal to their mean tangent (strand_plane_crossing). Where
+// the tangents cancel, of the k-th points themselves (PCA, the axis closest to the tangent dropped).
+CrossSection member_section(std::span<const int32_t> members, const StrandSet& strands, const std::vector<glm::vec3>& tangents,
+                            size_t nc, size_t k, float coverage, SectionScratch& scratch) {
+    const size_t m = members.size();
+    scratch.points.resize(m);
+    scratch.tangents.resize(m);
+    glm::dvec3 centre(0.0), mean_tangent(0.0);
+    double radius = 0.0;
+    for (size_t j = 0; j < m; ++j) {
+        const size_t at = static_cast<size_t>(members[j]) * nc + k;
+        scratch.points[j] = strands.points[at];
+        scratch.tangents[j] = tangents[at];
+        centre += glm::dvec3(strands.points[at]);
+        mean_tangent += glm::dvec3(tangents[at]);
+        radius += strands.radius[at];
+    }
+    centre /= static_cast<double>(m);
+    const double length = glm::length(mean_tangent);
+    if (length > 0.0) {
+        const glm::vec3 normal(mean_tangent / length);
+        for (size_t j = 0; j < m; ++j) {
+            const auto strand = std::span(strands.points).subspan(static_cast<size_t>(members[j]) * nc, nc);
+            scratch.points[j] = strand_plane_crossing(strand, k, glm::vec3(centre), normal);
+            scratch.tangents[j] = normal;
+        }
+    }
+    return fit_cross_section(scratch.points, scratch.tangents, static_cast<float>(radius / static_cast<double>(m)), coverage,
+                             scratch.distances);
+}
+
 // Mean area of the ellipses fitted to `members` at kAreaSamples control points spread along the
 // hair: the cross-section area the level would store, at a fraction of the fitting cost.
 double sampled_area(std::span<const int32_t> members, const StrandSet& resampled, const std::vector<glm::vec3>& tangents,
-                    size_t nc, float coverage, std::vector<glm::vec3>& points, std::vector<glm::vec3>& point_tangents,
-                    std::vector<float>& scratch) {
+                    size_t nc, float coverage, SectionScratch& scratch) {
     const size_t samples = std::min(kAreaSamples, nc);
-    points.resize(members.size());
-    point_tangents.resize(members.size());
     double area = 0.0;
     for (size_t i = 0; i < samples; ++i) {
         const size_t k = std::min(nc - 1, (2 * i + 1) * nc / (2 * samples));
-        double radius = 0.0;
-        for (size_t j = 0; j < members.size(); ++j) {
-            const size_t at = static_cast<size_t>(members[j]) * nc + k;
-            points[j] = resampled.points[at];
-            point_tangents[j] = tangents[at];
-            radius += resampled.radius[at];
-        }
-        area += fit_cross_section(points, point_tangents, static_cast<float>(radius / static_cast<double>(members.size())),
-                                  coverage, scratch).area();
+        area += member_section(members, resampled, tangents, nc, k, coverage, scratch).area();
     }
     return area / static_cast<double>(samples);
 }
@@ -193,11 +221,9 @@ Groups split_level(const Groups& parents, const SplitContext& context, uint64_t 
         const auto most = static_cast<size_t>(static_cast<double>(members.size()) / kFinestHairStrands);
         children[h] = {members};
         if (most < 2) return;
-        std::vector<glm::vec3> points, point_tangents;
-        std::vector<float> scratch;
+        SectionScratch scratch;
         auto area_of = [&](std::span<const int32_t> group) {
-            return sampled_area(group, context.resampled, context.tangents, context.control_points, context.coverage, points,
-                                point_tangents, scratch);
+            return sampled_area(group, context.resampled, context.tangents, context.control_points, context.coverage, scratch);
         };
         const double parent_area = parent_areas[h] = children_areas[h] = area_of(members);
         double best_miss = std::numeric_limits<double>::infinity();
@@ -238,35 +264,16 @@ Groups split_level(const Groups& parents, const SplitContext& context, uint64_t 
     return flat;
 }
 
-// Sec. 5.1 step 3 for every hair of a level: the exact cross-sections [hairs * n_c].
+// Sec. 5.1 step 3 for every hair of a level: the exact cross-sections [hairs * n_c] (member_section).
 std::vector<CrossSection> fit_level(const Groups& groups, const StrandSet& resampled, const std::vector<glm::vec3>& tangents,
                                     int control_points, float coverage) {
     const auto nc = static_cast<size_t>(control_points);
     std::vector<CrossSection> sections(groups.size() * nc);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size()), [&](const tbb::blocked_range<size_t>& range) {
-        // Member points gathered once per hair, control point k of member j at [k * members + j]:
-        // each strand is read contiguously and each cross-section fit reads a contiguous span.
-        std::vector<glm::vec3> points, point_tangents;
-        std::vector<double> radius;
-        std::vector<float> scratch;
-        for (size_t h = range.begin(); h != range.end(); ++h) {
-            const std::vector<int32_t>& members = groups[h];
-            const size_t m = members.size();
-            points.resize(nc * m);
-            point_tangents.resize(nc * m);
-            radius.assign(nc, 0.0);
-            for (size_t j = 0; j < m; ++j) {
-                const size_t first = static_cast<size_t>(members[j]) * nc;
-                for (size_t k = 0; k < nc; ++k) {
-                    points[k * m + j] = resampled.points[first + k];
-                    point_tangents[k * m + j] = tangents[first + k];
-                    radius[k] += resampled.radius[first + k];
-                }
-            }
+        SectionScratch scratch;
+        for (size_t h = range.begin(); h != range.end(); ++h)
             for (size_t k = 0; k < nc; ++k)
-                sections[h * nc + k] = fit_cross_section(std::span(points).subspan(k * m, m), std::span(point_tangents).subspan(k * m, m),
-                                                         static_cast<float>(radius[k] / static_cast<double>(m)), coverage, scratch);
-        }
+                sections[h * nc + k] = member_section(groups[h], resampled, tangents, nc, k, coverage, scratch);
     });
     return sections;
 }
@@ -303,8 +310,12 @@ void store_level(LodAsset& asset, size_t l, const std::vector<CrossSection>& sec
             const auto first = static_cast<size_t>(level.member_first[h]);
             points.resize(static_cast<size_t>(level.n_total(h)));
             for (size_t k = 0; k < nc; ++k) {
-                for (size_t j = 0; j < points.size(); ++j) points[j] = ordered.points[(first + j) * nc + k];
                 const CrossSection& exact = sections[h * nc + k];
+                // The points the exact section was fitted to (fit_level): the members' crossings of its plane.
+                for (size_t j = 0; j < points.size(); ++j)
+                    points[j] = glm::length(exact.tangent) > 0.0f
+                                    ? strand_plane_crossing(std::span(ordered.points).subspan((first + j) * nc, nc), k, exact.centre, exact.tangent)
+                                    : ordered.points[(first + j) * nc + k];
                 const GuideFrame& frame = frames[c * nc + k];
                 const size_t at = h * nc + k;
                 level.centre_offset[at] = asset.offset_boxes[c * nc + k].encode(exact.centre - frame.origin);

@@ -1,6 +1,7 @@
 #pragma once
-// Elliptical cross-section of a thick hair at one control-point index, fitted to the members'
-// control points (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 3).
+// Elliptical cross-section of a thick hair at one control-point index, fitted to where the members
+// cross the plane normal to their mean tangent (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 3 fits
+// their k-th control points; strand_plane_crossing says why not).
 #include <array>
 #include <span>
 #include <vector>
@@ -23,6 +24,14 @@ struct CrossSection {
 
 // True when `point` projected onto the section's plane lies inside the ellipse.
 bool inside_ellipse(const CrossSection& section, const glm::vec3& point);
+
+// Where the polyline `strand` crosses the plane through `centre` with unit `normal`, at the crossing
+// nearest (in control points) to its point k; its point k moved along `normal` onto the plane when
+// it does not reach the plane. A thick hair's section at control point k is fitted to these points of
+// its members in the plane normal to their mean tangent: the points a tube of sections holds. Their
+// k-th points themselves lie on a plane tilted from the strands wherever the strands differ in length
+// or spread, and an ellipse in that plane (Sec. 5.1 step 3 as written) misses many of the strands.
+glm::vec3 strand_plane_crossing(std::span<const glm::vec3> strand, size_t k, const glm::vec3& centre, const glm::vec3& normal);
 
 // The smallest factor >= 1 (times a tiny margin against rounding) by which the section's radii
 // must grow so that at least `count` (>= 1) of `points` lie inside. `scratch` is reused.

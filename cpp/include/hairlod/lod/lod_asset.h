@@ -213,8 +213,9 @@ struct LodAsset {
     LodGeometry rest_geometry() const;
 };
 
-// Fits every thick hair's rest cross-sections (Sec. 5.1 step 3: the members' mean, PCA axes, radii
-// holding ellipse_coverage of their points) to its member strands as the asset stores them, and
+// Fits every thick hair's rest cross-sections (Sec. 5.1 step 3: at the members' k-th points' mean,
+// PCA axes and radii holding ellipse_coverage of where the members cross the plane normal to their
+// mean tangent, cross_section.h) to its member strands as the asset stores them, and
 // stores them with each level's coverage and mean area. build_lod ends with it; an asset read back
 // without its cross-sections (they take about a quarter of its bytes) gets the same ones from it.
 // Needs validate_structure(); throws Error for an ellipse_coverage outside (0, 1].
