@@ -126,10 +126,15 @@ float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const s
         const glm::vec3 offset = corners[i] - centre;
         on_plane[i] = offset - glm::dot(offset, tangent) * tangent;
     }
-    float widest = 0.0f;
+    // The square root once, of the largest square: sqrt is monotonic and correctly rounded, so this is
+    // the largest glm::distance exactly (skinning evaluates it per level, cluster and control point).
+    float widest_squared = 0.0f;
     for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) widest = std::max(widest, glm::distance(on_plane[i], on_plane[j]));
-    return widest;
+        for (int j = i + 1; j < 4; ++j) {
+            const glm::vec3 d = on_plane[i] - on_plane[j];
+            widest_squared = std::max(widest_squared, glm::dot(d, d));
+        }
+    return std::sqrt(widest_squared);
 }
 
 }  // namespace hairlod

@@ -197,12 +197,22 @@ void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
             }
         }
         geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
+        // The widest hair's centres skinned once per control point: where the widest hair at k - 1 or
+        // k + 1 is the same hair (its rest centre there is this hair's `before` / `after`), its skinned
+        // centre is reused for the tangent, the same value computed once.
+        thread_local std::vector<glm::vec3> centres;
+        centres.resize(nc);
         for (size_t l = 0; l < widest_rest_.size(); ++l) {
+            for (size_t k = 0; k < nc; ++k) centres[k] = skin_point(maps[c * nc + k], widest_rest_[l][c * nc + k].centre);
             for (size_t k = 0; k < nc; ++k) {
                 const size_t i = c * nc + k, before = k == 0 ? i : i - 1, after = k + 1 == nc ? i : i + 1;
                 const WidestRest& rest = widest_rest_[l][i];
-                const glm::vec3 centre = skin_point(maps[i], rest.centre);
-                const glm::vec3 tangent = unit_or_zero(skin_point(maps[after], rest.after) - skin_point(maps[before], rest.before));
+                const glm::vec3& centre = centres[k];
+                const glm::vec3 at_after = rest.after == widest_rest_[l][after].centre ? centres[after - c * nc]
+                                                                                      : skin_point(maps[after], rest.after);
+                const glm::vec3 at_before = rest.before == widest_rest_[l][before].centre ? centres[before - c * nc]
+                                                                                         : skin_point(maps[before], rest.before);
+                const glm::vec3 tangent = unit_or_zero(at_after - at_before);
                 const glm::mat3 jacobian = map_jacobian(maps[i], rest.centre - maps[i].rest_origin);
                 const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
                 const float diameter = corner_diameter(centre, tangent, {centre + major, centre - major, centre + minor, centre - minor});
