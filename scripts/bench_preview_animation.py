@@ -1,7 +1,7 @@
 """Benchmarks the viewport LoD preview on animated hair in a real Blender window (run under Xvfb).
 
 Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_preview_animation.py
-     [-- --count 100000 --frames 12 --guides 256 --distance 1.5 --out FILE.json]
+     [-- --count 100000 --frames 12 --guides 256 --distance 1.5 --strand-coverage on --out FILE.json]
 Generates --count strands (17 points) in examples/data/wavy_cap.hairmesh.json as a hair Curves object
 whose Geometry Nodes modifier nods it (a keyframed Transform, 0 to 0.5 rad over --frames frames),
 builds its LoD with Build Hair LoD (6 levels) and, seen from the side at --distance times the hair's
@@ -42,6 +42,8 @@ def parse_args():
     parser.add_argument("--frames", type=int, default=12)
     parser.add_argument("--guides", type=int, default=256)
     parser.add_argument("--distance", type=float, default=1.5, help="camera distance in hair sizes")
+    parser.add_argument("--strand-coverage", choices=("on", "off"), default="on",
+                        help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -77,6 +79,7 @@ def run(args):
     build_seconds = time.perf_counter() - start
     settings = obj.hairlod_lod_preview
     preview = lod_preview.preview_of(obj)
+    settings.strand_coverage = args.strand_coverage == "on"
 
     lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
     size = float(np.linalg.norm(upper - lower))

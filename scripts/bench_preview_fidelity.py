@@ -13,8 +13,10 @@ the screen's measured response (a ramp of written values drawn by a POST_VIEW ha
 tests/ui/test_view_transform.py) and the sRGB decoding of Standard; the path-traced hair's own radiance
 is unmixed from the sky in the pixels it covers partly (alpha from a coverage render). Reported per hair
 and view: the mean linear radiance per channel over the hair's pixels of each image (the path-traced
-one weighted by coverage) and their ratio, and the luminance spread (5th-95th percentile) of each, with
-one JSON object printed at the end.
+one weighted by coverage) and their ratio, the luminance spread (5th-95th percentile) of each, and the
+coverage ratio (the preview's hair pixels over the path-traced coverage summed over the image, both on
+the viewport's pixel grid), with one JSON object printed at the end. --strand-coverage off draws every
+strand a pixel wide (the panel's Strand Coverage).
 """
 
 import argparse
@@ -32,6 +34,7 @@ REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
+from viewport_capture import render_camera  # noqa: E402  (scripts/viewport_capture.py)
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
 SUN_IRRADIANCE = 3.0
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
@@ -45,6 +48,8 @@ def parse_args():
     parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--views", default="mid,near")
     parser.add_argument("--world", type=float, default=0.15, help="the uniform world's colour (grey)")
+    parser.add_argument("--strand-coverage", choices=("on", "off"), default="on",
+                        help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--cycles-samples", type=int, default=0,
                         help="also render the view with Cycles at this many samples (tests/blender/cycles_scene.py)")
     parser.add_argument("--out")
@@ -179,6 +184,7 @@ def steps(args):
         lod_preview.attach(holder, asset)
         settings = holder.hairlod_lod_preview
         settings.use_material = False  # the panel's default hair: melanin 0.5, as the renderer's default
+        settings.strand_coverage = args.strand_coverage == "on"
         if args.shadowing is not None:
             settings.self_shadowing = args.shadowing
         for view in args.views.split(","):
@@ -211,13 +217,7 @@ def steps(args):
                    slice(region.x - area.x, region.x - area.x + region.width))
             preview_linear, mask = to_linear(with_hair[box]), mask[box]
             # The viewport's projection, so that the path-traced camera sees what the viewport shows.
-            projection = np.array(region_3d.window_matrix)
-            fov_y = 2.0 * np.arctan(1.0 / projection[1, 1])
-            up = np.array(region_3d.view_rotation @ Vector((0.0, 1.0, 0.0)))
-            width, height = max(8, round(region.width * args.scale)), max(8, round(region.height * args.scale))
-            traced_camera = {"eye": list(np.array(region_3d.view_matrix.inverted().translation)),
-                             "target": list(target), "up": list(up), "fov_y": float(fov_y), "width": width,
-                             "height": height}
+            traced_camera = render_camera(region, region_3d, target, args.scale)
             lights = {"directional": [(tuple(sun_direction), (SUN_IRRADIANCE,) * 3)], "points": [],
                       "environment": np.full(3, args.world, np.float32)}
             start = time.perf_counter()
@@ -237,6 +237,9 @@ def steps(args):
                      "render_seconds": time.perf_counter() - start, "spp": args.spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
+            # How much of the image the hair covers: the preview's hair pixels against the path-traced
+            # coverage summed over the image (the same pixel grid at --scale 1).
+            entry["coverage_ratio"] = float(mask.sum() * args.scale ** 2 / max(float(alpha.sum()), 1e-9))
             if args.cycles_samples:
                 cycles = cycles_image(strands, traced_camera, sun_direction, args.cycles_samples, args.world)[::-1]
                 entry["cycles"] = summary(unmixed(cycles, alpha, args.world), covered, weights=alpha)
@@ -244,7 +247,7 @@ def steps(args):
                 entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
                                                     np.array(entry["cycles"]["mean"])).tolist()
             results[f"{name} {view}"] = entry
-            print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio",)}), "preview", entry["preview"],
+            print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio")}), "preview", entry["preview"],
                   "traced", entry["path_traced"], flush=True)
             render.write_image(os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"),
                                             f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])

@@ -1,7 +1,7 @@
 """Benchmarks what an artist waits for around Build Hair LoD, in a real Blender window (run under Xvfb).
 
 Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_preview_latency.py
-     [-- --count 100000 --runs 3 --out FILE.json]
+     [-- --count 100000 --runs 3 --strand-coverage on --out FILE.json]
 Generates --count strands of 17 points in examples/data/wavy_cap.hairmesh.json as a hair Curves object in
 the default scene (its grey world, one light) and measures, per run: the LoD build run directly
 (hairlod.blender.pipeline.build_lod: read the curves, build, pack into the object, in this process), its
@@ -39,6 +39,8 @@ def parse_args():
     parser = argparse.ArgumentParser()
     parser.add_argument("--count", type=int, default=100000)
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--strand-coverage", choices=("on", "off"), default="on",
+                        help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -58,6 +60,7 @@ def steps(args):
     area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
     strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=args.count, vertices=17, seed=1)
     source = strands_to_curves(strands, "Hair")
+    source.hairlod_lod_preview.strand_coverage = args.strand_coverage == "on"
     bpy.context.view_layer.objects.active = source
     draws = []
     original_draw = lod_preview.LodPreview.draw

@@ -1,6 +1,7 @@
 """What the viewport benchmarks under Xvfb share (scripts/bench_lod_preview.py,
-scripts/bench_preview_animation.py): the light and the viewport, timed redraws, screenshots as arrays,
-and a PSNR over the hair."""
+scripts/bench_preview_animation.py, scripts/bench_preview_fidelity.py and the UI tests): the light and
+the viewport, timed redraws, screenshots as arrays, a PSNR over the hair, and the viewport's camera for
+hairlod.render."""
 
 import math
 import time
@@ -77,3 +78,15 @@ def redraw(window, area, region, iterations=1, finish=False):
         if handle is not None:
             bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
     return seconds / iterations
+
+
+def render_camera(region, region_3d, target, scale=1.0):
+    """hairlod.render's camera for what a perspective viewport shows (its projection and view; `target`
+    the point it looks at), at `scale` times the region's pixels."""
+    from mathutils import Vector
+
+    projection = np.array(region_3d.window_matrix)
+    up = np.array(region_3d.view_rotation @ Vector((0.0, 1.0, 0.0)))
+    return {"eye": list(np.array(region_3d.view_matrix.inverted().translation)), "target": list(target),
+            "up": list(up), "fov_y": float(2.0 * np.arctan(1.0 / projection[1, 1])),
+            "width": max(8, round(region.width * scale)), "height": max(8, round(region.height * scale))}

@@ -4,7 +4,7 @@ optical depth a shading point reads.
 A deep opacity map (Yuksel and Keyser 2008, "Deep Opacity Maps"; the paper's real-time renderer
 makes one for its self-shadowing, hair-lod-aggregated-bcsdf.txt Sec. 6, step 1 "Shadow pass") holds,
 per pixel of the light's view, the depth z0 of the first hair the light meets and the optical depth
-tau accumulated by the hairs up to depths z0 + s, z0 + 2 s, z0 + 4 s and z0 + 8 s (LAYER_STEPS, s the
+tau accumulated by the hairs up to depths z0 + s, z0 + 4 s, z0 + 16 s and z0 + 64 s (LAYER_STEPS, s the
 layer spacing). The light reaching a point at depth z is exp(-tau(z - z0)), tau piecewise linear
 between the layers, 0 at z0 and the last layer's beyond it. Each hair adds its coverage of the
 pixel: a strand of radius r, drawn as a line one pixel wide, 2 r over the pixel's width; a thick
@@ -21,8 +21,16 @@ __all__ = ["LAYER_STEPS", "MAX_SHADOWED_LIGHTS", "TILE", "LightProjection", "lig
            "optical_depth", "shadow_level", "strand_coverage", "thick_hair_coverage"]
 
 # Layer boundaries below the first hair, in units of the spacing: dense near the lit side, where the
-# light falls fastest, out to the hair's radius.
-LAYER_STEPS = (1.0, 2.0, 4.0, 8.0)
+# light falls fastest, out to the hair's radius. Hair lies in a shell (a head of hair, a mohawk) far
+# thinner than its bounding sphere, and most of the light falls within it: with boundaries at 1/8, 1/4,
+# 1/2 and 1 radius a shell's tau was interpolated linearly over a first layer deeper than the shell, and
+# the strands the camera sees in it were lit too brightly. Measured with strands drawn by coverage
+# (scripts/bench_preview_fidelity.py, generated 20k at mid, preview / path-traced per channel):
+# 1.06 / 1.14 / 1.15 with (1, 2, 4, 8) over one radius, 1.03 / 1.10 / 1.09 with them over a quarter
+# radius (whose slab test, tests/ui/test_opacity_map.py, then lost its shadowed bottom beyond the last
+# layer), 1.04 / 1.11 / 1.10 with these over one radius (and the edge texels of opacity_map.glsl);
+# Ratboy 0.98 / 0.97 / 0.95 and 0.98 / 0.96 / 0.95 with the first two, 0.98 / 0.95 / 0.91 now.
+LAYER_STEPS = (1.0, 4.0, 16.0, 64.0)
 # Lights with a map of their own (the first ones of the scene's); the others fall back to the
 # hair-volume ellipsoid of hairlod.self_shadow.
 MAX_SHADOWED_LIGHTS = 4
@@ -93,8 +101,8 @@ def light_projection(light_vector, centre, radius, tile=TILE):
 
 
 def layer_spacing(radius):
-    """The spacing s of the layers for hair of bounding radius `radius`: the last layer at z0 + 8 s
-    reaches the sphere's radius below the first hair."""
+    """The spacing s of the layers for hair of bounding radius `radius`: the last layer at
+    z0 + LAYER_STEPS[-1] s reaches the sphere's radius below the first hair."""
     return float(radius) / LAYER_STEPS[-1]
 
 

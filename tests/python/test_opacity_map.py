@@ -53,12 +53,16 @@ def test_a_point_light_sees_the_sphere_within_its_view_and_none_from_inside():
 def test_optical_depth_is_piecewise_linear_through_the_layers():
     layers = np.array([0.5, 1.5, 2.0, 4.0])
     spacing = 0.1
-    below = np.array([-1.0, 0.0, 0.05, 0.1, 0.15, 0.3, 0.8, 5.0])
-    expected = np.array([0.0, 0.0, 0.25, 0.5, 1.0, 1.75, 4.0, 4.0])
+    knots = np.concatenate([[0.0], np.asarray(opacity_map.LAYER_STEPS) * spacing])
+    values = np.concatenate([[0.0], layers])
+    # Above the first hair, on the boundaries, halfway between them and beyond the last one.
+    below = np.concatenate([[-1.0], knots, 0.5 * (knots[:-1] + knots[1:]), [3.0 * knots[-1]]])
+    expected = np.concatenate([[0.0], values, 0.5 * (values[:-1] + values[1:]), [layers[-1]]])
     np.testing.assert_allclose(opacity_map.optical_depth(layers, below, spacing), expected)
     # Per-texel layers broadcast against per-texel depths.
     many = np.stack([layers, 2.0 * layers])
-    np.testing.assert_allclose(opacity_map.optical_depth(many, [0.15, 0.15], spacing), [1.0, 2.0])
+    halfway = 0.5 * (knots[2] + knots[3])
+    np.testing.assert_allclose(opacity_map.optical_depth(many, [halfway, halfway], spacing), [1.75, 3.5])
     assert opacity_map.layer_spacing(2.0) * opacity_map.LAYER_STEPS[-1] == pytest.approx(2.0)
 
 

@@ -60,6 +60,9 @@ def follow(window, scene, obj, name, size, view_location):
     from hairlod.blender.preview import lod_preview
 
     settings = obj.hairlod_lod_preview
+    # Every strand a pixel wide, as Blender draws them: with Strand Coverage the sparse tips keep fewer
+    # of their pixels than the dense crown, and the pixels' centroid turns about another point.
+    settings.strand_coverage = False
     preview = lod_preview.preview_of(obj)
     area, region_3d = harness.plain_view(view3d(window)[0])
     region_3d.view_perspective = 'ORTHO'

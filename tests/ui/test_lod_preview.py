@@ -25,7 +25,7 @@ from harness import REPO_ROOT, check, screenshot  # noqa: E402
 
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "blender"))
 sys.path.insert(0, os.path.join(REPO_ROOT, "scripts"))
-from viewport_capture import redraw  # noqa: E402  (scripts/viewport_capture.py: timed redraws the benchmarks share)
+from viewport_capture import redraw, render_camera  # noqa: E402  (scripts/viewport_capture.py: what the benchmarks share)
 
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 
@@ -224,10 +224,10 @@ def steps():
 
 
 def real_hair_far_view(window, area, region_3d):
-    """The real hairstyle (Ratboy's mohawk, 2228 strands x 32 points) at 8x and 25x its size (the far
-    view): there the preview's own statistics count at least 10x fewer segments than its strands,
-    the strands' vertex LoD doing its part; at both, leaving control points out barely changes the
-    image."""
+    """The real hairstyle (Ratboy's mohawk, 2228 strands x 32 points) at 3x its size covers as much of
+    the view as its path-traced strands (Strand Coverage); at 8x and 25x its size (the far view) the
+    preview's own statistics count at least 10x fewer segments than its strands, the strands' vertex
+    LoD doing its part; at both, leaving control points out barely changes the image."""
     from hairlod import io, lod
     from hair_fixtures import preview_on_an_empty
 
@@ -236,6 +236,10 @@ def real_hair_far_view(window, area, region_3d):
     centre, size = 0.5 * (lower + upper), float(np.linalg.norm(upper - lower))
     _, settings, preview = preview_on_an_empty(lod.build_lod(strands))
     region_3d.view_location = centre
+    yield from real_hair_coverage(window, area, region_3d, strands, centre, 3.0 * size, settings, preview)
+    # The vertex LoD's pixels among every strand's: Strand Coverage thins the mohawk at 8x to under 300
+    # hair pixels, where a dozen chords are 4 % of them (5 of 1174 with every strand drawn).
+    settings.strand_coverage = False
     every_strand = strands.point_count - len(strands)
     for view, distance in (("8x", 8.0), ("far", 25.0)):
         region_3d.view_distance = distance * size
@@ -274,6 +278,43 @@ def real_hair_far_view(window, area, region_3d):
         if view == "far":
             check(drawn["segments"] * 10 <= every_strand,
                   f"real hair far view: {every_strand / drawn['segments']:.1f}x fewer segments than every strand (>= 10x)")
+
+
+
+def real_hair_coverage(window, area, region_3d, strands, centre, distance, settings, preview):
+    """Every strand drawn (eps_w at its least), most under a pixel wide: with Strand Coverage the preview's hair pixels are
+    within 25 % of the hair's coverage path-traced from the same camera (alpha summed over the image;
+    measured 1.04-1.06x at 2.5 and 3x, scripts/bench_preview_fidelity.py); without, each strand a pixel
+    wide, more than twice as many (4.4-4.9x)."""
+    from hairlod import lod, render
+
+    region = next(r for r in area.regions if r.type == 'WINDOW')
+    region_3d.view_distance = distance
+    images = {}
+    settings.width_px = lod.MIN_WIDTH_PX  # every cluster at its strands
+    for coverage in (True, False):
+        settings.enabled, settings.strand_coverage = True, coverage
+        yield from settle(area, preview)
+        every_strand = len(strands) * (preview.asset.control_points - 1)
+        check(preview.stats["selected_segments"] == every_strand,
+              f"real hair at 3x: every strand selected ({preview.stats['selected_segments']:,} of {every_strand:,} segments)")
+        images[coverage] = screenshot(window, area, f"lod_preview_real_coverage_{'on' if coverage else 'off'}.png")
+    settings.enabled = False
+    settings.property_unset("strand_coverage")
+    settings.property_unset("width_px")
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    background = screenshot(window, area, "lod_preview_real_coverage_background.png")
+    box = (slice(region.y - area.y, region.y - area.y + region.height),
+           slice(region.x - area.x, region.x - area.x + region.width))
+    alpha = render.coverage(strands, "pt", spp=64, camera=render_camera(region, region_3d, centre), seed=5)
+    covered = float(alpha.sum())
+    ratios = {coverage: float((np.abs(image - background).max(axis=2) > 2.0 / 255.0)[box].sum()) / covered
+              for coverage, image in images.items()}
+    print(f"real hair at 3x: hair pixels over the path-traced coverage ({covered:.0f} pixels): "
+          f"{ratios[True]:.2f} with Strand Coverage, {ratios[False]:.2f} without")
+    check(0.75 < ratios[True] < 1.33, f"real hair at 3x: Strand Coverage covers {ratios[True]:.2f}x the hair's pixels")
+    check(ratios[False] > 2.0, f"real hair at 3x: every strand a pixel wide covers {ratios[False]:.2f}x the hair's pixels")
 
 
 harness.run(steps)

@@ -39,6 +39,10 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                                        "many pixels of the points they skip; 0 draws every control point",
                                        default=preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX, min=0.0, soft_max=2.0,
                                        update=_redraw)
+    strand_coverage: BoolProperty(name="Strand Coverage", description="Draw each strand thinner than a pixel with the "
+                                  "probability of its width, so that the hair covers as much of the view as in a "
+                                  "render (off: every strand a pixel wide, sparse hair looks denser)",
+                                  default=True, update=_redraw)
     overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
                           items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),
                                  ('LEVELS', "Levels", "Each LoD level in its own colour")),
@@ -133,6 +137,7 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
         column.use_property_decorate = False
         column.prop(settings, "width_px")
         column.prop(settings, "vertex_tolerance_px")
+        column.prop(settings, "strand_coverage")
         column.prop(settings, "overlay")
         if settings.overlay == 'SHADED':
             column.prop(settings, "self_shadowing")

@@ -84,15 +84,16 @@ struct HairFrame {{
 
 
 def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours,
-                hair_volume, shadow_strength, strand_radius, shadows):
+                hair_volume, shadow_strength, strand_radius, shadows, control_points=0, strand_coverage=False):
     """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them).
+    counts = (lights, control points per strand, 1 to draw strands by coverage (strand.vert.glsl), 0);
     hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow) of the
     lights without an opacity map; shadow = (the strands' radius in world units, 0, strength, 0) and
     the mapped lights' views (opacity_maps.LightShadows) those of the maps."""
     model = np.asarray(model, np.float64)
     data = np.concatenate([model.T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
                            np.linalg.inv(model).T.ravel(), np.asarray(camera, np.float32), (*viewport, 0.0, 0.0),
-                           np.asarray(ambient, np.float32), (float(light_count), 0.0, 0.0, 0.0),
+                           np.asarray(ambient, np.float32), (float(light_count), float(control_points), float(strand_coverage), 0.0),
                            (*hair_volume.centre, shadow_strength * hair_volume.extinction), (*hair_volume.semi_axes, 0.0),
                            light_vectors.ravel(), light_colours.ravel(), (strand_radius, 0.0, shadow_strength, 0.0),
                            np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel()])
@@ -623,7 +624,8 @@ class LodPreview:
         # Kept referenced until the batches are drawn.
         frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
-                            light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows)
+                            light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows,
+                            self.asset.control_points, settings.strand_coverage)
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
         for level in range(self.level_count):

@@ -22,7 +22,8 @@ NO_HAIR_DEPTH = 1e30  # the depth map where the light meets no hair (opacity_map
 def glsl_constants(opacity_pass=None):
     """#defines of opacity_map.glsl and, for a light pass, which one (0: depth, 1: opacity)."""
     text = (f"#define OPACITY_TILE {opacity_map.TILE}\n#define OPACITY_MAX_PIXEL_DEPTH {opacity_map.MAX_PIXEL_DEPTH!r}\n"
-            f"#define OPACITY_MAX_LIGHTS {opacity_map.MAX_SHADOWED_LIGHTS}\n")
+            f"#define OPACITY_MAX_LIGHTS {opacity_map.MAX_SHADOWED_LIGHTS}\n"
+            f"#define OPACITY_LAYER_STEPS vec4{tuple(float(step) for step in opacity_map.LAYER_STEPS)}\n")
     if opacity_pass is not None:
         text += f"#define HAIRLOD_PI 3.14159265358979\n#define OPACITY_PASS {int(opacity_pass)}\n"
     return text

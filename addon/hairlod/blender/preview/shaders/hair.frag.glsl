@@ -50,11 +50,13 @@ void main()
    * the mean free path 1 / sigma into the hair; sigma the density under the first mapped light's lit
    * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
    * Zinke et al. 2008): over an optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per
-   * channel and direction, the world's a_f at normal incidence. */
-  float first_density = frame.light_shadow[0].w > 0.5 ? light_side_density(0, seen) : 0.0;
-  float visible_density = frame.light_shadow[0].w > 0.5 ? first_density : frame.hair_centre.w;
+   * channel and direction, the world's a_f at normal incidence. Strands drawn by their coverage
+   * (strand.vert.glsl) are the strands the camera sees, at their own depth: there the depth is 0. */
+  bool at_own_depth = frame.counts.z > 0.5 && v_ellipse.z <= 0.0;
+  float first_density = frame.light_shadow[0].w > 0.5 && !at_own_depth ? light_side_density(0, seen) : 0.0;
+  float visible_density = frame.light_shadow[0].w > 0.5 || at_own_depth ? first_density : frame.hair_centre.w;
   vec3 into_object = (frame.model_inverse * vec4(-wo, 0.0)).xyz;
-  float reach = frame.light_shadow[0].w > 0.5 ? 8.0 * frame.light_shadow[0].z
+  float reach = frame.light_shadow[0].w > 0.5 ? OPACITY_LAYER_STEPS.w * frame.light_shadow[0].z
                                               : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
   float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
   vec3 seen_object = (frame.model_inverse * vec4(seen, 1.0)).xyz;
@@ -77,9 +79,9 @@ void main()
     if (k < OPACITY_MAX_LIGHTS && frame.light_shadow[k].w > 0.5) {
       /* The light's deep opacity map (opacity_map.glsl), over the depths where the camera's first strand
        * lies, read a pixel nearer the light than each (past the hair's own sample). */
-      shadow = visible_transmittance(k, seen, -wo, k == 0 ? first_density : light_side_density(k, seen),
+      shadow = visible_transmittance(k, seen, -wo, k == 0 || at_own_depth ? first_density : light_side_density(k, seen),
                                      light_pixel_size(k, light_depth(k, seen)), frame.shadow.z * keep,
-                                     8.0 * frame.light_shadow[k].z);
+                                     OPACITY_LAYER_STEPS.w * frame.light_shadow[k].z);
     }
     else {
       shadow = pow(vec3(hair_transmittance(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,

@@ -1,7 +1,7 @@
 /* Deep opacity maps of the hair (Yuksel and Keyser 2008; hairlod/opacity_map.py has the same formulas
  * and says why). Light k < frame.shadow.y has a map: a tile of OPACITY_TILE pixels at x offset
  * k OPACITY_TILE in depth_map (the depth z0 of the first hair the light meets, 1e30 where none) and
- * opacity_map (the optical depth accumulated by the hairs above z0 + s, 2 s, 4 s, 8 s; s =
+ * opacity_map (the optical depth accumulated by the hairs above z0 + OPACITY_LAYER_STEPS s; s =
  * frame.light_shadow[k].z). frame.light_view_projection[k] is the light's view; light_shadow[k].x the
  * world size of a pixel (per unit distance for a point light, .y = 1). */
 
@@ -19,24 +19,25 @@ float light_pixel_size(int k, float depth)
 }
 
 #ifndef OPACITY_PASS /* the shading pass reads the maps */
-/* tau at `below` under the first hair: piecewise linear through (0, 0) and (s, 2 s, 4 s, 8 s; layers),
- * constant beyond the last layer. */
+/* tau at `below` under the first hair: piecewise linear through (0, 0) and (OPACITY_LAYER_STEPS s;
+ * layers), constant beyond the last layer. */
 float layered_optical_depth(vec4 layers, float below, float spacing)
 {
   float x = below / spacing;
+  vec4 steps = OPACITY_LAYER_STEPS;
   if (x <= 0.0) {
     return 0.0;
   }
-  if (x < 1.0) {
-    return layers.x * x;
+  if (x < steps.x) {
+    return layers.x * x / steps.x;
   }
-  if (x < 2.0) {
-    return mix(layers.x, layers.y, x - 1.0);
+  if (x < steps.y) {
+    return mix(layers.x, layers.y, (x - steps.x) / (steps.y - steps.x));
   }
-  if (x < 4.0) {
-    return mix(layers.y, layers.z, 0.5 * (x - 2.0));
+  if (x < steps.z) {
+    return mix(layers.y, layers.z, (x - steps.y) / (steps.z - steps.y));
   }
-  return mix(layers.z, layers.w, clamp(0.25 * (x - 4.0), 0.0, 1.0));
+  return mix(layers.z, layers.w, clamp((x - steps.z) / (steps.w - steps.z), 0.0, 1.0));
 }
 
 /* The map's texel under clip-space position `clip` of light k, moved by `offset` texels; (-1, -1) outside
@@ -62,19 +63,21 @@ float light_side_density(int k, vec3 p)
   if (texel.x < 0 || texelFetch(depth_map, texel, 0).r >= 1e29) {
     return 0.0;
   }
-  return texelFetch(opacity_map, texel, 0).y / (2.0 * frame.light_shadow[k].z);
+  return texelFetch(opacity_map, texel, 0).y / (OPACITY_LAYER_STEPS.y * frame.light_shadow[k].z);
 }
 
 /* The light of light k reaching the hair a camera sees at p, per channel: exp(-tau keep), keep = 1 - a_f
  * scaled by the Shadowing strength (a_f the share of the light each strand crossed passes on forwards,
- * hair.frag.glsl), tau read `bias` nearer the light. The preview draws strands at least a pixel wide, so
- * the first one drawn is the outermost; the strand a camera really sees first lies deeper, where its line
+ * hair.frag.glsl), tau read `bias` nearer the light. Strands drawn without their coverage and thick hairs
+ * are at least a pixel wide, so the first one drawn is the outermost; the strand a camera really sees
+ * first lies deeper, where its line
  * of sight has crossed an optical depth of about 1 of the hair in front (the free path in a medium of
  * density sigma is exponential with mean 1 / sigma). The transmittance is averaged over 4 stratified
  * depths t = -ln(1 - u) / sigma along `into` (away from the camera), sigma the density under the lit side
  * at p (`density`, light_side_density), each at most `reach` deep and read from one of the 2 x 2 texels
  * around its position (percentage-closer filtering, as the thesis's shadow maps,
- * realtime-pbr-hair-thesis.txt Sec. 4.5, one texel per depth). 1 outside the map. */
+ * realtime-pbr-hair-thesis.txt Sec. 4.5, one texel per depth), those where the light meets no hair left
+ * out. 1 outside the map. */
 vec3 visible_transmittance(int k, vec3 p, vec3 into, float density, float bias, vec3 keep, float reach)
 {
   /* Positions along p + t into are linear in clip space; so is their depth from a sun. */
@@ -82,20 +85,23 @@ vec3 visible_transmittance(int k, vec3 p, vec3 into, float density, float bias, 
   vec4 clip_into = frame.light_view_projection[k] * vec4(into, 0.0);
   vec4 light = frame.light_vectors[k];
   vec3 sum = vec3(0.0);
+  int in_hair = 0;
   for (int i = 0; i < 4; ++i) {
     float u = (float(i) + 0.5) / 4.0;
     float t = density > 0.0 ? min(-log(1.0 - u) / density, reach) : 0.0;
     ivec2 texel = opacity_texel(k, clip + t * clip_into, vec2(float(i & 1), float(i >> 1)) - 0.5);
     float first = texel.x < 0 ? 1e30 : texelFetch(depth_map, texel, 0).r;
     if (first >= 1e29) {
-      sum += vec3(1.0);
       continue;
     }
     vec3 q = p + t * into;
     float depth = light.w > 0.0 ? length(q - light.xyz) : -dot(light.xyz, q);
     float tau = layered_optical_depth(texelFetch(opacity_map, texel, 0), depth - bias - first, frame.light_shadow[k].z);
     sum += exp(-tau * keep);
+    ++in_hair;
   }
-  return 0.25 * sum;
+  /* Texels the light meets no hair in lie beyond the hair's edge (the point is on a strand): they would
+   * light an edge strand as if nothing stood above it. 1 where no texel holds hair. */
+  return in_hair > 0 ? sum / float(in_hair) : vec3(1.0);
 }
 #endif

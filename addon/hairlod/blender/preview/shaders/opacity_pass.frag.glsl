@@ -26,7 +26,6 @@ void main()
   }
   tau = min(tau, OPACITY_MAX_PIXEL_DEPTH);
   float spacing = frame.light_shadow[shadow_light].z;
-  fragColor = tau * vec4(step(depth, first + spacing), step(depth, first + 2.0 * spacing),
-                         step(depth, first + 4.0 * spacing), step(depth, first + 8.0 * spacing));
+  fragColor = tau * step(vec4(depth), vec4(first) + OPACITY_LAYER_STEPS * spacing);
 #endif
 }

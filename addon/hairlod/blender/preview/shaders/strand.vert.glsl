@@ -1,13 +1,55 @@
 /* A strand drawn as lines, one vertex per control point; the rest pose in object space in, skinned
  * to the current frame (skinning.glsl), world space out. What a thick hair's varyings hold is
  * constant along a strand (lod_preview.STRAND_CONSTANTS), and the selection's key goes out only where
- * the fragments test it. */
+ * the fragments test it.
+ *
+ * Strands by coverage (frame.counts.z = 1): a line is a pixel wide, a strand often a fifth of that, so
+ * drawing every strand covers several times the pixels the hair covers (4.4-4.9x on the real Ratboy
+ * mohawk against its path-traced coverage). Each strand is drawn with the probability of its width in
+ * pixels (stochastic transparency, Enderton et al. 2010, per strand instead of per fragment): the
+ * expected coverage of every pixel, 1 - prod(1 - w_i) over the strands crossing it, is the hair's,
+ * the lines stay whole and opaque (no sorting, no discard), and a strand's choice holds from frame to
+ * frame. The width is taken once per L0 cluster, at its middle control point, so that every vertex of
+ * a strand decides alike; frame.counts.y is the control points per strand, frame.shadow.x the
+ * strands' radius in world units. */
+
+/* A uniform number in [0, 1) per integer (an integer hash: xor-shifts and odd multipliers). */
+float unit_hash(uint x)
+{
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return float(x >> 8) * (1.0 / 16777216.0);
+}
+
+/* The width in pixels of a strand of L0 cluster `cluster`, at the cluster's skinned origin at its middle
+ * control point (skinning.glsl: texels 1-3 hold the map's origin in w). */
+float strand_width_px(int cluster)
+{
+  ivec2 middle = ivec2(cluster, int(frame.counts.y) / 2);
+  vec3 origin = vec3(skin_texel(middle, 1).w, skin_texel(middle, 2).w, skin_texel(middle, 3).w);
+  vec3 world = (frame.model * vec4(origin, 1.0)).xyz;
+  vec3 view = frame.camera.w > 0.5 ? world - frame.camera.xyz : -frame.camera.xyz;
+  vec3 side = cross(view, abs(view.z) < 0.9 * length(view) ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0));
+  vec4 clip = frame.view_projection * vec4(world, 1.0);
+  vec4 clip_side = frame.view_projection * vec4(normalize(side), 0.0);
+  if (clip.w <= 0.0) {
+    return 1.0;
+  }
+  return 2.0 * frame.shadow.x * length(clip_side.xy * 0.5 * frame.viewport.xy) / clip.w;
+}
+
 void main()
 {
   ivec2 cluster_point = ivec2(select_key + 0.5);
   mat3 skin;
   vec3 world = (frame.model * vec4(skin_point(cluster_point, position, skin), 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
+  if (frame.counts.z > 0.5 && unit_hash(uint(gl_VertexID) / uint(frame.counts.y)) >= strand_width_px(cluster_point.x)) {
+    gl_Position = vec4(0.0, 0.0, -2.0, 1.0);  /* every vertex of the strand, behind the near plane: not drawn */
+  }
   v_position = world;
   v_tangent = normalize(mat3(frame.model) * (skin * tangent));
 #ifndef HAIRLOD_ALL_AT_DRAW_LEVEL
