@@ -117,8 +117,11 @@ def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6, tt=
 
 def huang_sample(params, wo, u):
     """Directions drawn from the Huang fibre for the views wo (float [N, 3], fibre frame) with uniforms u
-    (float [N, 11] in [0, 1)): (wi [N, 3], weight [N, 3] = S cos(theta_i) / pdf; 0 where no path leaves).
-    As in Cycles, the model has no density to evaluate: a sample carries its weight."""
+    (float [N, 11] in [0, 1)): (wi [N, 3], weight [N, 3] = S cos(theta_i) / pdf, 0 where no path leaves;
+    discarded [N, 3], the throughput the model's visibility rules drop on the path: light arriving where
+    the tilted cuticle faces away from wo, paths a cuticle sends into the fibre's own surface).
+    As in Cycles, the model has no density to evaluate: a sample carries its weight. A lossless fibre's
+    energy is the mean weight, and weight + discarded averages to 1 (within 1e-3)."""
     wo = np.ascontiguousarray(wo, dtype=np.float64)
     u = np.ascontiguousarray(u, dtype=np.float64)
     if wo.ndim != 2 or wo.shape[1] != 3:

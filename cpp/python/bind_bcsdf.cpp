@@ -189,10 +189,11 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
             if (wo.ndim() != 2 || wo.shape(1) != 3) throw Error("wo must have shape [N, 3]");
             if (u.ndim() != 2 || u.shape(0) != wo.shape(0) || u.shape(1) != 11) throw Error("u must have shape [N, 11]");
             const py::ssize_t n = wo.shape(0);
-            py::array_t<double> wi({n, py::ssize_t(3)}), weight({n, py::ssize_t(3)});
+            py::array_t<double> wi({n, py::ssize_t(3)}), weight({n, py::ssize_t(3)}), discarded({n, py::ssize_t(3)});
             const HuangBcsdf model(params);
             double* wi_out = wi.mutable_data();
             double* weight_out = weight.mutable_data();
+            double* discarded_out = discarded.mutable_data();
             const double* w = wo.data();
             const double* uu = u.data();
             {
@@ -204,13 +205,15 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
                     for (int c = 0; c < 3; ++c) {
                         wi_out[3 * k + c] = sample.wi[c];
                         weight_out[3 * k + c] = sample.weight[c];
+                        discarded_out[3 * k + c] = sample.discarded[c];
                     }
                 }
             }
-            return py::make_tuple(wi, weight);
+            return py::make_tuple(wi, weight, discarded);
         },
         py::arg("params"), py::arg("wo"), py::arg("u"),
-        "Huang fibre sampling: (wi [N, 3], weight S cos(theta_i) / pdf [N, 3]) for wo [N, 3] and uniforms u [N, 11].");
+        "Huang fibre sampling: (wi [N, 3], weight S cos(theta_i) / pdf [N, 3], discarded [N, 3]: the throughput the "
+        "model's visibility rules drop) for wo [N, 3] and uniforms u [N, 11].");
 
     m.def(
         "bcsdf_evaluate",

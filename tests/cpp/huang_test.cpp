@@ -1,6 +1,7 @@
 #include "hairlod/bcsdf/huang.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -170,19 +171,60 @@ TEST(Huang, SamplesCarryTheEnergyOfTheEvaluation) {
     }
 }
 
-// White furnace of the lossless fibre as the path tracer sees it (through its samples): the energy
-// scale of each rough interface (Huang et al. 2022) keeps it near 1, within 4 % up to roughness 0.3
-// (measured 0.98-1.03; 1.05-1.12 at roughness 0.8, where the scale over-compensates). Its evaluation
-// exceeds 1 without absorption: the TRRT+ series counts a totally internally reflected path again
-// (T R^2 T_avg A^3 / (1 - A (1 - T_avg)) -> T as A -> 1 with R = 1), as Cycles' evaluation does.
-TEST(Huang, LosslessSamplesConserveEnergy) {
-    for (double roughness : {0.05, 0.3})
-        for (double b : {1.0, 0.6})
-            for (double theta_o : {0.0, 1.2}) {
-                const HuangBcsdf model(huang(roughness, b, 0.0));
-                const Energies e = energies(model, direction(theta_o, 0.3), 1, 200000);
-                EXPECT_NEAR(e.sampled, 1.0, 0.04) << roughness << " " << b << " " << theta_o;
+// The lossless fibre's energy as the path tracer sees it (the mean throughput of its samples) and the
+// light the model's visibility rules discard, from `samples` points of the Kronecker sequence in the
+// 11 dimensions of a sample (generalised golden ratio, x^12 = x + 1): deterministic, and converging
+// much faster than random draws (2e-4 at 250000 against a Monte Carlo error of 1e-3 at roughness 1).
+struct LosslessEnergy {
+    double furnace = 0.0, discarded = 0.0;
+};
+LosslessEnergy lossless_energy(double roughness, double b, double theta_o, int samples) {
+    double phi = 2.0;
+    for (int k = 0; k < 60; ++k) phi = std::pow(1.0 + phi, 1.0 / 12.0);
+    std::array<double, 11> step;
+    for (int d = 0; d < 11; ++d) step[d] = std::pow(phi, -(d + 1));
+    const HuangBcsdf model(huang(roughness, b, 0.0));
+    const glm::dvec3 wo = direction(theta_o, 0.3);
+    LosslessEnergy e;
+    for (int k = 0; k < samples; ++k) {
+        std::array<double, 11> u;
+        for (int d = 0; d < 11; ++d) u[d] = std::fmod(0.5 + k * step[d], 1.0);
+        const FibreSample s = model.sample(wo, u);
+        e.furnace += s.weight.y / samples;
+        e.discarded += s.discarded.y / samples;
+    }
+    return e;
+}
+
+// White furnace of the lossless fibre: every interface's energy scale restores exactly what its
+// single-scattering microfacets lose, so the light that leaves plus the light the model's visibility
+// rules discard (FibreSample::discarded) is 1 within 1e-3, from roughness 0.01 to 1, round and flat
+// fibres, head-on to grazing views. Before the scale was tabulated per material and the shadowing of
+// light leaving below the mesonormal set to 0 (as the albedo counts it), this sum was 0.99-1.15.
+TEST(Huang, LosslessFibreLosesOnlyWhatItsVisibilityRulesDiscard) {
+    for (double roughness : {0.01, 0.3, 1.0})
+        for (double b : {1.0, 0.5})
+            for (double theta_o : {0.0, 1.2, 1.5}) {
+                const LosslessEnergy e = lossless_energy(roughness, b, theta_o, 250000);
+                EXPECT_NEAR(e.furnace + e.discarded, 1.0, 1e-3) << roughness << " " << b << " " << theta_o;
             }
+}
+
+// The energy of the lossless fibre is the README's table ("Blender 4.x hair"): the furnace within 1e-3
+// of it. Near head-on it is 1 (the rules discard < 1.2e-3); towards grazing views the tilted cuticle
+// faces away from the view over part of the width and reflects light into the fibre's surface, which
+// Cycles' model drops as well.
+TEST(Huang, LosslessFurnaceIsTheDocumentedEnergy) {
+    struct Documented {
+        double roughness, b, theta_o, energy;
+    };
+    // The view's azimuth is 0.3 rad from the major axis (matters where b < 1).
+    for (const Documented& d : {Documented{0.01, 1.0, 1.5, 0.5141}, {0.3, 1.0, 0.0, 0.9993}, {0.3, 1.0, 1.2, 0.9945},
+                                {0.3, 1.0, 1.5, 0.8674}, {1.0, 1.0, 1.5, 0.8660}, {0.05, 0.5, 1.4, 0.9221},
+                                {0.3, 0.5, 1.5, 0.7013}, {1.0, 0.5, 1.2, 0.9875}, {0.01, 0.5, 1.5, 0.3881}}) {
+        const LosslessEnergy e = lossless_energy(d.roughness, d.b, d.theta_o, 250000);
+        EXPECT_NEAR(e.furnace, d.energy, 1e-3) << d.roughness << " " << d.b << " " << d.theta_o;
+    }
 }
 
 // Reciprocity where the model has it. Huang et al. 2022's R and TT integrals over a round fibre are

@@ -89,7 +89,7 @@ TEST(Microfacet, FresnelAndRefraction) {
     }
 }
 
-TEST(Microfacet, DielectricAlbedoAndItsTable) {
+TEST(Microfacet, DielectricAlbedoAndItsEnergyScale) {
     // A smooth interface reflects or transmits everything; a rough one loses energy to the shadowing it
     // does not model, most at grazing light.
     EXPECT_NEAR(ggx_dielectric_albedo(1e-4, 0.7, 1.55), 1.0, 1e-6);
@@ -98,15 +98,17 @@ TEST(Microfacet, DielectricAlbedoAndItsTable) {
     EXPECT_GT(rough_grazing, 0.3);
     EXPECT_LT(rough_grazing, ggx_dielectric_albedo(0.8, 0.9, 1.55));
     EXPECT_LT(ggx_dielectric_albedo(0.8, 0.9, 1.55), 1.0);
-    // The table between its nodes: within 2 % of the direct integral.
-    for (double sqrt_alpha : {0.1, 0.55, 0.9})
-        for (double cos_i : {0.2, 0.63, 0.97})
-            for (double eta : {1.55, 1.0 / 1.55, 1.33}) {
-                const double direct = 1.0 / ggx_dielectric_albedo(sqrt_alpha * sqrt_alpha, cos_i, eta, 64);
-                const double table = ggx_dielectric_energy_scale(sqrt_alpha, cos_i, eta);
-                EXPECT_GE(table, 1.0 - 1e-9);
-                EXPECT_NEAR(table / direct, 1.0, 0.02) << sqrt_alpha << " " << cos_i << " " << eta;
+    // The table of one material between its nodes: within 1e-3 of the direct integral, from grazing to
+    // normal light, on both sides of the interface.
+    for (double alpha : {0.01, 0.3, 0.81}) {
+        const DielectricEnergyScale scale(alpha, 1.55);
+        for (double cos_i : {0.013, 0.05, 0.2, 0.63, 0.97})
+            for (bool inside : {false, true}) {
+                const double direct = 1.0 / ggx_dielectric_albedo(alpha, cos_i, inside ? 1.0 / 1.55 : 1.55, 384);
+                EXPECT_GE(scale(cos_i, inside), 1.0 - 1e-9);
+                EXPECT_NEAR(scale(cos_i, inside) / direct, 1.0, 1e-3) << alpha << " " << cos_i << " " << inside;
             }
+    }
 }
 
 }  // namespace

@@ -103,9 +103,10 @@ def test_from_principled_hair_huang_mode():
 def test_huang_samples():
     wo = np.tile([[0.1, 0.9, 0.2]], (500, 1))
     u = np.random.default_rng(1).random((500, 11))
-    wi, weight = bcsdf.huang_sample({"fibre": "huang", "huang_sigma_a": [0.3, 0.5, 1.0]}, wo, u)
-    assert wi.shape == (500, 3) and weight.shape == (500, 3)
+    wi, weight, discarded = bcsdf.huang_sample({"fibre": "huang", "huang_sigma_a": [0.3, 0.5, 1.0]}, wo, u)
+    assert wi.shape == (500, 3) and weight.shape == (500, 3) and discarded.shape == (500, 3)
     assert np.all(np.isfinite(weight)) and np.all(weight >= 0.0) and weight.mean() > 0.05
+    assert np.all(np.isfinite(discarded)) and np.all(discarded >= 0.0)
     assert np.allclose(np.linalg.norm(wi[weight[:, 0] > 0], axis=1), 1.0)
     with pytest.raises(ValueError, match="u must have shape"):
         bcsdf.huang_sample({}, wo, u[:, :5])

@@ -69,6 +69,12 @@ bool visible(const glm::dvec3& v, const glm::dvec3& m, const glm::dvec3& h) {
 glm::dvec3 flat(const glm::dvec3& m) { return {m.x, 0.0, m.z}; }
 glm::dvec3 reflect_about(const glm::dvec3& w, const glm::dvec3& h) { return 2.0 * glm::dot(w, h) * h - w; }
 double frac(double x) { return x - std::floor(x); }
+// G2 / G1 for light leaving along a direction at cos_mo to the mesonormal: 0 below it, where the
+// microsurface masks it (as ggx_dielectric_albedo counts it, so that the energy scale restores exactly
+// what this loses; Smith's Lambda alone is even in cos_mo).
+double shadowing_leaving(double a2, double cos_mi, double cos_mo) {
+    return cos_mo > 0.0 ? ggx_shadowing_given_visible(a2, cos_mi, cos_mo) : 0.0;
+}
 double mean(const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; }
 
 // Beyond TRT: the geometric series T R^2 T_avg A^3 / (1 - A (1 - T_avg)) with every later
@@ -80,7 +86,7 @@ glm::dvec3 higher_orders(double t, double r, const glm::dvec3& a) {
 
 // Everything the width integral needs about one fibre and one view.
 struct Setup {
-    double b, e2, tilt, eta, alpha, a2, sqrt_alpha;
+    double b, e2, tilt, eta, alpha, a2;
     glm::dvec3 sigma;
 };
 
@@ -100,8 +106,10 @@ glm::dvec3 chord_absorption(const glm::dvec3& sigma, double cos_theta_path, doub
 }  // namespace
 
 HuangBcsdf::HuangBcsdf(const HairParams& params, int residual_samples)
-    : params_(params), lobes_(chiang_lobes(params)), residual_samples_(std::max(1, residual_samples)) {
-    params_.validate();
+    : params_((params.validate(), params)),
+      lobes_(chiang_lobes(params)),
+      energy_scale_(params.microfacet_roughness, params.eta),
+      residual_samples_(std::max(1, residual_samples)) {
 }
 
 double HuangBcsdf::projected_radius(const glm::dvec3& w) const {
@@ -121,8 +129,7 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
     if (glm::dot(wi_fibre, wi_fibre) <= 0.0 || glm::dot(wo_fibre, wo_fibre) <= 0.0) return lobes;
     const Setup s{params_.aspect_ratio, 1.0 - params_.aspect_ratio * params_.aspect_ratio, -params_.alpha,
                   params_.eta, params_.microfacet_roughness,
-                  params_.microfacet_roughness * params_.microfacet_roughness,
-                  std::sqrt(params_.microfacet_roughness), params_.huang_sigma_a};
+                  params_.microfacet_roughness * params_.microfacet_roughness, params_.huang_sigma_a};
     // Huang's I is the view (our wo), O the light (our wi).
     glm::dvec3 I = to_model(glm::normalize(wo_fibre)), O = to_model(glm::normalize(wi_fibre));
     if (s.b == 1.0) {
@@ -164,7 +171,7 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
             const double cos_mi = glm::dot(wm, I);
             integral += weight * ggx_distribution(s.a2, glm::dot(wm, wh)) *
                         ggx_shadowing(s.a2, cos_mi, glm::dot(wm, O)) * arc_length(s.e2, gamma) *
-                        ggx_dielectric_energy_scale(s.sqrt_alpha, cos_mi, eta);
+                        energy_scale_(cos_mi, false);
         }
         double cos_t = 0.0;
         const double f = fresnel_dielectric_general(glm::dot(I, wh), eta, cos_t);
@@ -193,7 +200,7 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
                 double cos_t1 = 0.0;
                 const double t1 = 1.0 - fresnel_dielectric_general(cos_hi1, eta, cos_t1);
                 if (!(cos_t1 > 0.0)) continue;
-                const double scale1 = ggx_dielectric_energy_scale(s.sqrt_alpha, cos_mi1, eta);
+                const double scale1 = energy_scale_(cos_mi1, false);
                 const glm::dvec3 wt = refract_direction(I, wh1, cos_hi1, cos_t1, eta);
                 const double phi_t = azimuth(wt);
                 const double gamma_mt = 2.0 * normal_azimuth(phi_t, s.b) - gamma_mi;
@@ -205,7 +212,7 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
                 const double g1o = ggx_shadowing_given_visible(s.a2, cos_mi1, cos_mo1);
                 const glm::dvec3 a_t = chord_absorption(
                     s.sigma, cos_theta(wt), glm::length(ellipse_point(gamma_mi, s.b) - ellipse_point(gamma_mt + kPi, s.b)));
-                const double scale2 = ggx_dielectric_energy_scale(s.sqrt_alpha, cos_mi2, inv_eta);
+                const double scale2 = energy_scale_(cos_mi2, true);
 
                 if (params_.weight_tt > 0.0 && glm::dot(O, wt) >= inv_eta - kEscapeSlack) {
                     glm::dvec3 wh2 = -wt + inv_eta * O;
@@ -255,7 +262,7 @@ LobeValues HuangBcsdf::eval_lobes(const glm::dvec3& wi_fibre, const glm::dvec3& 
                 const double cos_hi3 = glm::dot(wh3, wtr), cos_ho3 = glm::dot(wh3, -O), cos_mi3 = glm::dot(wmtr, wtr);
                 double cos_t3 = 0.0;
                 const double t3 = (1.0 - fresnel_dielectric_general(cos_hi3, inv_eta, cos_t3)) *
-                                  ggx_dielectric_energy_scale(s.sqrt_alpha, cos_mi3, inv_eta);
+                                  energy_scale_(cos_mi3, true);
                 const glm::dvec3 a_tr = chord_absorption(
                     s.sigma, cos_theta(wtr), glm::length(ellipse_point(gamma_mtr, s.b) - ellipse_point(gamma_mt, s.b)));
                 const double cos_mo2 = glm::dot(wmt, -wtr);
@@ -283,22 +290,31 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
     FibreSample result;
     if (glm::dot(wo_fibre, wo_fibre) <= 0.0) return result;
     const double b = params_.aspect_ratio, alpha = params_.microfacet_roughness, a2 = alpha * alpha;
-    const double sqrt_alpha = std::sqrt(alpha), tilt = -params_.alpha, eta = params_.eta, inv_eta = 1.0 / eta;
+    const double tilt = -params_.alpha, eta = params_.eta, inv_eta = 1.0 / eta;
     const AzimuthTurn turn(to_model(wo_fibre));
     const glm::dvec3 I = b == 1.0 ? turn.apply(to_model(glm::normalize(wo_fibre))) : to_model(glm::normalize(wo_fibre));
     const double gamma_mi = gamma_of_offset(2.0 * u[1] - 1.0, b, I);
     const glm::dvec3 wmi_macro = tilted_normal(0.0, gamma_mi, b), wmi = tilted_normal(tilt, gamma_mi, b);
     const double cos_mi1 = glm::dot(wmi, I);
-    if (cos_mi1 < 0.0 || glm::dot(wmi_macro, I) < 0.0) return result;
+    // The visibility rules of the model (Cycles' as well) discard light: where the tilted cuticle
+    // faces away from the view, and paths a cuticle sends into the fibre's own (macro) surface.
+    if (cos_mi1 < 0.0 || glm::dot(wmi_macro, I) < 0.0) {
+        result.discarded = glm::dvec3(1.0);
+        return result;
+    }
 
     const glm::dvec3 wh1 = sample_ggx_visible_normal(alpha, I, wmi, u[2], u[3]);
     const glm::dvec3 wr = reflect_about(I, wh1);
-    if (!visible(I, wmi_macro, wh1)) return result;
+    if (!visible(I, wmi_macro, wh1)) {
+        result.discarded = glm::dvec3(1.0);
+        return result;
+    }
     double cos_t1 = 0.0;
     const double r1 = fresnel_dielectric_general(glm::dot(I, wh1), eta, cos_t1);
-    const double scale1 = ggx_dielectric_energy_scale(sqrt_alpha, cos_mi1, eta);
-    const double r_energy = params_.weight_r * r1 * scale1 * (visible(wr, wmi_macro, wh1) ? 1.0 : 0.0) *
-                            ggx_shadowing_given_visible(a2, cos_mi1, glm::dot(wmi, wr));
+    const double scale1 = energy_scale_(cos_mi1, false);
+    const double reflected = params_.weight_r * r1 * scale1 * shadowing_leaving(a2, cos_mi1, glm::dot(wmi, wr));
+    const double r_energy = visible(wr, wmi_macro, wh1) ? reflected : 0.0;
+    glm::dvec3 discarded(reflected - r_energy);
 
     glm::dvec3 tt(0.0), trt(0.0), trrt(0.0), w_tt(0.0), w_trt(0.0), w_trrt(0.0);
     if (cos_t1 > 0.0) {
@@ -309,20 +325,21 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
         const glm::dvec3 wh2 = sample_ggx_visible_normal(alpha, -wt, wmt, u[4], u[5]);
         const glm::dvec3 wtr = reflect_about(wt, wh2);
         const double cos_mi2 = glm::dot(-wt, wmt);
-        if (cos_mi2 > 0.0 && visible(-wt, wmi_macro, wh1) && visible(-wt, wmt_macro, wh2)) {
+        const double t1 = (1.0 - r1) * scale1 * shadowing_leaving(a2, cos_mi1, glm::dot(wmi, -wt));
+        if (!(cos_mi2 > 0.0 && visible(-wt, wmi_macro, wh1) && visible(-wt, wmt_macro, wh2))) discarded += t1;
+        else {
             const glm::dvec3 a_t = chord_absorption(params_.huang_sigma_a, cos_theta(wt),
                                                     glm::length(ellipse_point(gamma_mi, b) - ellipse_point(gamma_mt + kPi, b)));
             double cos_t2 = 0.0;
             const double cos_hi2 = glm::dot(-wt, wh2);
             const double r2 = fresnel_dielectric_general(cos_hi2, inv_eta, cos_t2);
-            const double t1 = (1.0 - r1) * scale1 * ggx_shadowing_given_visible(a2, cos_mi1, glm::dot(wmi, -wt));
             const double t2 = 1.0 - r2;
-            const double scale2 = ggx_dielectric_energy_scale(sqrt_alpha, cos_mi2, inv_eta);
+            const double scale2 = energy_scale_(cos_mi2, true);
             if (cos_t2 > 0.0) {
                 w_tt = refract_direction(-wt, wh2, cos_hi2, cos_t2, inv_eta);
-                if (glm::dot(wmt, -w_tt) > 0.0 && t2 > 0.0 && visible(-w_tt, wmt_macro, wh2))
-                    tt = params_.weight_tt * t1 * t2 * scale2 * a_t *
-                         ggx_shadowing_given_visible(a2, cos_mi2, glm::dot(wmt, -w_tt));
+                const glm::dvec3 leaving = params_.weight_tt * t1 * t2 * scale2 * a_t *
+                                           shadowing_leaving(a2, cos_mi2, glm::dot(wmt, -w_tt));
+                (visible(-w_tt, wmt_macro, wh2) ? tt : discarded) += leaving;
             }
             const double phi_tr = azimuth(wtr);
             const double gamma_mtr = gamma_mi - 2.0 * (normal_azimuth(phi_t, b) - normal_azimuth(phi_tr, b)) + kPi;
@@ -332,16 +349,17 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
             const double cos_hi3 = glm::dot(wtr, wh3);
             const double r3 = fresnel_dielectric_general(cos_hi3, inv_eta, cos_t3);
             const double cos_mi3 = glm::dot(wmtr, wtr);
-            if (cos_mi3 > 0.0) {
-                const glm::dvec3 a_tr = chord_absorption(params_.huang_sigma_a, cos_theta(wtr),
-                                                         glm::length(ellipse_point(gamma_mt, b) - ellipse_point(gamma_mtr, b)));
-                const glm::dvec3 tr = t1 * r2 * scale2 * a_t * a_tr * ggx_dielectric_energy_scale(sqrt_alpha, cos_mi3, inv_eta) *
-                                      ggx_shadowing_given_visible(a2, cos_mi2, glm::dot(wmt, -wtr));
+            const glm::dvec3 a_tr = chord_absorption(params_.huang_sigma_a, cos_theta(wtr),
+                                                     glm::length(ellipse_point(gamma_mt, b) - ellipse_point(gamma_mtr, b)));
+            const glm::dvec3 reaching_third = t1 * r2 * scale2 * a_t * a_tr * shadowing_leaving(a2, cos_mi2, glm::dot(wmt, -wtr));
+            if (!(cos_mi3 > 0.0)) discarded += reaching_third;
+            else {
+                const glm::dvec3 tr = reaching_third * energy_scale_(cos_mi3, true);
                 const double t3 = 1.0 - r3;
                 if (cos_t3 > 0.0) {
                     w_trt = refract_direction(wtr, wh3, cos_hi3, cos_t3, inv_eta);
-                    if (t3 > 0.0 && visible(wtr, flat(wmtr), wh3) && visible(-w_trt, flat(wmtr), wh3))
-                        trt = params_.weight_trt * tr * t3 * ggx_shadowing_given_visible(a2, cos_mi3, glm::dot(wmtr, -w_trt));
+                    const glm::dvec3 leaving = params_.weight_trt * tr * t3 * shadowing_leaving(a2, cos_mi3, glm::dot(wmtr, -w_trt));
+                    (visible(wtr, flat(wmtr), wh3) && visible(-w_trt, flat(wmtr), wh3) ? trt : discarded) += leaving;
                 }
                 // TRRT+: theta from Chiang et al. 2016's lobe of variance v = 4 roughness (inverting
                 // d'Eon's cone), a uniform azimuth.
@@ -356,10 +374,11 @@ FibreSample HuangBcsdf::sample(const glm::dvec3& wo_fibre, const std::array<doub
                 const glm::dvec3 a_avg = glm::sqrt(a_t * a_tr);
                 const double t_avg = std::max(0.5 * (t2 + t3), 1e-5);
                 const glm::dvec3 a_res = a_avg * t_avg / (glm::dvec3(1.0) - a_avg * (1.0 - t_avg));
-                trrt = tr * r3 * a_res * ggx_shadowing_given_visible(a2, cos_mi3, glm::dot(wmtr, -reflect_about(wtr, wh3)));
+                trrt = tr * r3 * a_res * shadowing_leaving(a2, cos_mi3, glm::dot(wmtr, reflect_about(wtr, wh3)));
             }
         }
     }
+    result.discarded = discarded;
     const double e_r = r_energy, e_tt = mean(tt), e_trt = mean(trt), e_trrt = mean(trrt);
     const double total = e_r + e_tt + e_trt + e_trrt;
     if (!(total > 0.0) || !std::isfinite(total)) return result;

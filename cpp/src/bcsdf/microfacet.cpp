@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <mutex>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -14,12 +16,14 @@ namespace hairlod::bcsdf {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr int kTableSize = 16;
-// Roughness and cosine at the table's first nodes (0 would make the albedo's integrand singular).
-constexpr double kMinTableAlpha = 1e-4;
-constexpr double kMinTableCos = 0.02;
-// The relative index at z = 1 is infinite (or 0); the last node is evaluated just inside.
-constexpr double kMaxTableZ = 0.97;
+// DielectricEnergyScale's table: nodes uniform in sqrt(cos_i) (1 / E is steepest at grazing light),
+// each the albedo over this many visible normals squared; the cosine of its first node (at 0 the
+// albedo's integrand is singular).
+constexpr int kScaleNodes = 64;
+constexpr int kScaleNormals = 192;
+constexpr double kMinScaleCos = 1e-4;
+// Tables kept for different (alpha, eta) before the oldest is dropped.
+constexpr std::size_t kMaxCachedScales = 64;
 
 // A frame whose z axis is the unit vector n.
 struct Basis {
@@ -32,55 +36,39 @@ Basis basis_around(const glm::dvec3& n) {
     return {s, glm::cross(n, s), n};
 }
 
-// The relative index of a table node: z = sqrt(|eta - 1| / (eta + 1)) inverted on either side of 1.
-double eta_of_z(double z, bool inside) {
-    const double z2 = std::min(z, kMaxTableZ) * std::min(z, kMaxTableZ);
-    const double outside_eta = (1.0 + z2) / (1.0 - z2);
-    return inside ? 1.0 / outside_eta : outside_eta;
+double scale_node_cos(int node) {
+    const double x = double(node) / (kScaleNodes - 1);
+    return std::max(x * x, kMinScaleCos);
 }
 
-struct EnergyTables {
-    // [inside][alpha][cos][z] flattened; values 1 / E.
-    std::array<std::vector<double>, 2> scale;
+std::shared_ptr<const std::vector<double>> make_scale_table(double alpha, double eta) {
+    auto table = std::make_shared<std::vector<double>>(2 * kScaleNodes);
+    tbb::parallel_for(0, 2 * kScaleNodes, [&](int index) {
+        const bool inside = index >= kScaleNodes;
+        const double albedo =
+            ggx_dielectric_albedo(alpha, scale_node_cos(index % kScaleNodes), inside ? 1.0 / eta : eta, kScaleNormals);
+        (*table)[index] = 1.0 / std::max(albedo, 1e-6);
+    });
+    return table;
+}
 
-    EnergyTables() {
-        for (int inside = 0; inside < 2; ++inside) {
-            std::vector<double>& table = scale[inside];
-            table.assign(kTableSize * kTableSize * kTableSize, 1.0);
-            tbb::parallel_for(0, kTableSize * kTableSize * kTableSize, [&](int index) {
-                const int ia = index / (kTableSize * kTableSize), ic = (index / kTableSize) % kTableSize,
-                          iz = index % kTableSize;
-                const double sqrt_alpha = double(ia) / (kTableSize - 1);
-                const double alpha = std::max(sqrt_alpha * sqrt_alpha, kMinTableAlpha);
-                const double cos_i = std::max(double(ic) / (kTableSize - 1), kMinTableCos);
-                const double eta = eta_of_z(double(iz) / (kTableSize - 1), inside == 1);
-                table[index] = 1.0 / std::max(ggx_dielectric_albedo(alpha, cos_i, eta, 32), 1e-6);
-            });
-        }
+// The tables made so far, by (alpha, eta): a renderer makes one fibre per material, tests and
+// bindings make the same few again and again.
+std::shared_ptr<const std::vector<double>> shared_scale_table(double alpha, double eta) {
+    static std::mutex mutex;
+    static std::vector<std::pair<std::pair<double, double>, std::shared_ptr<const std::vector<double>>>> cache;
+    const std::pair<double, double> key(alpha, eta);
+    {
+        const std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& [k, table] : cache)
+            if (k == key) return table;
     }
-
-    double lookup(double x, double y, double z, bool inside) const {
-        const std::vector<double>& table = scale[inside ? 1 : 0];
-        const auto split = [](double v, int& i0, double& f) {
-            const double p = std::clamp(v, 0.0, 1.0) * (kTableSize - 1);
-            i0 = std::min(static_cast<int>(p), kTableSize - 2);
-            f = p - i0;
-        };
-        int ix, iy, iz;
-        double fx, fy, fz;
-        split(x, ix, fx);
-        split(y, iy, fy);
-        split(z, iz, fz);
-        double value = 0.0;
-        for (int dx = 0; dx < 2; ++dx)
-            for (int dy = 0; dy < 2; ++dy)
-                for (int dz = 0; dz < 2; ++dz) {
-                    const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy) * (dz ? fz : 1.0 - fz);
-                    value += w * table[((ix + dx) * kTableSize + (iy + dy)) * kTableSize + (iz + dz)];
-                }
-        return value;
-    }
-};
+    auto table = make_scale_table(alpha, eta);
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (cache.size() >= kMaxCachedScales) cache.erase(cache.begin());
+    cache.emplace_back(key, table);
+    return table;
+}
 
 }  // namespace
 
@@ -163,10 +151,14 @@ double ggx_dielectric_albedo(double alpha, double cos_i, double eta, int samples
     return sum / (samples * samples);
 }
 
-double ggx_dielectric_energy_scale(double sqrt_alpha, double cos_i, double eta) {
-    static const EnergyTables tables;
-    const double z = std::sqrt(std::abs(eta - 1.0) / (eta + 1.0));
-    return tables.lookup(sqrt_alpha, cos_i, z, eta < 1.0);
+DielectricEnergyScale::DielectricEnergyScale(double alpha, double eta) : table_(shared_scale_table(alpha, eta)) {}
+
+double DielectricEnergyScale::operator()(double cos_i, bool inside) const {
+    const double p = std::sqrt(std::clamp(cos_i, 0.0, 1.0)) * (kScaleNodes - 1);
+    const int i0 = std::min(static_cast<int>(p), kScaleNodes - 2);
+    const double f = p - i0;
+    const double* nodes = table_->data() + (inside ? kScaleNodes : 0);
+    return (1.0 - f) * nodes[i0] + f * nodes[i0 + 1];
 }
 
 }  // namespace hairlod::bcsdf

@@ -15,6 +15,7 @@
 #include <glm/vec4.hpp>
 
 #include "hairlod/bcsdf/bcsdf.h"
+#include "hairlod/bcsdf/microfacet.h"
 
 namespace hairlod::bcsdf {
 
@@ -24,6 +25,11 @@ struct FibreSample {
     glm::dvec3 wi{0.0};
     glm::dvec3 weight{0.0};
     int lobe = -1;  // 0 R, 1 TT, 2 TRT, 3 TRRT+; -1 when no path leaves
+    // The throughput the model's visibility rules drop on this path (Cycles' rules): light arriving
+    // where the tilted cuticle faces away from wo, and paths that a cuticle sends into the fibre's
+    // own surface. Absorption and masking are not counted. For a lossless fibre weight + discarded
+    // averages to 1: the model's energy is 1 minus the mean of discarded.
+    glm::dvec3 discarded{0.0};
 };
 
 class HuangBcsdf final : public FiberBcsdf {
@@ -59,6 +65,7 @@ public:
 private:
     HairParams params_;
     std::array<LongitudinalLobe, 4> lobes_;
+    DielectricEnergyScale energy_scale_;
     int residual_samples_;
 };
 

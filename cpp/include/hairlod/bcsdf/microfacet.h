@@ -4,6 +4,9 @@
 // sampling of the visible normals (Heitz 2018), refraction, and the energy a rough dielectric keeps
 // in one scattering event (its directional albedo), tabulated for the fibre's energy compensation.
 // Vectors are in any frame; `m` is the (meso)normal the microfacets are distributed around.
+#include <memory>
+#include <vector>
+
 #include <glm/vec3.hpp>
 
 namespace hairlod::bcsdf {
@@ -41,10 +44,22 @@ glm::dvec3 refract_direction(const glm::dvec3& wi, const glm::dvec3& h, double c
 // `samples` stratified visible normals.
 double ggx_dielectric_albedo(double alpha, double cos_i, double eta, int samples = 32);
 
-// 1 / E of ggx_dielectric_albedo, read from a 16 x 16 x 16 table over sqrt(alpha), cos_i and
-// z = sqrt(|eta - 1| / (eta + 1)) (one table for eta > 1, one for eta < 1; made once per process,
-// trilinear between nodes). Huang et al. 2022 scale each microfacet interaction by it, so that a
-// rough interface loses no energy to the single-scattering approximation.
-double ggx_dielectric_energy_scale(double sqrt_alpha, double cos_i, double eta);
+// Huang et al. 2022 scale each microfacet interaction of the fibre by 1 / E (E: ggx_dielectric_albedo),
+// so that a rough interface loses no energy to the single-scattering approximation. This holds 1 / E
+// for one roughness and relative index on both sides of the interface, tabulated over the incident
+// cosine (64 nodes uniform in sqrt(cos_i), linear between them; each node integrated over 192 x 192
+// visible normals; within 1e-3 of E for cos_i >= 0.013). Instances of the same (alpha, eta) share
+// their table, made once per process (0.2-0.4 s on 2 cores).
+class DielectricEnergyScale {
+public:
+    // alpha: GGX roughness; eta: the relative index seen from outside (> 0, != 1 allowed either way).
+    DielectricEnergyScale(double alpha, double eta);
+    // 1 / E for light arriving at cos_i from outside (relative index eta) or, with inside, from inside
+    // (1 / eta).
+    double operator()(double cos_i, bool inside) const;
+
+private:
+    std::shared_ptr<const std::vector<double>> table_;  // outside nodes, then inside nodes
+};
 
 }  // namespace hairlod::bcsdf
