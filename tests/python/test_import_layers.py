@@ -59,6 +59,7 @@ LAYERS = {
     "hairlod.blender.preview.view_transform": PREVIEWS,
     "hairlod.blender.preview.bcsdf_textures": PREVIEWS,
     "hairlod.blender.preview.opacity_maps": PREVIEWS,
+    "hairlod.blender.preview.hair_layer": PREVIEWS,
     # Reads the scene's world, but to upload it as GPU blocks and textures for the LoD preview's shaders.
     "hairlod.blender.preview.world_srbf": PREVIEWS,
 

@@ -8,8 +8,10 @@ least 10x fewer segments than the near one; at mid distance the LoD image must b
 every strand (PSNR reported). At a view with several levels, drawing the static cluster blocks with
 the per-segment discard must give the image of the exact per-level index lists, and so must the
 preview's own choice (a thick level whose blocks hold mostly other levels' segments drawn from an
-exact list). Draw times per frame (wm.redraw_timer) at the far view with the LoD and
-with every strand are printed, not asserted. Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
+exact list). At the far view with every strand, the viewport's Clip Start (1 / 5000 and 1 / 2 of the
+hair's size) must not change the hair's colour (the preview's own depth range, hairlod/depth_range.py).
+Draw times per frame (wm.redraw_timer) at the far view with the LoD and with every strand are printed,
+not asserted. Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
 """
 
 import math
@@ -191,6 +193,21 @@ def steps():
             check(preview.stats["gpu_timed"],
                   f"Statistics time the draw with the GPU's work ({preview.stats['draw_ms']:.1f} ms for every strand)")
             settings.show_statistics = False
+            # The viewport's depth buffer tells apart depths z^2 / (Clip Start 2^24) apart: with Clip
+            # Start 1 / 5000 of the hair's size (Blender's default 0.01 m and a hair 50 m across, as a
+            # file in centimetres arrives unscaled), 27 % of its size here, so the depth test between
+            # every strand picked deeper, darker strands at random (hairlod/depth_range.py). The
+            # preview orders them in a depth range of its own: the Clip Start must not change what it
+            # shows.
+            space.clip_start = 0.0002 * size
+            area.tag_redraw()
+            yield REDRAW_DELAY
+            clip_small = screenshot(window, area, "lod_preview_far_strands_clip_small.png")
+            space.clip_start = 0.5 * size
+            area.tag_redraw()
+            yield REDRAW_DELAY
+            clip_large = screenshot(window, area, "lod_preview_far_strands_clip_large.png")
+            space.clip_start = 0.01 * size
             settings.width_px = 2.0
             settings.property_unset("vertex_tolerance_px")
         settings.enabled = False
@@ -201,6 +218,12 @@ def steps():
             far_off_ms = frame_ms(window, area, region)
         hair = np.abs(with_lod - without).max(axis=2) > 0.05
         results[view]["hair_pixels"] = float(hair.mean())
+        if view == "far":
+            strand_pixels = np.abs(clip_large - without).max(axis=2) > 0.05
+            small, large = clip_small[strand_pixels].mean(axis=0), clip_large[strand_pixels].mean(axis=0)
+            check(np.all(np.abs(small / large - 1.0) < 0.02),
+                  f"far view, every strand: the same hair colour with Clip Start 0.0002 and 0.5 of the hair's size "
+                  f"({np.round(small, 4)} against {np.round(large, 4)}, sRGB over {int(strand_pixels.sum())} hair pixels)")
         print(f"{view}: {results[view]['segments']:,} segments {results[view]['segments_per_level']}, "
               f"hair covers {hair.mean():.1%} of the viewport")
         check(hair.sum() > 20, f"{view}: the preview draws hair pixels ({hair.sum()})")

@@ -29,10 +29,10 @@ from bpy.app.handlers import persistent
 import numpy as np
 from mathutils import Vector
 
-from ... import lod, opacity_map, preview_buffers, self_shadow
+from ... import depth_range, lod, opacity_map, preview_buffers, self_shadow
 from .shaders import glsl_source
 from ..principled_hair import material_params, object_hair_params
-from . import opacity_maps, view_transform, world_srbf
+from . import hair_layer, opacity_maps, view_transform, world_srbf
 from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -262,6 +262,7 @@ class ViewState:
         self.block_order = {}      # level drawn from blocks -> its blocks nearest first (blocks_near_to_far)
         self.order_key = None      # the view and pose block_order was made for
         self.segments = None       # segments drawn per level (LodPreview.segments_drawn), counted when read
+        self.hair_layer = None     # hair_layer.HairLayer the hair is drawn into, made at the first draw
 
 
 class LodPreview:
@@ -621,11 +622,29 @@ class LodPreview:
         shaded = settings.overlay == 'SHADED'
         shadows, strand_radius = self.render_opacity_maps(obj, state, light_count, light_vectors,
                                                           settings.self_shadowing if shaded else 0.0)
+        # The hair's depth range only, in the preview's own hair layer (depth_range says why).
+        fitted = depth_range.fitted_projection(projection_array, np.array(region_3d.view_matrix, np.float64),
+                                               *_world_sphere(self.hair_volume, np.asarray(obj.matrix_world, np.float64)))
         # Kept referenced until the batches are drawn.
-        frame = frame_block(obj.matrix_world, projection @ region_3d.view_matrix, camera,
+        frame = frame_block(obj.matrix_world, fitted.projection @ np.array(region_3d.view_matrix, np.float64), camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
                             light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows,
                             self.asset.control_points, settings.strand_coverage)
+        if state.hair_layer is None:
+            state.hair_layer = hair_layer.HairLayer()
+        with state.hair_layer.drawing((region.width, region.height)):
+            self._draw_levels(state, frame, textures, world_block, world_texture, view_lut, shaded)
+        state.hair_layer.composite(fitted)
+        if finish is not None:
+            finish()
+
+        self.last_draw = (state, {"select_ms": 1e3 * (selected - start - follow_seconds),
+                                  "draw_ms": 1e3 * (time.perf_counter() - start),
+                                  "changed": bool(changed), "gpu_timed": finish is not None})
+        return changed
+
+    def _draw_levels(self, state, frame, textures, world_block, world_texture, view_lut, shaded):
+        """Every level's selected segments, into the bound framebuffer, depth tested."""
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
         for level in range(self.level_count):
@@ -653,13 +672,6 @@ class LodPreview:
             self._draw_level(state, level, program_for)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')
-        if finish is not None:
-            finish()
-
-        self.last_draw = (state, {"select_ms": 1e3 * (selected - start - follow_seconds),
-                                  "draw_ms": 1e3 * (time.perf_counter() - start),
-                                  "changed": bool(changed), "gpu_timed": finish is not None})
-        return changed
 
     @property
     def stats(self):

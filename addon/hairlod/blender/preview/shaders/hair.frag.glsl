@@ -11,7 +11,8 @@
  * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
  * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7).
  * shading_mode 1: the level's colour, darkened towards the silhouette.
- * The scene-linear radiance goes through the scene's view transform (view_transform.glsl). */
+ * The scene-linear radiance goes through the scene's view transform (view_transform.glsl). The hair
+ * is drawn into the preview's hair layer (hair_layer.py): alpha holds the window depth there. */
 
 void main()
 {
@@ -26,7 +27,7 @@ void main()
   float across = clamp(v_across, -1.0, 1.0);
   if (shading_mode == 1) {
     float facing = sqrt(max(1.0 - across * across, 0.0));
-    fragColor = vec4(level_colour.rgb * (0.45 + 0.55 * facing), 1.0);
+    fragColor = vec4(level_colour.rgb * (0.45 + 0.55 * facing), gl_FragCoord.z);
     return;
   }
   vec3 t = normalize(v_tangent);
@@ -98,5 +99,5 @@ void main()
                   lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
     radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n) * world_shadow;
   }
-  fragColor = vec4(view_transform(radiance), 1.0);
+  fragColor = vec4(view_transform(radiance), gl_FragCoord.z);
 }
