@@ -623,10 +623,11 @@ class LodPreview:
         shadows, strand_radius = self.render_opacity_maps(obj, state, light_count, light_vectors,
                                                           settings.self_shadowing if shaded else 0.0)
         # The hair's depth range only, in the preview's own hair layer (depth_range says why).
-        fitted = depth_range.fitted_projection(projection_array, np.array(region_3d.view_matrix, np.float64),
+        view_array = np.array(region_3d.view_matrix, np.float64)
+        fitted = depth_range.fitted_projection(projection_array, view_array,
                                                *_world_sphere(self.hair_volume, np.asarray(obj.matrix_world, np.float64)))
         # Kept referenced until the batches are drawn.
-        frame = frame_block(obj.matrix_world, fitted.projection @ np.array(region_3d.view_matrix, np.float64), camera,
+        frame = frame_block(obj.matrix_world, fitted.projection @ view_array, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
                             light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows,
                             self.asset.control_points, settings.strand_coverage)
