@@ -116,5 +116,28 @@ TEST(CrossSection, StrandThatMissesThePlaneIsProjectedOntoIt) {
     EXPECT_THROW(strand_plane_crossing(strand, 3, {0, 0, 0}, {0, 0, 1}), Error);
 }
 
+TEST(CrossSection, SectionDiameterIsTheWidestPairOfProjectedCorners) {
+    // Against all six distances between the corners centre +- major, centre +- minor projected onto
+    // the plane normal to the tangent, for random (not orthogonal) axes and tangents, grazing included.
+    std::mt19937 rng(11);
+    std::normal_distribution<float> normal(0.0f, 1.0f);
+    auto random_vector = [&] { return glm::vec3(normal(rng), normal(rng), normal(rng)); };
+    for (int trial = 0; trial < 2000; ++trial) {
+        const glm::vec3 tangent = glm::normalize(random_vector());
+        const glm::vec3 major = random_vector() * (trial % 3 == 0 ? 1e-3f : 1.0f);
+        // Every fifth minor axis nearly along the tangent: its projection almost vanishes.
+        const glm::vec3 minor = trial % 5 == 0 ? 0.7f * tangent + 1e-4f * random_vector() : random_vector();
+        const std::array<glm::vec3, 4> corners = {major, -major, minor, -minor};
+        float widest = 0.0f;
+        for (int i = 0; i < 4; ++i)
+            for (int j = i + 1; j < 4; ++j) {
+                const glm::vec3 d = corners[i] - corners[j];
+                widest = std::max(widest, glm::length(d - glm::dot(d, tangent) * tangent));
+            }
+        ASSERT_NEAR(section_diameter(tangent, major, minor), widest, 1e-5f * widest) << "trial " << trial;
+    }
+    EXPECT_EQ(section_diameter(kAlongZ, {0, 0, 2}, {0, 0, -1}), 0.0f);  // both axes along the tangent
+}
+
 }  // namespace
 }  // namespace hairlod

@@ -120,21 +120,4 @@ CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<cons
     return section;
 }
 
-float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners) {
-    glm::vec3 on_plane[4];
-    for (int i = 0; i < 4; ++i) {
-        const glm::vec3 offset = corners[i] - centre;
-        on_plane[i] = offset - glm::dot(offset, tangent) * tangent;
-    }
-    // The square root once, of the largest square: sqrt is monotonic and correctly rounded, so this is
-    // the largest glm::distance exactly (skinning evaluates it per level, cluster and control point).
-    float widest_squared = 0.0f;
-    for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) {
-            const glm::vec3 d = on_plane[i] - on_plane[j];
-            widest_squared = std::max(widest_squared, glm::dot(d, d));
-        }
-    return std::sqrt(widest_squared);
-}
-
 }  // namespace hairlod

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
+#include "hairlod/core/vector_clones.h"
 #include "hairlod/lod/compact.h"
 #include "hairlod/lod/lod_asset.h"
 
@@ -57,6 +58,22 @@ void solve_spd(std::array<double, N * N> m, double* b, int columns) {
             double sum = b[i * columns + c];
             for (int p = i + 1; p < N; ++p) sum -= m[p * N + i] * b[p * columns + c];
             b[i * columns + c] = sum / m[i * N + i];
+        }
+    }
+}
+
+// The guide terms of one stencil, coordinate by coordinate over the monomials: the loop the frame's
+// time goes to (16528 stencils of 24 terms for 100k strands), in AVX2 where the CPU has it.
+HAIRLOD_VECTOR_CLONES void guide_term_sums(const StencilTerm* __restrict terms, int count,
+                                           const glm::vec3* __restrict deformed_guides, glm::vec3 reference,
+                                           float* __restrict sum_x, float* __restrict sum_y, float* __restrict sum_z) {
+    for (int j = 0; j < count; ++j) {
+        const glm::vec3 v = deformed_guides[static_cast<size_t>(terms[j].point)] - reference;
+        const std::array<float, kMonomials>& w = terms[j].weight;
+        for (size_t m = 0; m < kMonomials; ++m) {
+            sum_x[m] += w[m] * v.x;
+            sum_y[m] += w[m] * v.y;
+            sum_z[m] += w[m] * v.z;
         }
     }
 }
@@ -159,20 +176,11 @@ QuadraticMap stencil_map(const SkinningStencils& stencils, size_t i, std::span<c
                          const GuideFrame& rest_frame, const GuideFrame& deformed_frame, const glm::mat3& prism_map,
                          const glm::dvec3& anchor) {
     const QuadraticStencil& stencil = stencils.stencils[i];
-    // The guide terms, coordinate by coordinate over the monomials (the loop the frame's time goes to).
     std::array<float, kMonomials> sum_x{}, sum_y{}, sum_z{};
     const glm::vec3 reference_f = deformed_guides[static_cast<size_t>(stencil.reference)];
     const glm::dvec3 reference(reference_f);
-    const StencilTerm* terms = stencils.terms.data() + stencil.first_term;
-    for (int j = 0; j < stencil.term_count; ++j) {
-        const glm::vec3 v = deformed_guides[static_cast<size_t>(terms[j].point)] - reference_f;
-        const std::array<float, kMonomials>& w = terms[j].weight;
-        for (size_t m = 0; m < kMonomials; ++m) {
-            sum_x[m] += w[m] * v.x;
-            sum_y[m] += w[m] * v.y;
-            sum_z[m] += w[m] * v.z;
-        }
-    }
+    guide_term_sums(stencils.terms.data() + stencil.first_term, stencil.term_count, deformed_guides.data(), reference_f,
+                    sum_x.data(), sum_y.data(), sum_z.data());
     std::array<glm::dvec3, kMonomials> field{};  // C_m
     for (size_t m = 0; m < kMonomials; ++m) field[m] = glm::dvec3(sum_x[m], sum_y[m], sum_z[m]);
     auto add = [&](const glm::dvec3& v, const FieldWeights& w) {

@@ -139,8 +139,7 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
                     const glm::vec3 tangent = unit_or_zero(centres[after] - centres[before]);
                     const glm::vec3 major = sections[k].major_axis * sections[k].radii.x;
                     const glm::vec3 minor = sections[k].minor_axis * sections[k].radii.y;
-                    const float diameter = corner_diameter(
-                        centres[k], tangent, {centres[k] + major, centres[k] - major, centres[k] + minor, centres[k] - minor});
+                    const float diameter = section_diameter(tangent, major, minor);
                     if (diameter > best[k]) {
                         best[k] = diameter;
                         widest[c * nc + k] = WidestRest{centres[before], centres[k], centres[after], major, minor};
@@ -215,7 +214,7 @@ void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
                 const glm::vec3 tangent = unit_or_zero(at_after - at_before);
                 const glm::mat3 jacobian = map_jacobian(maps[i], rest.centre - maps[i].rest_origin);
                 const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
-                const float diameter = corner_diameter(centre, tangent, {centre + major, centre - major, centre + minor, centre - minor});
+                const float diameter = section_diameter(tangent, major, minor);
                 geometry_.levels[l].widest[i] = glm::vec4(centre, diameter);
             }
         }
@@ -300,7 +299,7 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
                     const glm::vec3 step = g.centre[first + std::min(k + 1, nc - 1)] - g.centre[first + (k == 0 ? 0 : k - 1)];
                     const float length = glm::length(step);
                     g.tangent[first + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
-                    const float diameter = corner_diameter(g.centre[first + k], g.tangent[first + k], g.corners[first + k]);
+                    const float diameter = section_diameter(g.tangent[first + k], g.major[first + k], g.minor[first + k]);
                     glm::vec4& widest = g.widest[c * nc + k];
                     if (h == level.cluster_first[c] || diameter > widest.w) widest = glm::vec4(g.centre[first + k], diameter);
                 }

@@ -2,10 +2,13 @@
 // Elliptical cross-section of a thick hair at one control-point index, fitted to where the members
 // cross the plane normal to their mean tangent (hair-lod-aggregated-bcsdf.txt Sec. 5.1 step 3 fits
 // their k-th control points; strand_plane_crossing says why not).
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 namespace hairlod {
@@ -45,8 +48,14 @@ double growth_to_cover(const CrossSection& section, std::span<const glm::vec3> p
 CrossSection fit_cross_section(std::span<const glm::vec3> points, std::span<const glm::vec3> tangents,
                                float strand_radius, float coverage, std::vector<float>& scratch);
 
-// Largest distance between the 4 corners (centre +- semi-axes) projected onto the plane through
-// `centre` normal to the unit `tangent` (Sec. 5.2 "Hair width calculation", in world units).
-float corner_diameter(const glm::vec3& centre, const glm::vec3& tangent, const std::array<glm::vec3, 4>& corners);
+// Largest distance between the 4 corners (centre +- semi-axes) projected onto the plane normal to
+// the unit `tangent` (Sec. 5.2 "Hair width calculation", in world units). The projected corners are
+// +-a and +-b (a, b the projected semi-axes): |a +- b| <= |a| + |b| <= 2 max(|a|, |b|), so the
+// largest of the six distances is 2 max(|a|, |b|).
+// Inline: skinning evaluates it per level, cluster and control point every frame.
+inline float section_diameter(const glm::vec3& tangent, const glm::vec3& major, const glm::vec3& minor) {
+    const glm::vec3 a = major - glm::dot(major, tangent) * tangent, b = minor - glm::dot(minor, tangent) * tangent;
+    return 2.0f * std::sqrt(std::max(glm::dot(a, a), glm::dot(b, b)));
+}
 
 }  // namespace hairlod
