@@ -120,6 +120,17 @@ def cycles_image(strands, camera, sun_direction, samples, world):
 
 
 def steps(args):
+    results = {}
+    yield from measure(results, views=args.views.split(","), spp=args.spp, scale=args.scale, world=args.world,
+                       strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
+                       cycles_samples=args.cycles_samples)
+    window_steps.report(results, args.out)
+
+
+def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
+            cycles_samples=0):
+    """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
+    and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
 
     from harness import screenshot
@@ -143,9 +154,9 @@ def steps(args):
     scene.view_settings.view_transform = 'Standard'
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
-    scene.world.color = (args.world, args.world, args.world)
+    scene.world.color = (world, world, world)
     if scene.world.use_nodes:
-        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (args.world, args.world, args.world, 1.0)
+        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (world, world, world, 1.0)
         scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
 
     # The screen's response to written values (the framebuffer's encoding, as measured).
@@ -176,7 +187,6 @@ def steps(args):
              "generated wavy 20k": hairlod.generate_strands(
                  hairmesh.read(os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")),
                  count=20000, vertices=17, seed=1)}
-    results = {}
     for name, strands in hairs.items():
         asset = lod.build_lod(strands)
         holder = bpy.data.objects.new(name, None)
@@ -184,10 +194,10 @@ def steps(args):
         lod_preview.attach(holder, asset)
         settings = holder.hairlod_lod_preview
         settings.use_material = False  # the panel's default hair: melanin 0.5, as the renderer's default
-        settings.strand_coverage = args.strand_coverage == "on"
-        if args.shadowing is not None:
-            settings.self_shadowing = args.shadowing
-        for view in args.views.split(","):
+        settings.strand_coverage = strand_coverage
+        if shadowing is not None:
+            settings.self_shadowing = shadowing
+        for view in views:
             camera = render.frame_view(strands.points, view, region.width, region.height)
             eye, target = np.array(camera["eye"]), np.array(camera["target"])
             region_3d.view_perspective = 'PERSP'
@@ -217,12 +227,12 @@ def steps(args):
                    slice(region.x - area.x, region.x - area.x + region.width))
             preview_linear, mask = to_linear(with_hair[box]), mask[box]
             # The viewport's projection, so that the path-traced camera sees what the viewport shows.
-            traced_camera = render_camera(region, region_3d, target, args.scale)
+            traced_camera = render_camera(region, region_3d, target, scale)
             lights = {"directional": [(tuple(sun_direction), (SUN_IRRADIANCE,) * 3)], "points": [],
-                      "environment": np.full(3, args.world, np.float32)}
+                      "environment": np.full(3, world, np.float32)}
             start = time.perf_counter()
             params = object_hair_params(holder)  # the hair the preview shades
-            traced = render.render(strands, "pt", spp=args.spp, camera=traced_camera, lights=lights, params=params,
+            traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
                                    seed=5)["image"]
             alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
             # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
@@ -231,18 +241,18 @@ def steps(args):
             # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage. The
             # preview draws its strands at least a pixel wide, so its hair pixels are the hair's alone.
             covered = alpha > 0.05
-            hair_radiance = unmixed(traced, alpha, args.world)
+            hair_radiance = unmixed(traced, alpha, world)
             entry = {"preview": summary(preview_linear, mask),
                      "path_traced": summary(hair_radiance, covered, weights=alpha),
-                     "render_seconds": time.perf_counter() - start, "spp": args.spp,
+                     "render_seconds": time.perf_counter() - start, "spp": spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
             # How much of the image the hair covers: the preview's hair pixels against the path-traced
             # coverage summed over the image (the same pixel grid at --scale 1).
-            entry["coverage_ratio"] = float(mask.sum() * args.scale ** 2 / max(float(alpha.sum()), 1e-9))
-            if args.cycles_samples:
-                cycles = cycles_image(strands, traced_camera, sun_direction, args.cycles_samples, args.world)[::-1]
-                entry["cycles"] = summary(unmixed(cycles, alpha, args.world), covered, weights=alpha)
+            entry["coverage_ratio"] = float(mask.sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))
+            if cycles_samples:
+                cycles = cycles_image(strands, traced_camera, sun_direction, cycles_samples, world)[::-1]
+                entry["cycles"] = summary(unmixed(cycles, alpha, world), covered, weights=alpha)
                 entry["cycles_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["cycles"]["mean"])).tolist()
                 entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
                                                     np.array(entry["cycles"]["mean"])).tolist()
@@ -253,7 +263,7 @@ def steps(args):
                                             f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
         lod_preview.detach(holder.name)
         bpy.data.objects.remove(holder)
-    window_steps.report(results, args.out)
 
 
-window_steps.run(steps(parse_args()))
+if __name__ == "__main__":
+    window_steps.run(steps(parse_args()))

@@ -5,8 +5,10 @@ A deep opacity map (Yuksel and Keyser 2008, "Deep Opacity Maps"; the paper's rea
 makes one for its self-shadowing, hair-lod-aggregated-bcsdf.txt Sec. 6, step 1 "Shadow pass") holds,
 per pixel of the light's view, the depth z0 of the first hair the light meets and the optical depth
 tau accumulated by the hairs up to depths z0 + s, z0 + 4 s, z0 + 16 s and z0 + 64 s (LAYER_STEPS, s the
-layer spacing). The light reaching a point at depth z is exp(-tau(z - z0)), tau piecewise linear
-between the layers, 0 at z0 and the last layer's beyond it. Each hair adds its coverage of the
+layer spacing). The light reaching a point at depth z unscattered is exp(-tau(z - z0)), tau piecewise
+linear between the layers, 0 at z0 and the last layer's beyond it; each strand crossed passes a_f of the
+light on forwards, so the shader keeps a_f^tau of it per channel (Zinke et al. 2008's forward
+transmittance T_f, a product over the strands crossed: they are counted here, not drawn at random). Each hair adds its coverage of the
 pixel: a strand of radius r, drawn as a line one pixel wide, 2 r over the pixel's width; a thick
 hair of N strands, whose strands spread over its ellipse (the aggregated model's assumption,
 hair-lod-aggregated-bcsdf.txt Sec. 4), 4 r N sqrt(1 - x^2) / (pi w) at the offset x w across its

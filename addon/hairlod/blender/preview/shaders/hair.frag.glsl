@@ -50,8 +50,9 @@ void main()
    * at the mean depth where the camera's first strand lies (as visible_transmittance, opacity_map.glsl:
    * the mean free path 1 / sigma into the hair; sigma the density under the first mapped light's lit
    * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
-   * Zinke et al. 2008): over an optical depth tau the light keeps exp(-tau (1 - a_f)) = T^(1 - a_f) per
-   * channel and direction, the world's a_f at normal incidence. Strands drawn by their coverage
+   * Zinke et al. 2008): through the volume, a uniform random medium, the mean of a_f^N over the Poisson
+   * number N of strands crossed is exp(-tau (1 - a_f)) = T^(1 - a_f) per channel and direction, the
+   * world's a_f at normal incidence. Strands drawn by their coverage
    * (strand.vert.glsl) are the strands the camera sees, at their own depth: there the depth is 0. */
   bool at_own_depth = frame.counts.z > 0.5 && v_ellipse.z <= 0.0;
   float first_density = frame.light_shadow[0].w > 0.5 && !at_own_depth ? light_side_density(0, seen) : 0.0;
@@ -73,20 +74,25 @@ void main()
     float sin_i = dot(wi, t);
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
     /* The strands on the light's way pass a_f of it on forwards, coloured (dual scattering, Zinke et al.
-     * 2008; a_f at the light's inclination): over an optical depth tau the light keeps exp(-tau (1 - a_f)). */
-    vec3 keep = vec3(1.0) - clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI),
-                                  0.0, 1.0);
+     * 2008 Sec. 4.2; a_f at the light's inclination). */
+    vec3 a_f = clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 1e-4, 1.0);
     vec3 shadow;
     if (k < OPACITY_MAX_LIGHTS && frame.light_shadow[k].w > 0.5) {
       /* The light's deep opacity map (opacity_map.glsl), over the depths where the camera's first strand
-       * lies, read a pixel nearer the light than each (past the hair's own sample). */
+       * lies, read a pixel nearer the light than each (past the hair's own sample). The map counts the
+       * strands themselves: the light that crossed tau of them keeps Zinke's forward transmittance
+       * T_f = prod a_f = a_f^tau = exp(-tau (-ln a_f)) per sample, the spread of tau between the samples
+       * (depths, texels) averaged after. */
       shadow = visible_transmittance(k, seen, -wo, k == 0 || at_own_depth ? first_density : light_side_density(k, seen),
-                                     light_pixel_size(k, light_depth(k, seen)), frame.shadow.z * keep,
+                                     light_pixel_size(k, light_depth(k, seen)), -frame.shadow.z * log(a_f),
                                      OPACITY_LAYER_STEPS.w * frame.light_shadow[k].z);
     }
     else {
+      /* Through the hair volume, a uniform random medium (self_shadow.glsl): the number of strands crossed
+       * is Poisson with mean tau, and the mean of a_f^N over it is exp(-tau (1 - a_f)) = T^(1 - a_f). */
       shadow = pow(vec3(hair_transmittance(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
-                                           frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w)), keep);
+                                           frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w)),
+                   vec3(1.0) - a_f);
     }
     radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
   }

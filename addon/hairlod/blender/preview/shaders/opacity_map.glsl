@@ -66,9 +66,9 @@ float light_side_density(int k, vec3 p)
   return texelFetch(opacity_map, texel, 0).y / (OPACITY_LAYER_STEPS.y * frame.light_shadow[k].z);
 }
 
-/* The light of light k reaching the hair a camera sees at p, per channel: exp(-tau keep), keep = 1 - a_f
- * scaled by the Shadowing strength (a_f the share of the light each strand crossed passes on forwards,
- * hair.frag.glsl), tau read `bias` nearer the light. Strands drawn without their coverage and thick hairs
+/* The light of light k reaching the hair a camera sees at p, per channel: exp(-tau keep), keep = -ln a_f
+ * scaled by the Shadowing strength (a_f the share of the light each strand crossed passes on forwards:
+ * a_f^tau, hair.frag.glsl), tau read `bias` nearer the light. Strands drawn without their coverage and thick hairs
  * are at least a pixel wide, so the first one drawn is the outermost; the strand a camera really sees
  * first lies deeper, where its line
  * of sight has crossed an optical depth of about 1 of the hair in front (the free path in a medium of
