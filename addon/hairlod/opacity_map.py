@@ -38,8 +38,12 @@ LAYER_STEPS = (1.0, 4.0, 16.0, 64.0)
 MAX_SHADOWED_LIGHTS = 4
 TILE = 512  # pixels on a side of each light's map
 # The maps are drawn from the finest level with at most this many segments (the coarser levels hold
-# the same strands' optical depth spread over their ellipses).
-SHADOW_SEGMENTS = 1 << 17
+# the same strands' optical depth spread over their ellipses). They are drawn again on every frame of
+# an animation, about 1.7 us a segment on llvmpipe: with 1 << 17, 100k strands drew theirs from a
+# thick level of 108k segments in 200 ms a frame, with 1 << 15 from one of 20k in 55-63 ms, and the
+# preview's colour against the path tracer moved by at most 0.025 in a channel on both hairs of
+# scripts/bench_preview_fidelity.py (README, "Animated hair").
+SHADOW_SEGMENTS = 1 << 15
 # Optical depth of one pixel is capped (a strand wider than the line drawn for it): exp(-4) = 2 %.
 MAX_PIXEL_DEPTH = 4.0
 
