@@ -20,12 +20,17 @@ class BcsdfTextures:
         self.fiber = rgba_texture(tables.fiber)
         self.dual = rgba_texture(tables.dual)
         self.aggregated = rgba_texture(tables.aggregated)
+        # sin 2s and cos 2s of the R and TT lobes' shifts s, which every fragment would take again.
+        r_shift, tt_shift = tables.lobe_shapes[0], tables.lobe_shapes[2]
+        self.lobe_tilts = (float(np.sin(2.0 * r_shift)), float(np.cos(2.0 * r_shift)),
+                           float(np.sin(2.0 * tt_shift)), float(np.cos(2.0 * tt_shift)))
 
     def bind(self, shader):
         shader.uniform_sampler("fiber_lut", self.fiber)
         shader.uniform_sampler("dual_lut", self.dual)
         shader.uniform_sampler("aggregated_lut", self.aggregated)
         shader.uniform_float("lobe_shapes", self.tables.lobe_shapes)
+        shader.uniform_float("lobe_tilts", self.lobe_tilts)
         shader.uniform_float("lut_constants", self.tables.lut_constants)
 
 
@@ -34,4 +39,5 @@ def declare(info, first_slot=0):
     for slot, name in enumerate(("fiber_lut", "dual_lut", "aggregated_lut"), start=first_slot):
         info.sampler(slot, 'FLOAT_2D', name)
     info.push_constant('VEC4', "lobe_shapes")
+    info.push_constant('VEC4', "lobe_tilts")
     info.push_constant('VEC2', "lut_constants")

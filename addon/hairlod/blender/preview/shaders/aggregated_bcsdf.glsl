@@ -8,7 +8,7 @@
  * result does not depend on the sampler's filter. Directions are unit vectors; the fibre tangent is
  * t, theta is measured from the normal plane (sin theta = dot(w, t)), as in pbrt and docs/ARCHITECTURE.md ("Conventions").
  * Needs: sampler2D fiber_lut, dual_lut, aggregated_lut; vec4 lobe_shapes (R shift, R variance,
- * TT shift, TT variance); vec2 lut_constants (TT azimuthal variance, n_max). */
+ * TT shift, TT variance); vec4 lobe_tilts (sin 2s, cos 2s of the R and of the TT shift s); vec2 lut_constants (TT azimuthal variance, n_max). */
 
 #define HAIRLOD_PI 3.14159265358979
 #define HAIRLOD_SIDE_SCATTER 0.6  /* d_1+ of Huang 2025 Eq. 10 */
@@ -57,11 +57,11 @@ float log_bessel_i0(float x)
   return x + log(scaled) - 0.5 * log(x);
 }
 
-/* d'Eon et al. 2011 longitudinal lobe of variance v, tilted by `shift` (Chiang et al. 2016 Sec. 4),
+/* d'Eon et al. 2011 longitudinal lobe of variance v, tilted by a shift s, tilt = (sin 2s, cos 2s) (Chiang et al. 2016 Sec. 4),
  * in log space so that narrow lobes (1/v ~ 1e3) neither overflow nor lose precision. */
-float tilted_deon_longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, float shift, float v)
+float tilted_deon_longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, vec2 tilt, float v)
 {
-  float sin_2s = sin(2.0 * shift), cos_2s = cos(2.0 * shift);
+  float sin_2s = tilt.x, cos_2s = tilt.y;
   float sin_op = sin_o * cos_2s - cos_o * sin_2s;
   float cos_op = abs(cos_o * cos_2s + sin_o * sin_2s);
   float a = sin_i * sin_op / v;
@@ -75,19 +75,35 @@ float hairlod_gaussian(float x, float variance)
   return exp(-0.5 * x * x / variance) / sqrt(2.0 * HAIRLOD_PI * variance);
 }
 
-/* A Gaussian wrapped onto the circle: a unit-area density on [-pi, pi) for every variance. */
+/* A Gaussian wrapped onto the circle: a unit-area density on [-pi, pi) for every variance. Narrow
+ * (variance <= 4): the sum of the Gaussian's copies 2 pi k away, x taken into [-pi, pi] first so that
+ * the copies |k| <= 2 hold all but exp(-(5 pi)^2 / 8) ~ 4e-14 of the peak. Wide: the Fourier series
+ * (1 + 2 sum q^(k^2) cos(k x)) / 2 pi, q = exp(-variance / 2), its powers and cosines by recurrence
+ * (cos((k + 1) x) = 2 cos x cos(k x) - cos((k - 1) x); q^((k + 1)^2) = q^(k^2) q^(2 k + 1)): one
+ * exponential and one cosine instead of seven of each. */
 float wrapped_gaussian(float x, float variance)
 {
   if (variance <= 4.0) {
+    x -= 2.0 * HAIRLOD_PI * floor(x / (2.0 * HAIRLOD_PI) + 0.5);
+    float scale = -0.5 / variance;
     float sum = 0.0;
-    for (int k = -3; k <= 3; ++k) {
-      sum += hairlod_gaussian(x + 2.0 * HAIRLOD_PI * float(k), variance);
+    for (int k = -2; k <= 2; ++k) {
+      float shifted = x + 2.0 * HAIRLOD_PI * float(k);
+      sum += exp(scale * shifted * shifted);
     }
-    return sum;
+    return sum / sqrt(2.0 * HAIRLOD_PI * variance);
   }
+  float q = exp(-0.5 * variance);
+  float cos_x = cos(x), cos_previous = 1.0, cos_k = cos_x;
+  float power = q, step = q * q * q;  /* q^(k^2) and q^(2 k + 1) at k = 1 */
   float sum = 1.0;
   for (int k = 1; k <= 7; ++k) {
-    sum += 2.0 * exp(-0.5 * float(k * k) * variance) * cos(float(k) * x);
+    sum += 2.0 * power * cos_k;
+    float cos_next = 2.0 * cos_x * cos_k - cos_previous;
+    cos_previous = cos_k;
+    cos_k = cos_next;
+    power *= step;
+    step *= q * q;
   }
   return sum / (2.0 * HAIRLOD_PI);
 }
@@ -122,8 +138,8 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
   vec3 a_d = lut_row(fiber_lut, 2, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
   float inv_cos_i = 1.0 / max(cos_i, 1e-6);
 
-  float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_shapes.x, lobe_shapes.y + longitudinal_spread);
-  float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_shapes.z, lobe_shapes.w + longitudinal_spread);
+  float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.xy, lobe_shapes.y + longitudinal_spread);
+  float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.zw, lobe_shapes.w + longitudinal_spread);
   float n_tt = wrapped_gaussian(phi - HAIRLOD_PI, lut_constants.x + azimuthal_spread);
   vec3 value = attenuation * (a_r * (m_r * inv_cos_i / (2.0 * HAIRLOD_PI)) + a_tt * (m_tt * n_tt * inv_cos_i) +
                               a_d / (HAIRLOD_PI * HAIRLOD_PI));

@@ -90,9 +90,8 @@ void main()
     else {
       /* Through the hair volume, a uniform random medium (self_shadow.glsl): the number of strands crossed
        * is Poisson with mean tau, and the mean of a_f^N over it is exp(-tau (1 - a_f)) = T^(1 - a_f). */
-      shadow = pow(vec3(hair_transmittance(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
-                                           frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w)),
-                   vec3(1.0) - a_f);
+      shadow = exp(-(vec3(1.0) - a_f) * hair_optical_depth(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
+                                                            frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w));
     }
     radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
   }

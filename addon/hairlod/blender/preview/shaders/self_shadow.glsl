@@ -1,10 +1,10 @@
 /* Self-shadowing by exponential falloff through the hair volume (realtime-pbr-hair-thesis.txt
  * Sec. 4.5, after Karis 2016), without a shadow map: the depth below the lit side is the length of
  * the path from p towards the light inside the hair's bounding ellipsoid (centre, semi_axes), and
- * the light that reaches p is exp(-sigma depth). Object space; to_light is the direction towards a
+ * the light that reaches p is exp(-sigma depth) (hair_optical_depth is sigma depth). Object space; to_light is the direction towards a
  * sun (t_max huge) or the vector to a point light (t_max = 1, the path ends at the light).
  * hairlod/self_shadow.py is the reference (same formula, float64). */
-float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 semi_axes, float sigma)
+float hair_optical_depth(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 semi_axes, float sigma)
 {
   /* The ray in the ellipsoid's unit-sphere coordinates: |q + t v|^2 = 1. */
   vec3 q = (p - centre) / semi_axes;
@@ -13,12 +13,17 @@ float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 s
   float b = dot(q, v);
   float discriminant = b * b - a * (dot(q, q) - 1.0);
   if (sigma <= 0.0 || a <= 1e-30 || discriminant <= 0.0) {
-    return 1.0;
+    return 0.0;
   }
   float root = sqrt(discriminant);
   float t_enter = max((-b - root) / a, 0.0);
   float t_exit = min((-b + root) / a, t_max);
-  return exp(-sigma * max(t_exit - t_enter, 0.0) * length(to_light));
+  return sigma * max(t_exit - t_enter, 0.0) * length(to_light);
+}
+
+float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 semi_axes, float sigma)
+{
+  return exp(-hair_optical_depth(p, to_light, t_max, centre, semi_axes, sigma));
 }
 
 /* The share of a uniform world's light that reaches p through the hair volume, per channel:
@@ -30,12 +35,16 @@ float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 s
  * scatters forwards most, red for brown hair. */
 vec3 hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma, vec3 keep)
 {
+  /* Unit directions: the 6 axes, then the 8 diagonals (1, 1, 1) / sqrt(3). T^keep = exp(-keep tau): one
+   * exponential per channel, where pow(T, keep) took a logarithm and an exponential per channel more
+   * for every direction, in every fragment. */
+  const float d = 0.57735026919;
   const vec3 directions[14] = vec3[](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1),
-                                     vec3(0, 0, -1), vec3(1, 1, 1), vec3(1, 1, -1), vec3(1, -1, 1), vec3(1, -1, -1),
-                                     vec3(-1, 1, 1), vec3(-1, 1, -1), vec3(-1, -1, 1), vec3(-1, -1, -1));
+                                     vec3(0, 0, -1), vec3(d, d, d), vec3(d, d, -d), vec3(d, -d, d), vec3(d, -d, -d),
+                                     vec3(-d, d, d), vec3(-d, d, -d), vec3(-d, -d, d), vec3(-d, -d, -d));
   vec3 sum = vec3(0.0);
   for (int k = 0; k < 14; ++k) {
-    sum += pow(vec3(hair_transmittance(p, normalize(directions[k]), 1e30, centre, semi_axes, sigma)), keep);
+    sum += exp(-keep * hair_optical_depth(p, directions[k], 1e30, centre, semi_axes, sigma));
   }
   return sum / 14.0;
 }
