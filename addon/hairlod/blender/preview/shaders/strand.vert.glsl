@@ -44,22 +44,12 @@ float strand_width_px(int cluster)
 void main()
 {
   ivec2 cluster_point = ivec2(select_key + 0.5);
-  if (frame.counts.z > 0.5 && unit_hash(uint(gl_VertexID) / uint(frame.counts.y)) >= strand_width_px(cluster_point.x)) {
-    /* Every vertex of the strand behind the near plane: not drawn. Decided before skinning, whose 10
-     * texel reads a vertex are most of the vertex work, and most strands of a near view are dropped
-     * here. */
-    gl_Position = vec4(0.0, 0.0, -2.0, 1.0);
-    v_position = vec3(0.0);
-    v_tangent = vec3(0.0, 0.0, 1.0);
-#ifndef HAIRLOD_ALL_AT_DRAW_LEVEL
-    v_select_cluster = 0;
-    v_select_point = 0.0;
-#endif
-    return;
-  }
   mat3 skin;
   vec3 world = (frame.model * vec4(skin_point(cluster_point, position, skin), 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
+  if (frame.counts.z > 0.5 && unit_hash(uint(gl_VertexID) / uint(frame.counts.y)) >= strand_width_px(cluster_point.x)) {
+    gl_Position = vec4(0.0, 0.0, -2.0, 1.0);  /* every vertex of the strand, behind the near plane: not drawn */
+  }
   v_position = world;
   v_tangent = normalize(mat3(frame.model) * (skin * tangent));
 #ifndef HAIRLOD_ALL_AT_DRAW_LEVEL
