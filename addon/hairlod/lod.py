@@ -79,6 +79,7 @@ class LodAsset:
     strand_count = property(lambda self: self._core.strand_count)
     control_points = property(lambda self: self._core.control_points)
     guide_strands = property(lambda self: self._core.guide_strands)
+    strand_order = property(lambda self: self._core.strand_order)  # the strands in hierarchy order
     rest_guides = property(lambda self: self._core.rest_guides)
     cluster_guides = property(lambda self: self._core.cluster_guides)
     timings = property(lambda self: dict(self._timings))  # build seconds per stage

@@ -29,15 +29,6 @@ namespace {
 // A numpy copy of `values` reshaped to `shape` (the element type's components form the last axes).
 py::ssize_t as_size(size_t n) { return static_cast<py::ssize_t>(n); }
 
-glm::mat4 matrix_from(const FloatArray& m, const char* what) {
-    if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw Error(std::string(what) + " must be a 4x4 matrix");
-    // numpy rows are matrix rows; glm stores columns.
-    glm::mat4 result;
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) result[c][r] = m.at(r, c);
-    return result;
-}
-
 py::dict level_dict(const LodAsset& asset, size_t level_index, const ThickHairGeometry& rest) {
     const ThickHairLevel& level = asset.thick_levels[level_index];
     const size_t nc = static_cast<size_t>(asset.control_points);
@@ -259,6 +250,8 @@ void bind_lod(py::module_& m) {
         .def_property_readonly("memory_bytes", &LodAsset::memory_bytes)
         .def_property_readonly("stored_bytes", &LodAsset::stored_bytes)
         .def_property_readonly("guide_strands", [](const LodAsset& a) { return to_numpy<int64_t>(a.guide_strands, {as_size(a.guide_strands.size())}); })
+        .def_property_readonly("strand_order", [](const LodAsset& a) { return to_numpy<int32_t>(a.strand_order, {as_size(a.strand_order.size())}); },
+                               "int32 [strands]: the strands in hierarchy order (the preview's and the levels' order).")
         .def_property_readonly("rest_guides", [](const LodAsset& a) {
             return to_numpy<float>(a.rest_guides, {as_size(a.guide_count()), static_cast<py::ssize_t>(a.control_points), 3});
         })

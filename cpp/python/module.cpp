@@ -23,6 +23,7 @@ PYBIND11_MODULE(_core, m) {
         }
     });
     hairlod::python::bind_core(m);
+    hairlod::python::bind_curves(m);
     hairlod::python::bind_io(m);
     hairlod::python::bind_lod(m);
     hairlod::python::bind_bcsdf(m);

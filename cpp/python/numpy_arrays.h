@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "hairlod/core/error.h"
 
 namespace hairlod::python {
@@ -29,6 +31,16 @@ std::span<const Row> rows_of(const FloatArray& array, int columns, const std::st
         throw Error(name + " must have shape [N, " + std::to_string(columns) + "], got " + std::to_string(array.ndim()) +
                     " dimensions" + (array.ndim() == 2 ? " with " + std::to_string(array.shape(1)) + " columns" : ""));
     return {reinterpret_cast<const Row*>(array.data()), static_cast<size_t>(array.shape(0))};
+}
+
+// A 4x4 matrix from a numpy [4, 4] array whose rows are the matrix's rows (as Blender's Matrix
+// converts); glm stores columns. Throws hairlod::Error naming `what` for another shape.
+inline glm::mat4 matrix_from(const FloatArray& m, const char* what) {
+    if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw Error(std::string(what) + " must be a 4x4 matrix");
+    glm::mat4 result;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) result[c][r] = m.at(r, c);
+    return result;
 }
 
 // A new numpy array of Scalar with `shape`, holding a copy of `values` (T may be a glm vector of

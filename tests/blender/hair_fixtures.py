@@ -3,8 +3,8 @@ Geometry Nodes modifier that turns a hair object by
 keyframed angles, and hair attached to an armature-animated head the way artists animate hair in
 Blender (a UV-sphere head deformed by a two-bone rig, neck and head, and a hair Curves object on its
 surface, Curves.surface, surface_uv_map and each curve's surface_uv_coordinate, moved by a Geometry
-Nodes modifier with the Deform Curves on Surface node). Shared by tests/blender, tests/ui and
-scripts/bench_preview_animation.py."""
+Nodes modifier with the Deform Curves on Surface node), and many strands on a head that a keyframed
+twist deforms. Shared by tests/blender, tests/ui and scripts/bench_preview_animation.py."""
 
 import math
 
@@ -58,20 +58,24 @@ def add_keyframed_rotation(obj, keys, name="Turn"):
     return tree
 
 
-def _triangles(mesh):
-    """(centroids [T, 3], normals [T, 3], uv centroids [T, 2]) of the mesh's loop triangles."""
+def _mesh_arrays(mesh):
+    """(loop triangles' corners [T, 3], each corner's vertex [C], positions [V, 3], corner UVs [C, 2])."""
     mesh.calc_loop_triangles()
-    count = len(mesh.loop_triangles)
-    loops = np.empty(count * 3, np.int32)
+    loops = np.empty(len(mesh.loop_triangles) * 3, np.int32)
     mesh.loop_triangles.foreach_get("loops", loops)
     vertex_of_loop = np.empty(len(mesh.loops), np.int32)
     mesh.loops.foreach_get("vertex_index", vertex_of_loop)
     positions = np.empty(len(mesh.vertices) * 3, np.float32)
     mesh.vertices.foreach_get("co", positions)
-    positions = positions.reshape(-1, 3)
     uv = np.empty(len(mesh.loops) * 2, np.float32)
     mesh.uv_layers.active.data.foreach_get("uv", uv)
-    uv = uv.reshape(-1, 2)
+    return loops.reshape(-1, 3), vertex_of_loop, positions.reshape(-1, 3), uv.reshape(-1, 2)
+
+
+def _triangles(mesh):
+    """(centroids [T, 3], normals [T, 3], uv centroids [T, 2]) of the mesh's loop triangles."""
+    loops, vertex_of_loop, positions, uv = _mesh_arrays(mesh)
+    count = len(loops)
     # Blender 3.4 numbers a new UV sphere's loops in a different order from run to run (the same
     # triangles, reordered): order them by their vertices so the hair grown on them is the same.
     vertices = np.sort(vertex_of_loop[loops].reshape(count, 3), axis=1)
@@ -124,27 +128,70 @@ def build_scene(rigid, subdivisions=48):
         skull_group.add([index], float(weight), 'REPLACE')
         neck_group.add([index], float(1.0 - weight), 'REPLACE')
     head.modifiers.new("Armature", 'ARMATURE').object = rig
+    strands, uv = surface_strands(head.data)
+    hair = strands_to_curves(strands, "Hair")
+    attribute = hair.data.attributes.new("surface_uv_coordinate", 'FLOAT2', 'CURVE')
+    attribute.data.foreach_set("vector", uv.astype(np.float32).ravel())
+    _attach(hair, head)
+    bpy.context.view_layer.objects.active = hair
+    return hair, rig
+
+
+def _attach(hair, head):
+    """Attaches `hair` to the mesh object `head` as Blender's hair tools do: the surface and its UV map,
+    the surface's rest positions, and a Geometry Nodes modifier with Deform Curves on Surface."""
     # Deform Curves on Surface reads the surface's rest positions (to find the same tangents on the
-    # original and the deformed mesh) from this attribute, which the armature leaves as it is.
+    # original and the deformed mesh) from this attribute, which the deformation leaves as it is.
     rest = head.data.attributes.new("rest_position", 'FLOAT_VECTOR', 'POINT')
     positions = np.empty(len(head.data.vertices) * 3, np.float32)
     head.data.vertices.foreach_get("co", positions)
     rest.data.foreach_set("vector", positions)
-
-    strands, uv = surface_strands(head.data)
-    hair = strands_to_curves(strands, "Hair")
     hair.data.surface = head
     hair.data.surface_uv_map = head.data.uv_layers.active.name
-    attribute = hair.data.attributes.new("surface_uv_coordinate", 'FLOAT2', 'CURVE')
-    attribute.data.foreach_set("vector", uv.astype(np.float32).ravel())
     tree = new_geometry_node_tree("Deform on Head")
     group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
     deform = tree.nodes.new('GeometryNodeDeformCurvesOnSurface')
     tree.links.new(group_in.outputs[0], deform.inputs[0])
     tree.links.new(deform.outputs[0], group_out.inputs[0])
     hair.modifiers.new("Deform on Head", 'NODES').node_group = tree
-    bpy.context.view_layer.objects.active = hair
-    return hair, rig
+
+
+def twisted_head_hair(count, frames, angle=0.8, points=16, seed=1):
+    """(hair, head): `count` strands of `points` rooted at random points of the upper half of a smooth
+    UV-sphere head (16,128 triangles, radius 1), attached to it (Deform Curves on Surface), and a Simple
+    Deform modifier twisting the head about z from 0 at frame 1 to `angle` at frame `frames` (the
+    crown turns, the neck stays: every triangle turns its own way). Leaves the scene at frame 1."""
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=128, ring_count=64, radius=1.0)
+    head = bpy.context.active_object
+    head.name = "Head"
+    for polygon in head.data.polygons:
+        polygon.use_smooth = True
+    triangles, corner_verts, positions, uv = _mesh_arrays(head.data)
+    # Upper triangles away from the UV seam (where a UV coordinate names one triangle).
+    corner_uv = uv[triangles]
+    upper = np.nonzero((positions[corner_verts[triangles]].mean(axis=1)[:, 2] > 0.1) &
+                       (corner_uv[:, :, 0].min(axis=1) > 0.01) & (corner_uv[:, :, 0].max(axis=1) < 0.99))[0]
+    rng = np.random.default_rng(seed)
+    chosen = rng.choice(upper, count)
+    weights = rng.dirichlet((1.0, 1.0, 1.0), count)
+    root_uv = np.einsum("nk,nkj->nj", weights, uv[triangles[chosen]])
+    roots = np.einsum("nk,nkj->nj", weights, positions[corner_verts[triangles[chosen]]])
+    t = np.linspace(0.0, 1.0, points)[None, :, None]
+    out = roots / np.linalg.norm(roots, axis=1, keepdims=True)
+    strands = roots[:, None, :] + 0.4 * t * out[:, None, :] - np.array([0.0, 0.0, 0.9]) * t ** 2
+    hair = strands_to_curves(Strands.from_counts(strands.astype(np.float32).reshape(-1, 3), np.full(count, points),
+                                                 np.full(count * points, 0.002, np.float32)), "Hair")
+    attribute = hair.data.attributes.new("surface_uv_coordinate", 'FLOAT2', 'CURVE')
+    attribute.data.foreach_set("vector", root_uv.astype(np.float32).ravel())
+    _attach(hair, head)
+    twist = head.modifiers.new("Twist", 'SIMPLE_DEFORM')
+    twist.deform_method, twist.deform_axis = 'TWIST', 'Z'
+    for frame, value in ((1, 0.0), (frames, angle)):
+        twist.angle = value
+        twist.keyframe_insert("angle", frame=frame)
+    scene.frame_set(1)
+    return hair, head
 
 
 def turn_head(rig, angle):

@@ -7,7 +7,7 @@ import bpy
 import numpy as np
 import pytest
 
-from hairlod.blender.curves import evaluated_curve_subset, new_geometry_node_tree, strands_to_curves
+from hairlod.blender.curves import curves_to_strands, evaluated_curve_subset, new_geometry_node_tree, strands_to_curves
 from hairlod.blender.lod_build_job import COLLECTION_NAME
 from hairlod.blender.packed_asset import packed_asset
 from hairlod.blender.preview import lod_preview
@@ -122,7 +122,6 @@ def test_skinning_follows_deform_curves_on_surface(rigid, empty_scene):
     curve with its root triangle's frame, which a sheared mesh turns differently from its neighbours,
     and skinning from guides is smooth across a cluster."""
     from hairlod import lod
-    from hairlod.blender.curves import curves_to_strands
 
     hair, rig = build_scene(rigid)
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -150,6 +149,92 @@ def test_skinning_follows_deform_curves_on_surface(rigid, empty_scene):
         assert error["max_of_size"] <= at_rest["max_of_size"] + 1e-5
     else:
         assert error["p99_of_size"] <= stale["p99_of_size"] / 2.5 and error["mean_of_size"] <= stale["mean_of_size"] / 4
+    # The thick hairs skinned by the maps against the strands Blender deformed: the share of those
+    # strands passing through their hair's sections (thick_hair_check.strands_through_sections).
+    from hairlod.thick_hair_check import strands_through_sections
+
+    def through(geometry, points):
+        return [strands_through_sections(g["centres"], g["major"], g["minor"], level.membership,
+                                         points.reshape(asset.strand_count, asset.control_points, 3))
+                for level, g in zip(asset.levels, geometry["levels"])]
+
+    held_at_rest = through(asset.skin(asset.rest_guides), rest.resampled(8, lod.LOD_ARC_LENGTH_SUBDIVISIONS).points)
+    held = through(asset.skin(guides), truth)
+    print(f"{'rigid' if rigid else 'bent'}: deformed strands through their thick hairs' sections "
+          + " / ".join(f"{h:.2f}" for h in held) + " (at rest " + " / ".join(f"{h:.2f}" for h in held_at_rest) + ")")
+    for at_rest, moved in zip(held_at_rest, held):
+        assert moved >= at_rest - (0.01 if rigid else 0.5)
+
+
+@pytest.mark.parametrize("rigid", [True, False], ids=["rigid head turn", "sheared scalp"])
+def test_the_preview_moves_strands_with_their_surface(rigid, empty_scene):
+    """Hair attached to an armature-animated head: the preview's strands turn with their root
+    triangles as Blender's Deform Curves on Surface turns them, to float precision also where the
+    scalp shears (where skinning from guides is off by over a hundred strand radii)."""
+    from hairlod import lod, surface_attachment
+
+    hair, rig = build_scene(rigid)
+    assert bpy.ops.hairlod.build_lod(guides=32, levels=4, control_points=8, seed=2) == {'FINISHED'}
+    lod_preview.attach(hair, packed_asset(hair), packed=True)
+    preview = lod_preview.preview_of(hair)
+    asset = preview.asset
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    rest = asset.preview_vertices()["strands"]["position"].reshape(asset.strand_count, asset.control_points, 3)
+    size = float(np.linalg.norm(np.ptp(rest.reshape(-1, 3), axis=0)))
+    radius = float(np.median(curves_to_strands(hair, depsgraph=depsgraph).radius))
+
+    turn_head(rig, 0.5)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    assert preview.read_guides(hair, depsgraph)
+    assert preview.pending_surface is not None, preview.follow_stats.get("surface")
+    assert preview.follow_stats["surface"] == "Strands follow the surface 'Head'"
+    truth = curves_to_strands(hair, depsgraph=depsgraph).resampled(asset.control_points, lod.LOD_ARC_LENGTH_SUBDIVISIONS)
+    truth = truth.points.reshape(asset.strand_count, asset.control_points, 3)[asset.strand_order]
+    assert np.abs(truth - rest).max() > 0.1 * size  # the hair moved
+    moved = surface_attachment.apply(preview.pending_surface, rest)
+    distance = np.linalg.norm(moved - truth, axis=-1)
+    print(f"{'rigid' if rigid else 'sheared'}: surface following max {distance.max() / size:.2g} of the size, "
+          f"p99 {np.percentile(distance, 99) / radius:.2g} strand radii")
+    assert distance.max() <= 1e-5 * size
+
+    # Something else moves the hair too (a Geometry Nodes offset after the node): the strands go back
+    # to following the guides, and the panel says why.
+    tree = new_geometry_node_tree("Lift")
+    group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+    lift = tree.nodes.new('GeometryNodeSetPosition')
+    lift.inputs["Offset"].default_value = (0.0, 0.0, 0.05)
+    tree.links.new(group_in.outputs[0], lift.inputs["Geometry"])
+    tree.links.new(lift.outputs["Geometry"], group_out.inputs[0])
+    hair.modifiers.new("Lift", 'NODES').node_group = tree
+    assert preview.read_guides(hair, bpy.context.evaluated_depsgraph_get())
+    assert preview.pending_surface is None
+    assert preview.follow_stats["surface"].startswith("Strands follow the guides (the hair moves otherwise than its surface")
+    lod_preview.detach(hair.name)
+
+
+def test_a_surface_whose_modifiers_change_its_mesh_leaves_the_strands_to_the_guides(empty_scene):
+    """Deform Curves on Surface finds each root again on the evaluated mesh (a Subdivision Surface makes
+    new triangles); the preview's transforms keep each root's triangle, so it follows the guides and
+    says why."""
+    hair, rig = build_scene(False)
+    bpy.data.objects["Head"].modifiers.new("Subdivision", 'SUBSURF').levels = 1
+    bpy.context.view_layer.objects.active = hair
+    assert bpy.ops.hairlod.build_lod(guides=32, levels=4, control_points=8, seed=2) == {'FINISHED'}
+    lod_preview.attach(hair, packed_asset(hair), packed=True)
+    preview = lod_preview.preview_of(hair)
+    turn_head(rig, 0.5)
+    assert preview.read_guides(hair, bpy.context.evaluated_depsgraph_get())
+    assert preview.pending_surface is None
+    assert preview.follow_stats["surface"].startswith("Strands follow the guides (the modifiers of 'Head' change its mesh")
+    lod_preview.detach(hair.name)
+
+
+def test_unattached_hair_follows_the_guides(built_hair):
+    preview = lod_preview.preview_of(built_hair)
+    add_keyframed_turn(built_hair)
+    bpy.context.scene.frame_set(10)
+    assert preview.read_guides(built_hair, bpy.context.evaluated_depsgraph_get())
+    assert preview.pending_surface is None and preview.surface is False
 
 
 def test_headless_export_stores_the_guides_of_a_frame_range(built_hair, tmp_path):

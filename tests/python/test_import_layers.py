@@ -43,6 +43,7 @@ LAYERS = {
     "hairlod.blender.lod_build_settings": SETTINGS,
 
     "hairlod.blender.curves": BRIDGES,
+    "hairlod.blender.surface": BRIDGES,
     "hairlod.blender.hair_mesh": BRIDGES,
     "hairlod.blender.principled_hair": BRIDGES,
     "hairlod.blender.packed_asset": BRIDGES,

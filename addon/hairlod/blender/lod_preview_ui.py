@@ -170,6 +170,9 @@ class VIEW3D_PT_hairlod_lod_preview(bpy.types.Panel):
             if "skin_ms" in follow:  # the hair moved since the build: the last frame it followed
                 box.label(text=f"Following: read {follow['read_ms']:.1f} ms, skin {follow['skin_ms']:.1f} ms, "
                                f"upload {follow['upload_ms']:.1f} ms")
+            if "surface" in follow:  # the hair is attached to a mesh: how its strands follow it
+                for line in _wrapped(follow["surface"], context):
+                    box.label(text=line)
 
 
 def _wrapped(text, context):

@@ -19,6 +19,11 @@ deforms it), the frame-change and depsgraph handlers read the evaluated guide cu
 skins to them with FrameSkinning (one quadratic map per L0 cluster and control point, Sec. 5.1 step 4),
 uploads the maps as a texture that the vertex shaders apply (shaders/skinning.glsl) and gives every
 view's selection the moved geometry: per frame O(clusters x n_c) work, no vertex buffer rebuilt.
+Hair attached to a mesh (Curves.surface, moved by Deform Curves on Surface) is followed more closely:
+each strand turns rigidly with its root triangle's frame, as Blender moves it (blender/surface.py,
+hairlod.surface_attachment), one transform per strand uploaded as a texture, wherever the guides read
+from the evaluated hair confirm it (a sheared scalp turns neighbouring triangles differently, which
+no smooth skinning from guides reproduces). The thick hairs follow by the maps.
 """
 
 import time
@@ -52,6 +57,11 @@ SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
 EXACT_SEGMENTS = 1 << 12
 SELECTION_SLOT = 6  # sampler slot of the selection texture (the BCSDF tables take 0-2)
 SKIN_SLOT = 8       # sampler slot of the skinning maps (skinning.glsl; view_transform takes 7)
+SURFACE_SLOT = 9    # of the strands' surface transforms (strand.vert.glsl)
+SURFACE_ROW = 1024  # strands per row of that texture (3 texels each)
+# The guides moved by their surface transforms agree with the guides Blender deformed to this fraction
+# of the hair's size (float rounding is about 1e-6) before the strands follow the surface.
+SURFACE_AGREEMENT = 1e-4
 
 
 def level_colour(level, level_count):
@@ -84,16 +94,19 @@ struct HairFrame {{
 
 
 def frame_block(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours,
-                hair_volume, shadow_strength, strand_radius, shadows, control_points=0, strand_coverage=False):
+                hair_volume, shadow_strength, strand_radius, shadows, control_points=0, strand_coverage=False,
+                strands_follow_surface=False):
     """The HairFrame uniform block as a GPUUniformBuf (matrices column-major, as std140 stores them).
-    counts = (lights, control points per strand, 1 to draw strands by coverage (strand.vert.glsl), 0);
+    counts = (lights, control points per strand, 1 to draw strands by coverage (strand.vert.glsl), 1 when
+    the strands move by their surface transforms);
     hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow) of the
     lights without an opacity map; shadow = (the strands' radius in world units, 0, strength, 0) and
     the mapped lights' views (opacity_maps.LightShadows) those of the maps."""
     model = np.asarray(model, np.float64)
     data = np.concatenate([model.T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
                            np.linalg.inv(model).T.ravel(), np.asarray(camera, np.float32), (*viewport, 0.0, 0.0),
-                           np.asarray(ambient, np.float32), (float(light_count), float(control_points), float(strand_coverage), 0.0),
+                           np.asarray(ambient, np.float32), (float(light_count), float(control_points), float(strand_coverage),
+                            float(strands_follow_surface)),
                            (*hair_volume.centre, shadow_strength * hair_volume.extinction), (*hair_volume.semi_axes, 0.0),
                            light_vectors.ravel(), light_colours.ravel(), (strand_radius, 0.0, shadow_strength, 0.0),
                            np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel()])
@@ -140,6 +153,8 @@ def _create_shader(kind, purpose="shade", test_level=True):
     info.push_constant('INT', "draw_level")
     info.sampler(SELECTION_SLOT, 'FLOAT_2D', "selection_levels")
     info.sampler(SKIN_SLOT, 'FLOAT_2D', "skin_maps")
+    if kind == "strand":
+        info.sampler(SURFACE_SLOT, 'FLOAT_2D', "strand_frames")
     if purpose == "shade":
         world_srbf.declare(info)
         info.push_constant('VEC4', "level_colour")
@@ -156,7 +171,7 @@ def _create_shader(kind, purpose="shade", test_level=True):
     info.fragment_out(0, 'VEC4', "fragColor")
     defines = ("" if selection_varyings else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") + \
         ("" if kind == "thick" else STRAND_CONSTANTS)
-    info.vertex_source(defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n" +
+    info.vertex_source(defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n#define SURFACE_ROW {SURFACE_ROW}\n" +
                        glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
         info.fragment_source(defines +
@@ -213,6 +228,18 @@ def skin_texture(maps):
     data = np.ascontiguousarray(maps, dtype=np.float32).ravel()
     return gpu.types.GPUTexture((texels * control_points, clusters), format='RGBA32F',
                                 data=gpu.types.Buffer('FLOAT', data.size, data))
+
+
+def surface_texture(transforms):
+    """The strands' surface transforms [S, 3, 4] (hierarchy order) as the RGBA32F texture strand.vert.glsl
+    reads: SURFACE_ROW strands per row, the 3 rows of strand i's map at texels 3 (i mod SURFACE_ROW) + r
+    of row i / SURFACE_ROW."""
+    strands = len(transforms)
+    rows = max(1, -(-strands // SURFACE_ROW))
+    data = np.zeros((rows * SURFACE_ROW, 3, 4), np.float32)
+    data[:strands] = transforms
+    data = data.ravel()
+    return gpu.types.GPUTexture((3 * SURFACE_ROW, rows), format='RGBA32F', data=gpu.types.Buffer('FLOAT', data.size, data))
 
 
 class LevelBlocks:
@@ -286,6 +313,16 @@ class LodPreview:
         self.skin_texture = None
         self.guides = None          # the guides drawn [G, n_c, 3]; None: the rest pose
         self.pending_guides = None  # guides read by a handler, applied by the next draw
+        # Hair attached to a mesh: its strands' transforms (surface_attachment.SurfaceFollow, hierarchy
+        # order, made on the first read; False when the hair is not attached or cannot be bound), the
+        # transforms read with the pending guides (None: the strands follow the maps) and their texture
+        # (None: the strands follow the maps; an empty texture is bound in its place).
+        self.surface = None
+        self.pending_surface = None
+        self.surface_texture = None
+        self.no_surface_texture = None
+        self.guide_items = None  # the guides' positions in hierarchy order
+        self.surface_transforms = None  # the transforms of the texture
         self.rest_volume = None     # (HairVolume of the rest strands, bounding box of the rest clusters)
         self.follow_status = ""     # why the preview does not follow the hair, when it does not
         self.follow_stats = {}
@@ -328,6 +365,7 @@ class LodPreview:
         self.skin_texture = skin_texture(self.skinning.maps)
         if self.pending_guides is None and self.guides is not None:
             self.pending_guides, self.guides = self.guides, None  # buffers rebuilt: skin them again
+            self.pending_surface = self.surface_transforms
 
     def read_guides(self, obj, depsgraph):
         """Reads the guides of ``obj``'s evaluated hair (only the guide curves are gathered and
@@ -345,17 +383,56 @@ class LodPreview:
             self.follow_status = f"Not following the hair: {error}"
             return False
         self.follow_status = ""
-        self.follow_stats["read_ms"] = 1e3 * (time.perf_counter() - start)
         current = self.pending_guides if self.pending_guides is not None else self.guides
         if np.array_equal(guides, self.asset.rest_guides if current is None else current):
+            self.follow_stats["read_ms"] = 1e3 * (time.perf_counter() - start)
             return False
+        self.pending_surface = self.read_surface(obj, depsgraph, guides)
+        self.follow_stats["read_ms"] = 1e3 * (time.perf_counter() - start)
         self.pending_guides = guides
         return True
+
+    def read_surface(self, obj, depsgraph, guides):
+        """The strands' transforms [S, 3, 4] to the pose of the mesh `obj` is attached to, when the
+        guides moved by theirs are `guides` (the hair moves exactly with its surface), else None (the
+        strands follow the maps): the hair is not attached, or something else deforms it too, or the
+        LoD was built from hair its surface had already deformed (the transforms start from the
+        surface's original mesh, as Blender's node does)."""
+        from .. import surface
+        from ... import surface_attachment
+
+        if self.surface is None:
+            try:
+                self.surface = surface.follow(obj, depsgraph, order=self.asset.strand_order) or False
+            except ValueError as error:
+                self.surface = False
+                self.follow_stats["surface"] = f"Strands follow the guides ({error})"
+        if self.surface is False:
+            return None
+        try:
+            transforms = surface.posed_transforms(self.surface, obj, depsgraph)
+        except ValueError as error:
+            self.follow_stats["surface"] = f"Strands follow the guides ({error})"
+            return None
+        if self.guide_items is None:
+            items = np.empty(self.asset.strand_count, np.int64)
+            items[self.asset.strand_order] = np.arange(self.asset.strand_count)
+            self.guide_items = items[self.asset.guide_strands]
+        rest = self.asset.rest_guides
+        moved = surface_attachment.apply(transforms[self.guide_items], rest)
+        size = max(float(np.ptp(rest.reshape(-1, 3), axis=0).max()), 1e-30)
+        if not np.abs(moved - guides).max() <= SURFACE_AGREEMENT * size:
+            self.follow_stats["surface"] = ("Strands follow the guides (the hair moves otherwise than its surface, or the "
+                                            "LoD was built away from the surface's rest pose)")
+            return None
+        self.follow_stats["surface"] = f"Strands follow the surface '{surface.attachment(obj)[0].name}'"
+        return transforms
 
     def _apply_pending_guides(self):
         """Skins to the guides a handler read: new maps, their texture, the views' selection
         geometry and the self-shadowing volume. O(clusters n_c): no strand is touched on the CPU."""
         guides, self.pending_guides = self.pending_guides, None
+        transforms, self.pending_surface = self.pending_surface, None
         start = time.perf_counter()
         try:
             self.skinning.update(guides)
@@ -364,6 +441,8 @@ class LodPreview:
             return
         skinned = time.perf_counter()
         self.skin_texture = skin_texture(self.skinning.maps)
+        self.surface_transforms = transforms
+        self.surface_texture = None if transforms is None else surface_texture(transforms)
         uploaded = time.perf_counter()
         for state in self.views.values():
             state.selection.set_geometry(self.skinning)
@@ -475,6 +554,15 @@ class LodPreview:
                 if batch is not None:
                     batch.draw(program)
 
+    def bind_skinning(self, program, kind):
+        """Binds what moves a level's vertices: the maps, and for the strands their surface transforms."""
+        program.uniform_sampler("skin_maps", self.skin_texture)
+        if kind == "strand":
+            if self.surface_texture is None and self.no_surface_texture is None:
+                self.no_surface_texture = surface_texture(np.zeros((0, 3, 4), np.float32))
+            program.uniform_sampler("strand_frames", self.surface_texture if self.surface_texture is not None
+                                    else self.no_surface_texture)
+
     @property
     def shadow_level(self):
         """The level the opacity maps draw (opacity_map.shadow_level of the levels' segment counts)."""
@@ -507,7 +595,8 @@ class LodPreview:
         no_colours = np.zeros((MAX_LIGHTS, 4), np.float32)
         tiles = [(int(k), frame_block(obj.matrix_world, shadows.view_projection[k], light_vectors[k],
                                       (float(opacity_map.TILE), float(opacity_map.TILE)), (0.0, 0.0, 0.0, 0.0), light_count,
-                                      light_vectors, no_colours, self.hair_volume, strength, strand_radius, shadows))
+                                      light_vectors, no_colours, self.hair_volume, strength, strand_radius, shadows,
+                                      strands_follow_surface=self.surface_texture is not None))
                  for k in mapped]
         kind = "thick" if level < self.level_count - 1 else "strand"
 
@@ -519,7 +608,7 @@ class LodPreview:
                 program.uniform_int("draw_level", level)
                 program.uniform_int("shadow_light", index)
                 program.uniform_sampler("selection_levels", self.shadow_selection[1])
-                program.uniform_sampler("skin_maps", self.skin_texture)
+                self.bind_skinning(program, kind)
                 return program
             return bind
 
@@ -630,7 +719,7 @@ class LodPreview:
         frame = frame_block(obj.matrix_world, fitted.projection @ view_array, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
                             light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows,
-                            self.asset.control_points, settings.strand_coverage)
+                            self.asset.control_points, settings.strand_coverage, self.surface_texture is not None)
         if state.hair_layer is None:
             state.hair_layer = hair_layer.HairLayer()
         with state.hair_layer.drawing((region.width, region.height)):
@@ -660,7 +749,7 @@ class LodPreview:
                 if test_level:  # else the compiler drops them
                     program.uniform_int("draw_level", level)
                     program.uniform_sampler("selection_levels", state.texture)
-                program.uniform_sampler("skin_maps", self.skin_texture)
+                self.bind_skinning(program, "thick" if level < self.level_count - 1 else "strand")
                 if shaded:
                     textures.bind(program)
                     if self.opacity is not None:

@@ -41,11 +41,27 @@ float strand_width_px(int cluster)
   return 2.0 * frame.shadow.x * length(clip_side.xy * 0.5 * frame.viewport.xy) / clip.w;
 }
 
+/* The strand's point moved rigidly with its root triangle (hair attached to a mesh, frame.counts.w = 1;
+ * blender/surface.py): the rows of strand `item`'s map [R | t] in strand_frames, SURFACE_ROW strands a
+ * row, and R for its tangents. */
+vec3 surface_point(int item, vec3 rest, out mat3 rotation)
+{
+  ivec2 first = ivec2(3 * (item % SURFACE_ROW), item / SURFACE_ROW);
+  vec4 rows[3];
+  for (int r = 0; r < 3; ++r) {
+    rows[r] = texelFetch(strand_frames, first + ivec2(r, 0), 0);
+  }
+  rotation = mat3(rows[0].x, rows[1].x, rows[2].x, rows[0].y, rows[1].y, rows[2].y, rows[0].z, rows[1].z, rows[2].z);
+  return vec3(dot(rows[0], vec4(rest, 1.0)), dot(rows[1], vec4(rest, 1.0)), dot(rows[2], vec4(rest, 1.0)));
+}
+
 void main()
 {
   ivec2 cluster_point = ivec2(select_key + 0.5);
   mat3 skin;
-  vec3 world = (frame.model * vec4(skin_point(cluster_point, position, skin), 1.0)).xyz;
+  vec3 moved = frame.counts.w > 0.5 ? surface_point(gl_VertexID / int(frame.counts.y), position, skin)
+                                    : skin_point(cluster_point, position, skin);
+  vec3 world = (frame.model * vec4(moved, 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
   if (frame.counts.z > 0.5 && unit_hash(uint(gl_VertexID) / uint(frame.counts.y)) >= strand_width_px(cluster_point.x)) {
     gl_Position = vec4(0.0, 0.0, -2.0, 1.0);  /* every vertex of the strand, behind the near plane: not drawn */
