@@ -15,6 +15,7 @@ class SurfaceFollow:
     stay where they are, as Blender leaves them."""
 
     def __init__(self, root_uvs, corner_uvs, triangles, corner_verts, positions, corner_normals, surface_to_curves):
+        self.vertex_count, self.corner_count = len(positions), len(corner_verts)
         self._core = _core.SurfaceFollow(np.asarray(root_uvs, np.float32), np.asarray(corner_uvs, np.float32),
                                          np.asarray(triangles, np.int32), np.asarray(corner_verts, np.int32),
                                          np.asarray(positions, np.float32), np.asarray(corner_normals, np.float32),

@@ -166,14 +166,20 @@ def test_skinning_follows_deform_curves_on_surface(rigid, empty_scene):
         assert moved >= at_rest - (0.01 if rigid else 0.5)
 
 
-@pytest.mark.parametrize("rigid", [True, False], ids=["rigid head turn", "sheared scalp"])
-def test_the_preview_moves_strands_with_their_surface(rigid, empty_scene):
+@pytest.mark.parametrize("rigid, subdivided", [(True, False), (False, False), (False, True)],
+                         ids=["rigid head turn", "sheared scalp", "sheared subdivided scalp"])
+def test_the_preview_moves_strands_with_their_surface(rigid, subdivided, empty_scene):
     """Hair attached to an armature-animated head: the preview's strands turn with their root
     triangles as Blender's Deform Curves on Surface turns them, to float precision also where the
-    scalp shears (where skinning from guides is off by over a hundred strand radii)."""
+    scalp shears (where skinning from guides is off by over a hundred strand radii), and where a
+    Subdivision Surface on the head makes the mesh the node finds the roots on (the preview binds to
+    it at the pose the LoD was built at)."""
     from hairlod import lod, surface_attachment
 
     hair, rig = build_scene(rigid)
+    if subdivided:
+        bpy.data.objects["Head"].modifiers.new("Subdivision", 'SUBSURF').levels = 1
+        bpy.context.view_layer.objects.active = hair
     assert bpy.ops.hairlod.build_lod(guides=32, levels=4, control_points=8, seed=2) == {'FINISHED'}
     lod_preview.attach(hair, packed_asset(hair), packed=True)
     preview = lod_preview.preview_of(hair)
@@ -182,6 +188,8 @@ def test_the_preview_moves_strands_with_their_surface(rigid, empty_scene):
     rest = asset.preview_vertices()["strands"]["position"].reshape(asset.strand_count, asset.control_points, 3)
     size = float(np.linalg.norm(np.ptp(rest.reshape(-1, 3), axis=0)))
     radius = float(np.median(curves_to_strands(hair, depsgraph=depsgraph).radius))
+    assert not preview.read_guides(hair, depsgraph)  # at rest: nothing to skin, but bound
+    assert preview.surface
 
     turn_head(rig, 0.5)
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -193,7 +201,7 @@ def test_the_preview_moves_strands_with_their_surface(rigid, empty_scene):
     assert np.abs(truth - rest).max() > 0.1 * size  # the hair moved
     moved = surface_attachment.apply(preview.pending_surface, rest)
     distance = np.linalg.norm(moved - truth, axis=-1)
-    print(f"{'rigid' if rigid else 'sheared'}: surface following max {distance.max() / size:.2g} of the size, "
+    print(f"{'rigid' if rigid else 'sheared'}{', subdivided' if subdivided else ''}: surface following max {distance.max() / size:.2g} of the size, "
           f"p99 {np.percentile(distance, 99) / radius:.2g} strand radii")
     assert distance.max() <= 1e-5 * size
 
@@ -212,20 +220,28 @@ def test_the_preview_moves_strands_with_their_surface(rigid, empty_scene):
     lod_preview.detach(hair.name)
 
 
-def test_a_surface_whose_modifiers_change_its_mesh_leaves_the_strands_to_the_guides(empty_scene):
-    """Deform Curves on Surface finds each root again on the evaluated mesh (a Subdivision Surface makes
-    new triangles); the preview's transforms keep each root's triangle, so it follows the guides and
-    says why."""
+def test_a_subdivided_surface_is_bound_only_at_the_pose_the_lod_was_built_at(empty_scene):
+    """Where the surface's modifiers change its mesh (a Subdivision Surface), the strands are bound to the
+    mesh they make, which takes the hair at its build pose: attached elsewhere (a file reopened at
+    another frame), the strands follow the guides, and say so, until the hair is back there."""
     hair, rig = build_scene(False)
     bpy.data.objects["Head"].modifiers.new("Subdivision", 'SUBSURF').levels = 1
     bpy.context.view_layer.objects.active = hair
     assert bpy.ops.hairlod.build_lod(guides=32, levels=4, control_points=8, seed=2) == {'FINISHED'}
-    lod_preview.attach(hair, packed_asset(hair), packed=True)
-    preview = lod_preview.preview_of(hair)
     turn_head(rig, 0.5)
+    lod_preview.attach(hair, packed_asset(hair), packed=True)  # reads the hair as it is now
+    preview = lod_preview.preview_of(hair)
+    assert preview.pending_guides is not None
+    assert preview.surface is None and preview.pending_surface is None
+    assert preview.follow_stats["surface"] == ("Strands follow the guides until the hair is back at the pose the LoD "
+                                               "was built at (the modifiers of 'Head' change its mesh)")
+    turn_head(rig, 0.0)
+    assert preview.read_guides(hair, bpy.context.evaluated_depsgraph_get())  # back at rest: a change of pose
+    assert preview.surface
+    turn_head(rig, 0.3)
     assert preview.read_guides(hair, bpy.context.evaluated_depsgraph_get())
-    assert preview.pending_surface is None
-    assert preview.follow_stats["surface"].startswith("Strands follow the guides (the modifiers of 'Head' change its mesh")
+    assert preview.pending_surface is not None
+    assert preview.follow_stats["surface"] == "Strands follow the surface 'Head'"
     lod_preview.detach(hair.name)
 
 

@@ -72,11 +72,25 @@ class SurfaceMesh:
         self.surface_to_curves = np.array(hair.matrix_world.inverted() @ surface.matrix_world, np.float32)
 
 
-def follow(obj, depsgraph, order=None):
+def changes_topology(obj, depsgraph):
+    """Whether the modifiers of the mesh `obj` is attached to change its vertex or corner counts (a
+    Subdivision Surface); None when `obj` is not attached."""
+    attached = attachment(obj)
+    if attached is None:
+        return None
+    surface = attached[0]
+    evaluated = surface.evaluated_get(depsgraph).data
+    return len(evaluated.vertices) != len(surface.data.vertices) or len(evaluated.loops) != len(surface.data.loops)
+
+
+def follow(obj, depsgraph, order=None, evaluated=False):
     """A hairlod.surface_attachment.SurfaceFollow of `obj`'s curves (in `order`, indices of curves; all
-    by default) on the mesh they are attached to, at its original pose, where Blender's node takes
-    its reference frames; None when the hair is not attached. Raises ValueError naming what is
-    missing (the UV map, the curves' UV coordinates)."""
+    by default) on the mesh they are attached to; None when the hair is not attached. Its reference
+    pose is the original mesh, where Blender's node takes its reference frames; with `evaluated`,
+    the mesh its modifiers make in `depsgraph` (for modifiers that change the mesh, such as a
+    Subdivision Surface: the node finds each root on that mesh, and the frames on the original mesh
+    then cancel out between two poses; the curves must be as the node placed them at this pose).
+    Raises ValueError naming what is missing (the UV map, the curves' UV coordinates)."""
     attached = attachment(obj)
     if attached is None:
         return None
@@ -88,23 +102,24 @@ def follow(obj, depsgraph, order=None):
     root_uvs = _floats(uv.data, "vector", 2)
     if order is not None:
         root_uvs = root_uvs[np.asarray(order, np.int64)]
-    rest = SurfaceMesh(surface.original, hair, topology=True, uv_map=uv_map, rest=True)
+    if evaluated:
+        rest = SurfaceMesh(surface.evaluated_get(depsgraph), hair, topology=True, uv_map=uv_map)
+    else:
+        rest = SurfaceMesh(surface.original, hair, topology=True, uv_map=uv_map, rest=True)
     return surface_attachment.SurfaceFollow(root_uvs, rest.corner_uvs, rest.triangles, rest.corner_verts,
                                             rest.positions, rest.corner_normals, rest.surface_to_curves)
 
 
 def posed_transforms(binding, obj, depsgraph):
-    """float32 [N, 3, 4]: the curves' transforms from the original pose of their surface to its pose
+    """float32 [N, 3, 4]: the curves' transforms from the reference pose of their surface to its pose
     in `depsgraph` (SurfaceFollow.transforms). Raises ValueError when the hair is no longer attached or
-    the surface's modifiers change its vertex or corner counts."""
+    the surface's mesh has other vertex or corner counts than when it was bound."""
     attached = attachment(obj)
     if attached is None:
         raise ValueError(f"'{obj.name}' is no longer attached to a mesh")
     surface = attached[0]
     posed = SurfaceMesh(surface.evaluated_get(depsgraph), obj.evaluated_get(depsgraph))
-    if len(posed.positions) != len(surface.data.vertices) or len(posed.corner_normals) != len(surface.data.loops):
-        # Blender's node finds each root again on the evaluated mesh by its UV coordinate; these
-        # transforms keep each root's triangle.
-        raise ValueError(f"the modifiers of '{surface.name}' change its mesh ({len(posed.positions)} vertices, "
-                         f"{len(surface.data.vertices)} without them; a Subdivision Surface does)")
+    if len(posed.positions) != binding.vertex_count or len(posed.corner_normals) != binding.corner_count:
+        raise ValueError(f"the surface '{surface.name}' has {len(posed.positions)} vertices now, "
+                         f"{binding.vertex_count} when the hair was bound to it")
     return binding.transforms(posed.positions, posed.corner_normals, posed.surface_to_curves)

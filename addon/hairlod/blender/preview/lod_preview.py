@@ -383,6 +383,8 @@ class LodPreview:
             self.follow_status = f"Not following the hair: {error}"
             return False
         self.follow_status = ""
+        if self.surface is None:
+            self.bind_surface(obj, depsgraph, guides)
         current = self.pending_guides if self.pending_guides is not None else self.guides
         if np.array_equal(guides, self.asset.rest_guides if current is None else current):
             self.follow_stats["read_ms"] = 1e3 * (time.perf_counter() - start)
@@ -392,22 +394,41 @@ class LodPreview:
         self.pending_guides = guides
         return True
 
+    def bind_surface(self, obj, depsgraph, guides):
+        """Binds the strands to the mesh `obj` is attached to, once (self.surface; False when the hair
+        is not attached or cannot be bound): to its original mesh, or, where the surface's modifiers
+        change its mesh (a Subdivision Surface), to the mesh they make while the hair is at the pose
+        the LoD was built at (its guides are `guides`), and until then not at all."""
+        from .. import surface
+
+        try:
+            changed = surface.changes_topology(obj, depsgraph)
+            if changed is None:
+                self.surface = False
+                return
+            if changed:
+                rest = self.asset.rest_guides
+                size = max(float(np.ptp(rest.reshape(-1, 3), axis=0).max()), 1e-30)
+                if not np.abs(guides - rest).max() <= SURFACE_AGREEMENT * size:
+                    self.follow_stats["surface"] = (f"Strands follow the guides until the hair is back at the pose the "
+                                                    f"LoD was built at (the modifiers of '{surface.attachment(obj)[0].name}' "
+                                                    f"change its mesh)")
+                    return
+            self.surface = surface.follow(obj, depsgraph, order=self.asset.strand_order, evaluated=changed)
+        except ValueError as error:
+            self.surface = False
+            self.follow_stats["surface"] = f"Strands follow the guides ({error})"
+
     def read_surface(self, obj, depsgraph, guides):
         """The strands' transforms [S, 3, 4] to the pose of the mesh `obj` is attached to, when the
         guides moved by theirs are `guides` (the hair moves exactly with its surface), else None (the
-        strands follow the maps): the hair is not attached, or something else deforms it too, or the
-        LoD was built from hair its surface had already deformed (the transforms start from the
-        surface's original mesh, as Blender's node does)."""
+        strands follow the maps): the hair is not attached or not bound (bind_surface), or something
+        else deforms it too, or the LoD was built from hair its surface had already deformed (the
+        transforms start from the surface's original mesh, as Blender's node does)."""
         from .. import surface
         from ... import surface_attachment
 
-        if self.surface is None:
-            try:
-                self.surface = surface.follow(obj, depsgraph, order=self.asset.strand_order) or False
-            except ValueError as error:
-                self.surface = False
-                self.follow_stats["surface"] = f"Strands follow the guides ({error})"
-        if self.surface is False:
+        if not self.surface:  # not attached, not bound, or not yet bound
             return None
         try:
             transforms = surface.posed_transforms(self.surface, obj, depsgraph)
