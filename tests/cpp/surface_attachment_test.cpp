@@ -99,9 +99,10 @@ glm::vec3 apply(const std::vector<glm::vec4>& rows, size_t curve, const glm::vec
 TEST(SurfaceAttachment, BindsEachUvToTheTriangleHoldingIt) {
     const Sheet sheet = make_sheet(4);
     // Inside the triangle below the diagonal of quad (1, 2) (triangle 2 (2 n + 1)), the one above it in
-    // quad (3, 0) (2 (0 n + 3) + 1), on the diagonal
-    // shared by quad (0, 0)'s two triangles, and outside the map.
-    const std::vector<glm::vec2> uvs = {{0.30f, 0.52f}, {0.80f, 0.20f}, {0.125f, 0.125f}, {1.5f, 0.5f}, {NAN, 0.5f}};
+    // quad (3, 0) (2 (0 n + 3) + 1), on the diagonal shared by quad (0, 0)'s two triangles, and outside
+    // the map (near it, not a number, far beyond an int's range).
+    const std::vector<glm::vec2> uvs = {{0.30f, 0.52f}, {0.80f, 0.20f}, {0.125f, 0.125f}, {1.5f, 0.5f}, {NAN, 0.5f},
+                                           {1e30f, -1e30f}};
     const SurfaceBinding b = bind_by_uv(uvs, sheet.corner_uvs, sheet.triangles);
     ASSERT_EQ(b.triangle.size(), uvs.size());
     EXPECT_EQ(b.triangle[0], 2 * (2 * 4 + 1));
@@ -109,6 +110,7 @@ TEST(SurfaceAttachment, BindsEachUvToTheTriangleHoldingIt) {
     EXPECT_TRUE(b.triangle[2] == 0 || b.triangle[2] == 1);
     EXPECT_EQ(b.triangle[3], -1);
     EXPECT_EQ(b.triangle[4], -1);
+    EXPECT_EQ(b.triangle[5], -1);
     for (size_t i = 0; i < 3; ++i) {
         // The weights rebuild the UV coordinate from the triangle's corners.
         const glm::ivec3 c = sheet.triangles[static_cast<size_t>(b.triangle[i])];

@@ -31,8 +31,9 @@ struct UvGrid {
     std::vector<int32_t> first, items;
 
     glm::ivec2 cell_of(const glm::vec2& uv) const {
-        const glm::vec2 c = glm::floor((uv - lower) / cell);
-        return glm::clamp(glm::ivec2(c), glm::ivec2(0), glm::ivec2(size - 1));
+        // Clamped as floats: a coordinate far outside the map does not fit an int.
+        const glm::vec2 c = glm::clamp(glm::floor((uv - lower) / cell), glm::vec2(0.0f), glm::vec2(static_cast<float>(size - 1)));
+        return glm::ivec2(c);
     }
 };
 
