@@ -226,13 +226,10 @@ std::vector<glm::vec4> SurfaceFollow::transforms(std::span<const glm::vec3> posi
     const Affine surface_to_curves = affine_of(surface_to_curves_f);
     const size_t n = bound_.size();
     std::vector<glm::vec4> rows(3 * n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t i = range.begin(); i != range.end(); ++i) {
-            rows[3 * i] = {1.0f, 0.0f, 0.0f, 0.0f};
-            rows[3 * i + 1] = {0.0f, 1.0f, 0.0f, 0.0f};
-            rows[3 * i + 2] = {0.0f, 0.0f, 1.0f, 0.0f};
-        }
-    });
+    // Only the curves that do not move get the identity here; the loop below writes every other row.
+    for (size_t i = 0; i < n; ++i)
+        if (!bound_[i])
+            for (int r = 0; r < 3; ++r) rows[3 * i + static_cast<size_t>(r)][r] = 1.0f;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, roots_.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t j = range.begin(); j != range.end(); ++j) {
             const Root& root = roots_[j];

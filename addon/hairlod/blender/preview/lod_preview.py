@@ -323,6 +323,7 @@ class LodPreview:
         self.surface_texture = None
         self.no_surface_texture = None
         self.guide_items = None  # the guides' positions in hierarchy order
+        self.guide_tolerance = None  # SURFACE_AGREEMENT of the hair's size (_agrees_with_guides)
         self.surface_transforms = None  # the transforms of the texture
         self.rest_volume = None     # (HairVolume of the rest strands, bounding box of the rest clusters)
         self.follow_status = ""     # why the preview does not follow the hair, when it does not
@@ -414,6 +415,13 @@ class LodPreview:
         self.pending_skinned = True
         self.follow_stats["skin_ms"] = 1e3 * (time.perf_counter() - start)
 
+    def _agrees_with_guides(self, points, guides):
+        """Whether guide points [G, n_c, 3] lie on `guides` to SURFACE_AGREEMENT of the hair's size."""
+        if self.guide_tolerance is None:
+            extent = np.ptp(self.asset.rest_guides.reshape(-1, 3), axis=0).max()
+            self.guide_tolerance = SURFACE_AGREEMENT * max(float(extent), 1e-30)
+        return bool(np.abs(points - guides).max() <= self.guide_tolerance)
+
     def bind_surface(self, obj, depsgraph, guides):
         """Binds the strands to the mesh `obj` is attached to, once (self.surface; False when the hair
         is not attached or cannot be bound): to its original mesh, or, where the surface's modifiers
@@ -427,9 +435,7 @@ class LodPreview:
                 self.surface = False
                 return
             if changed:
-                rest = self.asset.rest_guides
-                size = max(float(np.ptp(rest.reshape(-1, 3), axis=0).max()), 1e-30)
-                if not np.abs(guides - rest).max() <= SURFACE_AGREEMENT * size:
+                if not self._agrees_with_guides(self.asset.rest_guides, guides):
                     self.follow_stats["surface"] = (f"Strands follow the guides until the hair is back at the pose the "
                                                     f"LoD was built at (the modifiers of '{surface.attachment(obj)[0].name}' "
                                                     f"change its mesh)")
@@ -459,10 +465,7 @@ class LodPreview:
             items = np.empty(self.asset.strand_count, np.int64)
             items[self.asset.strand_order] = np.arange(self.asset.strand_count)
             self.guide_items = items[self.asset.guide_strands]
-        rest = self.asset.rest_guides
-        moved = surface_attachment.apply(transforms[self.guide_items], rest)
-        size = max(float(np.ptp(rest.reshape(-1, 3), axis=0).max()), 1e-30)
-        if not np.abs(moved - guides).max() <= SURFACE_AGREEMENT * size:
+        if not self._agrees_with_guides(surface_attachment.apply(transforms[self.guide_items], self.asset.rest_guides), guides):
             self.follow_stats["surface"] = ("Strands follow the guides (the hair moves otherwise than its surface, or the "
                                             "LoD was built away from the surface's rest pose)")
             return None
