@@ -6,6 +6,7 @@
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "hairlod/core/error.h"
@@ -64,8 +65,9 @@ SkinningRest skinning_rest(const LodAsset& asset) {
     return rest;
 }
 
-std::vector<ClusterMap> cluster_maps(const LodAsset& asset, const SkinningRest& rest,
-                                     std::span<const glm::vec3> deformed_guides) {
+namespace {
+
+void check_deformed_guides(const LodAsset& asset, const SkinningRest& rest, std::span<const glm::vec3> deformed_guides) {
     const auto nc = static_cast<size_t>(asset.control_points);
     if (deformed_guides.size() != asset.rest_guides.size())
         throw Error("skin: expected " + std::to_string(asset.guide_count()) + " guides x " + std::to_string(nc) +
@@ -75,21 +77,35 @@ std::vector<ClusterMap> cluster_maps(const LodAsset& asset, const SkinningRest& 
             throw Error("skin: deformed guides contain NaN or infinite coordinates");
     if (rest.frames.size() != asset.cluster_count() * nc || rest.stencils.stencils.size() != rest.frames.size())
         throw Error("skin: rest frames do not belong to this asset");
+}
 
+// The maps of L0 cluster c at its n_c control points into `out` (checked guides).
+void maps_of_cluster(const LodAsset& asset, const SkinningRest& rest, std::span<const glm::vec3> deformed_guides, size_t c,
+                     std::span<ClusterMap> out) {
+    const auto nc = static_cast<size_t>(asset.control_points);
+    const GuideSet deformed = guide_set(asset.cluster_guides[c], deformed_guides.data(), asset.control_points);
+    for (size_t k = 0; k < nc; ++k) {
+        const size_t i = c * nc + k;
+        const GuideFrame& rest_frame = rest.frames[i];
+        const GuideFrame frame = guide_frame(asset.frame_kinds[i], deformed, static_cast<int>(k));
+        // Stored offsets are relative to the rest frame origin: the map is anchored there.
+        const QuadraticMap map = stencil_map(rest.stencils, i, deformed_guides, rest_frame, frame, frame_map(rest_frame, frame),
+                                             glm::dvec3(rest_frame.origin));
+        ClusterMap& cluster_map = out[k];
+        cluster_map = ClusterMap{rest_frame.origin, glm::vec3(map.origin), glm::mat3(map.linear)};
+        for (size_t m = 0; m < 6; ++m) cluster_map.quadratic[m] = glm::vec3(map.quadratic[m]);
+    }
+}
+
+}  // namespace
+
+std::vector<ClusterMap> cluster_maps(const LodAsset& asset, const SkinningRest& rest,
+                                     std::span<const glm::vec3> deformed_guides) {
+    check_deformed_guides(asset, rest, deformed_guides);
+    const auto nc = static_cast<size_t>(asset.control_points);
     std::vector<ClusterMap> maps(rest.frames.size());
     tbb::parallel_for(size_t{0}, asset.cluster_count(), [&](size_t c) {
-        const GuideSet deformed = guide_set(asset.cluster_guides[c], deformed_guides.data(), asset.control_points);
-        for (size_t k = 0; k < nc; ++k) {
-            const size_t i = c * nc + k;
-            const GuideFrame& rest_frame = rest.frames[i];
-            const GuideFrame frame = guide_frame(asset.frame_kinds[i], deformed, static_cast<int>(k));
-            // Stored offsets are relative to the rest frame origin: the map is anchored there.
-            const QuadraticMap map = stencil_map(rest.stencils, i, deformed_guides, rest_frame, frame, frame_map(rest_frame, frame),
-                                                 glm::dvec3(rest_frame.origin));
-            ClusterMap& out = maps[i];
-            out = ClusterMap{rest_frame.origin, glm::vec3(map.origin), glm::mat3(map.linear)};
-            for (size_t m = 0; m < 6; ++m) out.quadratic[m] = glm::vec3(map.quadratic[m]);
-        }
+        maps_of_cluster(asset, rest, deformed_guides, c, std::span<ClusterMap>(maps).subspan(c * nc, nc));
     });
     return maps;
 }
@@ -165,60 +181,72 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
 
 void FrameSkinning::update(std::span<const glm::vec3> deformed_guides) {
     if (rest_.stencils.stencils.empty()) rest_.stencils = skinning_stencils(*asset_, rest_.frames);
-    set_maps(cluster_maps(*asset_, rest_, deformed_guides));
+    check_deformed_guides(*asset_, rest_, deformed_guides);
+    // One pass per cluster, the maps made and used while they are in cache (no [clusters * n_c] array
+    // of them written and read back).
+    const auto nc = static_cast<size_t>(asset_->control_points);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, asset_->cluster_count()), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<ClusterMap> maps(nc);  // scratch per range of clusters (thread_local costs a call per access here)
+        std::vector<glm::vec3> centres(nc);
+        for (size_t c = range.begin(); c != range.end(); ++c) {
+            maps_of_cluster(*asset_, rest_, deformed_guides, c, maps);
+            set_cluster_maps(c, maps, centres);
+        }
+    });
 }
 
 void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
     const auto nc = static_cast<size_t>(asset_->control_points);
-    tbb::parallel_for(size_t{0}, asset_->cluster_count(), [&](size_t c) {
-        glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
-        for (size_t k = 0; k < nc; ++k) {
-            const size_t i = c * nc + k;
-            texels_[i] = map_texels(maps[i]);
-            // The box of the strands' rest offsets, mapped. About its centre e the map is
-            // p(e) + J(e) u + Q(u) exactly (Q the quadratic terms): the linear part takes the box to a
-            // parallelepiped whose corners bound it, and |Q_r(u)| <= sum_m |q_m,r| |u_a u_b| with
-            // |u_a| at most the box's half extent a_a widens it by that much per coordinate.
-            const QuantisationBox& box = asset_->offset_boxes[i];
-            const glm::vec3 half = 0.5f * box.step * float(std::numeric_limits<uint16_t>::max());
-            const glm::vec3 centre = box.lower + half;
-            const glm::vec3 image = map_point(maps[i], centre);
-            const glm::mat3 jacobian = map_jacobian(maps[i], centre);
-            const std::array<glm::vec3, 6>& q = maps[i].quadratic;
-            const glm::vec3 slack = glm::abs(q[0]) * (half.x * half.x) + glm::abs(q[1]) * (half.y * half.y) +
-                                    glm::abs(q[2]) * (half.z * half.z) + glm::abs(q[3]) * (half.x * half.y) +
-                                    glm::abs(q[4]) * (half.y * half.z) + glm::abs(q[5]) * (half.z * half.x);
-            for (int corner = 0; corner < 8; ++corner) {
-                const glm::vec3 u = glm::vec3(corner & 1 ? 1.0f : -1.0f, corner & 2 ? 1.0f : -1.0f, corner & 4 ? 1.0f : -1.0f) * half;
-                const glm::vec3 p = image + jacobian * u;
-                lower = glm::min(lower, p - slack);
-                upper = glm::max(upper, p + slack);
-            }
-        }
-        geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
-        // The widest hair's centres skinned once per control point: where the widest hair at k - 1 or
-        // k + 1 is the same hair (its rest centre there is this hair's `before` / `after`), its skinned
-        // centre is reused for the tangent, the same value computed once.
-        thread_local std::vector<glm::vec3> centres;
-        centres.resize(nc);
-        for (size_t l = 0; l < widest_rest_.size(); ++l) {
-            for (size_t k = 0; k < nc; ++k) centres[k] = skin_point(maps[c * nc + k], widest_rest_[l][c * nc + k].centre);
-            for (size_t k = 0; k < nc; ++k) {
-                const size_t i = c * nc + k, before = k == 0 ? i : i - 1, after = k + 1 == nc ? i : i + 1;
-                const WidestRest& rest = widest_rest_[l][i];
-                const glm::vec3& centre = centres[k];
-                const glm::vec3 at_after = rest.after == widest_rest_[l][after].centre ? centres[after - c * nc]
-                                                                                      : skin_point(maps[after], rest.after);
-                const glm::vec3 at_before = rest.before == widest_rest_[l][before].centre ? centres[before - c * nc]
-                                                                                         : skin_point(maps[before], rest.before);
-                const glm::vec3 tangent = unit_or_zero(at_after - at_before);
-                const glm::mat3 jacobian = map_jacobian(maps[i], rest.centre - maps[i].rest_origin);
-                const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
-                const float diameter = section_diameter(tangent, major, minor);
-                geometry_.levels[l].widest[i] = glm::vec4(centre, diameter);
-            }
-        }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, asset_->cluster_count()), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<glm::vec3> centres(nc);
+        for (size_t c = range.begin(); c != range.end(); ++c) set_cluster_maps(c, maps.subspan(c * nc, nc), centres);
     });
+}
+
+void FrameSkinning::set_cluster_maps(size_t c, std::span<const ClusterMap> maps, std::vector<glm::vec3>& centres) {
+    // maps: the cluster's n_c maps, maps[k] for control point k (global index c n_c + k).
+    const auto nc = static_cast<size_t>(asset_->control_points);
+    const size_t first = c * nc;
+    glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
+    for (size_t k = 0; k < nc; ++k) {
+        const ClusterMap& map = maps[k];
+        texels_[first + k] = map_texels(map);
+        // The box of the strands' rest offsets, mapped. About its centre e the map is
+        // p(e) + J(e) u + Q(u) exactly (Q the quadratic terms): the linear part takes the box
+        // |u_a| <= h_a to a parallelepiped whose bounding box is p(e) +- |J| h (|J| the entries'
+        // absolute values: each coordinate sum_a J_ra u_a is largest with u_a = h_a sign(J_ra)), and
+        // |Q_r(u)| <= sum_m |q_m,r| |u_a u_b| widens it by at most that much per coordinate.
+        const QuantisationBox& box = asset_->offset_boxes[first + k];
+        const glm::vec3 half = 0.5f * box.step * float(std::numeric_limits<uint16_t>::max());
+        const glm::vec3 centre = box.lower + half;
+        const glm::vec3 image = map_point(map, centre);
+        const glm::mat3 jacobian = map_jacobian(map, centre);
+        const std::array<glm::vec3, 6>& q = map.quadratic;
+        const glm::vec3 reach = glm::abs(jacobian[0]) * half.x + glm::abs(jacobian[1]) * half.y + glm::abs(jacobian[2]) * half.z +
+                                glm::abs(q[0]) * (half.x * half.x) + glm::abs(q[1]) * (half.y * half.y) +
+                                glm::abs(q[2]) * (half.z * half.z) + glm::abs(q[3]) * (half.x * half.y) +
+                                glm::abs(q[4]) * (half.y * half.z) + glm::abs(q[5]) * (half.z * half.x);
+        lower = glm::min(lower, image - reach);
+        upper = glm::max(upper, image + reach);
+    }
+    geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
+    // The widest hair's centres skinned once per control point: where the widest hair at k - 1 or
+    // k + 1 is the same hair (its rest centre there is this hair's `before` / `after`), its skinned
+    // centre is reused for the tangent, the same value computed once.
+    for (size_t l = 0; l < widest_rest_.size(); ++l) {
+        const WidestRest* widest = widest_rest_[l].data() + first;
+        for (size_t k = 0; k < nc; ++k) centres[k] = skin_point(maps[k], widest[k].centre);
+        for (size_t k = 0; k < nc; ++k) {
+            const size_t before = k == 0 ? k : k - 1, after = k + 1 == nc ? k : k + 1;
+            const WidestRest& rest = widest[k];
+            const glm::vec3 at_after = rest.after == widest[after].centre ? centres[after] : skin_point(maps[after], rest.after);
+            const glm::vec3 at_before = rest.before == widest[before].centre ? centres[before] : skin_point(maps[before], rest.before);
+            const glm::vec3 tangent = unit_or_zero(at_after - at_before);
+            const glm::mat3 jacobian = map_jacobian(maps[k], rest.centre - maps[k].rest_origin);
+            const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
+            geometry_.levels[l].widest[first + k] = glm::vec4(centres[k], section_diameter(tangent, major, minor));
+        }
+    }
 }
 
 LodGeometry LodAsset::skin(std::span<const glm::vec3> deformed_guides) const {

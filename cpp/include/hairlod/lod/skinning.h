@@ -102,6 +102,8 @@ public:
 
 private:
     void set_maps(std::span<const ClusterMap> maps);
+    // Cluster c's texels and selection geometry from its n_c maps; `centres` is scratch of n_c points.
+    void set_cluster_maps(size_t c, std::span<const ClusterMap> maps, std::vector<glm::vec3>& centres);
     struct WidestRest {
         glm::vec3 before, centre, after;  // rest centres at control points k - 1, k, k + 1 (clamped)
         glm::vec3 major, minor;           // rest semi-axis vectors at k
