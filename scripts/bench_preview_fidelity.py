@@ -15,7 +15,9 @@ is unmixed from the sky in the pixels it covers partly (alpha from a coverage re
 and view: the mean linear radiance per channel over the hair's pixels of each image (the path-traced
 one weighted by coverage) and their ratio, the luminance spread (5th-95th percentile) of each, and the
 coverage ratio (the preview's hair pixels over the path-traced coverage summed over the image, both on
-the viewport's pixel grid), with one JSON object printed at the end. --strand-coverage off draws every
+the viewport's pixel grid), with one JSON object printed at the end. The spread is also given on the
+path-traced image's own pixels (spread_same_pixels: the preview averaged onto them, the pixels both
+images cover, weighted by coverage), where the whole-image spreads compare different pixels. --strand-coverage off draws every
 strand a pixel wide (the panel's Strand Coverage).
 """
 
@@ -82,6 +84,45 @@ def summary(linear, mask, weights=None):
     mean = np.average(hair, axis=0, weights=None if weights is None else weights[mask])
     return {"mean": mean.tolist(), "pixels": int(mask.sum()),
             "spread": [float(np.percentile(lum, 5)), float(np.percentile(lum, 95))]}
+
+
+def weighted_percentiles(values, weights, percents):
+    """Percentiles of `values` where each counts with its weight (the linear interpolation of the
+    weighted cumulative distribution)."""
+    order = np.argsort(values)
+    cumulative = np.cumsum(weights[order])
+    return np.interp(np.asarray(percents, np.float64) / 100.0, cumulative / cumulative[-1], values[order])
+
+
+def block_sums(image, size):
+    """Sums over size x size blocks of the first two axes (a partial last row or column dropped)."""
+    h, w = image.shape[0] // size * size, image.shape[1] // size * size
+    return image[:h, :w].reshape(h // size, size, w // size, size, *image.shape[2:]).sum(axis=(1, 3))
+
+
+def same_grid_spread(preview, mask, traced, alpha, scale, least=0.25):
+    """The luminance spread (5th-95th percentile) of both images on the path-traced image's pixels:
+    the preview's hair pixels averaged over each block of 1 / scale screen pixels, the path-traced
+    hair radiance as it is (unmixed, `traced`), over the pixels both cover by more than `least`, each
+    weighted by its path-traced coverage. Where a pixel is mostly sky, the unmixed radiance is the
+    render's noise divided by the coverage (a pixel 5 % covered multiplies it by 20): the whole-image
+    percentiles took their dark tail from those pixels, and the preview's from pixels 4x smaller at
+    --scale 0.5."""
+    step = int(round(1.0 / scale))
+    if abs(step * scale - 1.0) > 1e-6:
+        return None  # the grids do not nest
+    covered = block_sums(mask.astype(np.float64), step)
+    averaged = block_sums(preview * mask[..., None], step) / np.maximum(covered, 1e-12)[..., None]
+    covered /= step * step
+    h, w = min(covered.shape[0], alpha.shape[0]), min(covered.shape[1], alpha.shape[1])
+    both = (covered[:h, :w] > least) & (alpha[:h, :w] > least)
+    if both.sum() < 20:
+        return None
+    weights = alpha[:h, :w][both]
+    spreads = [weighted_percentiles(luminance(image[:h, :w][both]), weights, (5, 95))
+               for image in (averaged, traced)]
+    return {"pixels": int(both.sum()), "preview": spreads[0].tolist(), "path_traced": spreads[1].tolist(),
+            "ratio": float((spreads[0][1] - spreads[0][0]) / max(spreads[1][1] - spreads[1][0], 1e-12))}
 
 
 def unmixed(image, alpha, background):
@@ -247,6 +288,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                      "render_seconds": time.perf_counter() - start, "spp": spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
+            entry["spread_same_pixels"] = same_grid_spread(preview_linear, mask, hair_radiance, alpha, scale)
             # How much of the image the hair covers: the preview's hair pixels against the path-traced
             # coverage summed over the image (the same pixel grid at --scale 1).
             entry["coverage_ratio"] = float(mask.sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))
@@ -257,7 +299,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
                                                     np.array(entry["cycles"]["mean"])).tolist()
             results[f"{name} {view}"] = entry
-            print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio")}), "preview", entry["preview"],
+            print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio", "spread_same_pixels")}), "preview", entry["preview"],
                   "traced", entry["path_traced"], flush=True)
             render.write_image(os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"),
                                             f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
