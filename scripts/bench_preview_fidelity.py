@@ -16,9 +16,10 @@ and view: the mean linear radiance per channel over the hair's pixels of each im
 one weighted by coverage) and their ratio, the luminance spread (5th-95th percentile) of each, and the
 coverage ratio (the preview's hair pixels over the path-traced coverage summed over the image, both on
 the viewport's pixel grid), with one JSON object printed at the end. The spread is also given on the
-path-traced image's own pixels (spread_same_pixels: the preview averaged onto them, the pixels both
-images cover, weighted by coverage), where the whole-image spreads compare different pixels. --strand-coverage off draws every
-strand a pixel wide (the panel's Strand Coverage).
+path-traced image's own pixels (spread_same_pixels, hairlod.render.same_pixels_spread: the preview
+averaged onto them, the pixels both images cover, weighted by coverage), where the whole-image
+spreads compare different pixels. --strand-coverage off draws every strand a pixel wide (the panel's
+Strand Coverage).
 """
 
 import argparse
@@ -73,56 +74,29 @@ def ramp_shader():
     return gpu.shader.create_from_info(info)
 
 
-def luminance(rgb):
-    return rgb @ np.array([0.2126, 0.7152, 0.0722])
-
-
 def summary(linear, mask, weights=None):
     """Mean (weighted by `weights` when given) and 5th-95th percentile luminance of the hair's pixels."""
+    from hairlod import render
+
     hair = linear[mask]
-    lum = luminance(hair)
+    lum = render.luminance(hair)
     mean = np.average(hair, axis=0, weights=None if weights is None else weights[mask])
     return {"mean": mean.tolist(), "pixels": int(mask.sum()),
             "spread": [float(np.percentile(lum, 5)), float(np.percentile(lum, 95))]}
 
 
-def weighted_percentiles(values, weights, percents):
-    """Percentiles of `values` where each counts with its weight (the linear interpolation of the
-    weighted cumulative distribution)."""
-    order = np.argsort(values)
-    cumulative = np.cumsum(weights[order])
-    return np.interp(np.asarray(percents, np.float64) / 100.0, cumulative / cumulative[-1], values[order])
+def spread_on_same_pixels(preview, mask, hair_radiance, alpha, scale):
+    """hairlod.render.same_pixels_spread of the screenshot's hair against the path-traced hair on the
+    path-traced image's pixels (1 / scale screen pixels a side), None where the grids do not nest or
+    too few pixels are covered by both."""
+    from hairlod import render
 
-
-def block_sums(image, size):
-    """Sums over size x size blocks of the first two axes (a partial last row or column dropped)."""
-    h, w = image.shape[0] // size * size, image.shape[1] // size * size
-    return image[:h, :w].reshape(h // size, size, w // size, size, *image.shape[2:]).sum(axis=(1, 3))
-
-
-def same_grid_spread(preview, mask, traced, alpha, scale, least=0.25):
-    """The luminance spread (5th-95th percentile) of both images on the path-traced image's pixels:
-    the preview's hair pixels averaged over each block of 1 / scale screen pixels, the path-traced
-    hair radiance as it is (unmixed, `traced`), over the pixels both cover by more than `least`, each
-    weighted by its path-traced coverage. Where a pixel is mostly sky, the unmixed radiance is the
-    render's noise divided by the coverage (a pixel 5 % covered multiplies it by 20): the whole-image
-    percentiles took their dark tail from those pixels, and the preview's from pixels 4x smaller at
-    --scale 0.5."""
     step = int(round(1.0 / scale))
     if abs(step * scale - 1.0) > 1e-6:
-        return None  # the grids do not nest
-    covered = block_sums(mask.astype(np.float64), step)
-    averaged = block_sums(preview * mask[..., None], step) / np.maximum(covered, 1e-12)[..., None]
-    covered /= step * step
-    h, w = min(covered.shape[0], alpha.shape[0]), min(covered.shape[1], alpha.shape[1])
-    both = (covered[:h, :w] > least) & (alpha[:h, :w] > least)
-    if both.sum() < 20:
         return None
-    weights = alpha[:h, :w][both]
-    spreads = [weighted_percentiles(luminance(image[:h, :w][both]), weights, (5, 95))
-               for image in (averaged, traced)]
-    return {"pixels": int(both.sum()), "preview": spreads[0].tolist(), "path_traced": spreads[1].tolist(),
-            "ratio": float((spreads[0][1] - spreads[0][0]) / max(spreads[1][1] - spreads[1][0], 1e-12))}
+    spread = render.same_pixels_spread(preview, mask, hair_radiance, alpha, step)
+    return None if spread is None else {"pixels": spread["pixels"], "preview": spread["image"],
+                                        "path_traced": spread["reference"], "ratio": spread["ratio"]}
 
 
 def unmixed(image, alpha, background):
@@ -288,7 +262,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                      "render_seconds": time.perf_counter() - start, "spp": spp,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
-            entry["spread_same_pixels"] = same_grid_spread(preview_linear, mask, hair_radiance, alpha, scale)
+            entry["spread_same_pixels"] = spread_on_same_pixels(preview_linear, mask, hair_radiance, alpha, scale)
             # How much of the image the hair covers: the preview's hair pixels against the path-traced
             # coverage summed over the image (the same pixel grid at --scale 1).
             entry["coverage_ratio"] = float(mask.sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))

@@ -227,11 +227,6 @@ def _rgb(errors):
     return " / ".join(_percent(v) for v in errors)
 
 
-def _luminance(image):
-    """Rec. 709 luminance of linear RGB."""
-    return np.asarray(image, np.float64) @ np.array([0.2126, 0.7152, 0.0722])
-
-
 def _hair_window(reference, others, least=8):
     """(top, left, side) of the square of `reference` [H, W, 3] that holds every pixel where one of
     `others` differs from it (the hair, drawn by any method: where no ray meets hair every render reads
@@ -280,7 +275,7 @@ def write_view_images(result, images, folder):
             panels.append((f"{method}, {spp} spp\nPSNR {_db(r['psnr'])}, blurred {_db(r['blurred_psnr'])} dB\n"
                            f"radiance RGB {_rgb(r['radiance_error'])} %", render.to_srgb8(view_images[method]), {}))
         if "lod" in view_images:
-            difference = _luminance(view_images["lod"]) - _luminance(reference)
+            difference = render.luminance(view_images["lod"]) - render.luminance(reference)
             changed = np.abs(difference[difference != 0.0])
             scale = float(np.percentile(changed, 99)) if changed.size else 1e-6
             panels.append((f"lod - reference, linear luminance\nscale +-{scale:.2g} (red: lod brighter)", difference,

@@ -235,6 +235,57 @@ def blurred_psnr(image, reference, box=BLUR_BOX):
     return psnr(box_average(image, box), box_average(reference, box))
 
 
+def luminance(image):
+    """Rec. 709 luminance of linear RGB [..., 3]: float64 [...]."""
+    return np.asarray(image, np.float64)[..., :3] @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def weighted_percentiles(values, weights, percents):
+    """Percentiles (0-100) of `values` [N] where each counts with its weight [N] (>= 0, their sum > 0):
+    the weighted cumulative distribution, linear between the sorted values, so that a value of small
+    weight moves them by little and one of weight 0 not at all."""
+    values, weights = np.asarray(values, np.float64).ravel(), np.asarray(weights, np.float64).ravel()
+    if values.shape != weights.shape or not len(values):
+        raise ValueError(f"weighted_percentiles: {len(values)} values and {len(weights)} weights")
+    if np.any(weights < 0.0) or not weights.sum() > 0.0:
+        raise ValueError("weighted_percentiles: weights must be >= 0 with a positive sum")
+    order = np.argsort(values, kind="stable")
+    cumulative = np.cumsum(weights[order])
+    return np.interp(np.asarray(percents, np.float64) / 100.0, cumulative / cumulative[-1], values[order])
+
+
+# Fewer pixels than this make a spread of noise, not of the hair's look.
+SPREAD_LEAST_PIXELS = 20
+
+
+def same_pixels_spread(image, hair, reference, coverage, step, least=0.25, percents=(5, 95)):
+    """The luminance spread (the `percents` percentiles) of `image` and of `reference` on the same
+    pixels, the reference's. `image` [step H, step W, 3] with its hair pixels `hair` [step H, step W]
+    (a screenshot of the preview) is averaged over the hair pixels of each step x step block;
+    `reference` [H, W, 3] is the hair's own radiance (a render's, unmixed from the sky) where its hair
+    covers `coverage` [H, W]. Only the pixels both cover by more than `least` count, each weighted by
+    its reference coverage: where a render's pixel is mostly sky, its unmixed radiance is its noise
+    divided by the coverage, and whole-image percentiles of different pixels compare nothing. Returns
+    {"pixels", "image": [low, high], "reference": [low, high], "ratio": image's high - low over the
+    reference's}, or None where fewer than SPREAD_LEAST_PIXELS pixels count."""
+    step = int(step)
+    hair = np.asarray(hair, np.float64)
+    covered = box_average(hair, step)
+    averaged = box_average(np.asarray(image, np.float64)[..., :3] * hair[..., None], step) / \
+        np.maximum(covered, 1e-12)[..., None]
+    coverage = np.asarray(coverage, np.float64)
+    rows, columns = min(covered.shape[0], coverage.shape[0]), min(covered.shape[1], coverage.shape[1])
+    both = (covered[:rows, :columns] > least) & (coverage[:rows, :columns] > least)
+    if both.sum() < SPREAD_LEAST_PIXELS:
+        return None
+    weights = coverage[:rows, :columns][both]
+    low_high = [weighted_percentiles(luminance(picture[:rows, :columns][both]), weights, percents)
+                for picture in (averaged, np.asarray(reference, np.float64))]
+    width = low_high[1][-1] - low_high[1][0]
+    return {"pixels": int(both.sum()), "image": low_high[0].tolist(), "reference": low_high[1].tolist(),
+            "ratio": float((low_high[0][-1] - low_high[0][0]) / width) if width > 0.0 else float("inf")}
+
+
 def mean_radiance_error(image, reference, hair):
     """Signed relative error per channel (R, G, B) of the mean linear radiance of `image` over the
     pixels where `hair` [H, W] is true against that of `reference`: (mean(image) - mean(reference)) /

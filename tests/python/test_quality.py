@@ -73,6 +73,54 @@ def test_mean_radiance_error():
     assert np.isnan(render.mean_radiance_error(black, black, hair)).tolist() == [False, False, True]
 
 
+def test_weighted_percentiles():
+    values = np.array([3.0, 1.0, 2.0, 100.0])
+    # Equal weights: the cumulative distribution through the sorted values, linear between them.
+    assert render.weighted_percentiles(values[:3], np.ones(3), (100 / 3, 200 / 3, 100)).tolist() == \
+        pytest.approx([1.0, 2.0, 3.0])
+    # A value of weight 0 moves nothing, and one of small weight little (a noisy, barely covered pixel).
+    assert render.weighted_percentiles(values, [1, 1, 1, 0], (5, 95)).tolist() == \
+        render.weighted_percentiles(values[:3], np.ones(3), (5, 95)).tolist()
+    assert render.weighted_percentiles(values, [1, 1, 1, 1e-3], (95,))[0] < 3.1
+    # Only the weights' proportions count; a heavier value pulls the percentiles towards it.
+    assert render.weighted_percentiles(values, [0.5, 0.5, 0.5, 0.5], (30, 50, 80)) == pytest.approx(
+        render.weighted_percentiles(values, [3, 3, 3, 3], (30, 50, 80)))
+    assert render.weighted_percentiles(values[:3], [8, 1, 1], (50,))[0] > render.weighted_percentiles(
+        values[:3], [1, 1, 1], (50,))[0]
+    for weights, match in (([1, 1], "values"), ([1, -1, 1, 1], ">= 0"), ([0, 0, 0, 0], "positive")):
+        with pytest.raises(ValueError, match=match):
+            render.weighted_percentiles(values, weights, (50,))
+
+
+def test_same_pixels_spread_compares_the_same_pixels():
+    rng = np.random.default_rng(4)
+    reference = rng.uniform(0.01, 0.1, (24, 30, 3))
+    coverage = np.ones((24, 30))
+    # An image at twice the resolution whose hair pixels hold the reference's radiance, a quarter of
+    # them left as sky (their value must not count): the same spread on the reference's pixels.
+    image = np.repeat(np.repeat(reference, 2, axis=0), 2, axis=1)
+    hair = np.ones(image.shape[:2], bool)
+    hair[::2, ::2] = False
+    image[~hair] = 5.0
+    spread = render.same_pixels_spread(image, hair, reference, coverage, 2)
+    assert spread["pixels"] == 24 * 30 and spread["ratio"] == pytest.approx(1.0)
+    assert spread["image"] == pytest.approx(spread["reference"])
+    # Pixels the reference covers barely (noise over a small coverage when unmixed) do not count.
+    noisy, barely = reference.copy(), coverage.copy()
+    noisy[:3] = 50.0
+    barely[:3] = 0.1
+    assert render.same_pixels_spread(image, hair, noisy, barely, 2)["reference"] == pytest.approx(
+        render.same_pixels_spread(image[6:], hair[6:], reference[3:], coverage[3:], 2)["reference"])
+    # Twice the contrast about the same mean: twice the spread.
+    mean = reference.mean(axis=(0, 1))
+    contrasted = np.repeat(np.repeat(mean + 2.0 * (reference - mean), 2, axis=0), 2, axis=1)
+    assert render.same_pixels_spread(contrasted, hair, reference, coverage, 2)["ratio"] == pytest.approx(2.0)
+    # Too few pixels covered by both: no spread.
+    little = np.zeros_like(coverage)
+    little[0, :render.SPREAD_LEAST_PIXELS - 1] = 1.0
+    assert render.same_pixels_spread(image, hair, reference, little, 2) is None
+
+
 def test_coverage_error():
     alpha = np.random.default_rng(3).uniform(0.0, 1.0, (8, 8))
     assert render.coverage_error(alpha, alpha) == (0.0, 0.0)
