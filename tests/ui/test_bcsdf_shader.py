@@ -8,7 +8,11 @@ Configurations: random directions over the sphere plus grazing ones (|theta| up 
 counts n from 1 to n_max (on and between table nodes) times 4 densities from 0.05 to 1, for a light
 and a dark hair. Tolerance: the tables'
 interpolation error, which `python3 -m hairlod bench bcsdf` reports (about 2% at the default
-resolution), so |S_glsl - S_cpp| <= 0.05 S_cpp + 0.01 max(S_cpp) per channel.
+resolution), so |S_glsl - S_cpp| <= 0.05 S_cpp + 0.01 max(S_cpp) per channel. The strands' build of
+the same file (HAIRLOD_SINGLE_HAIR) reads the general build's values at n = 1, rho = 1 (1e-5).
+
+The deep opacity maps' optical depth between layers (shaders/opacity_map.glsl, layered_optical_depth)
+against hairlod.opacity_map.optical_depth, on and between the layer boundaries (1e-5).
 
 Self-shadowing: shaders/self_shadow.glsl against hairlod.self_shadow.transmittance (the same formula
 in float64) for points in and around a flattened ellipsoid lit by suns and point lights, inside and
@@ -75,7 +79,9 @@ def full_screen_shader_info():
     return info
 
 
-def evaluate_on_gpu(tables, wi, wo, hair_count, density):
+def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False):
+    """aggregated_bcsdf per pixel; with `single_hair`, as the strands' shader builds it
+    (HAIRLOD_SINGLE_HAIR: n = 1 and rho = 1 whatever hair_count and density say)."""
     import gpu
 
     from hairlod.blender.preview import bcsdf_textures
@@ -85,7 +91,7 @@ def evaluate_on_gpu(tables, wi, wo, hair_count, density):
     info.sampler(3, 'FLOAT_2D', "incoming")
     info.sampler(4, 'FLOAT_2D', "outgoing")
     bcsdf_textures.declare(info)
-    info.fragment_source(glsl_source("aggregated_bcsdf.glsl") + """
+    info.fragment_source(("#define HAIRLOD_SINGLE_HAIR\n" if single_hair else "") + glsl_source("aggregated_bcsdf.glsl") + """
 void main()
 {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -179,6 +185,53 @@ def check_self_shadowing():
     check(0.2 < shadowed.mean() < 0.9 and reference.min() < 0.05,
           "self-shadowing: the configurations cover lit, partly and deeply shadowed points")
     check((error <= 1e-4).all(), "self-shadowing: GLSL agrees with the reference within 1e-4")
+
+
+def check_layered_optical_depth():
+    """opacity_map.glsl's layered_optical_depth (summed segment by segment, without branches) against
+    hairlod.opacity_map.optical_depth (the same piecewise-linear tau, found by search, float64)."""
+    import gpu
+
+    from hairlod import opacity_map
+    from hairlod.blender.preview import lod_preview, opacity_maps
+    from hairlod.blender.preview.shaders import glsl_source
+
+    rng = np.random.default_rng(13)
+    count = SIZE * SIZE
+    spacing = 0.37
+    layers = np.cumsum(rng.exponential(2.0, (count, 4)), axis=1)  # cumulative: non-decreasing
+    layers[: count // 16] = 0.0  # a texel no hair lies below
+    knots = np.asarray(opacity_map.LAYER_STEPS) * spacing
+    below = rng.uniform(-0.2 * knots[-1], 1.3 * knots[-1], count)
+    below[: count // 4] = rng.choice(np.concatenate([[0.0], knots]), count // 4)  # on the knots
+    info = full_screen_shader_info()
+    info.typedef_source(lod_preview.FRAME_BLOCK)
+    info.uniform_buf(0, "HairFrame", "frame")  # opacity_map.glsl's other functions read it; main does not
+    opacity_maps.declare(info)
+    info.sampler(0, 'FLOAT_2D', "layer_data")
+    info.sampler(1, 'FLOAT_2D', "below_data")
+    info.push_constant('FLOAT', "spacing")
+    info.fragment_source(opacity_maps.glsl_constants() + glsl_source("opacity_map.glsl") + """
+void main()
+{
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  fragColor = vec4(layered_optical_depth(texelFetch(layer_data, pixel, 0), texelFetch(below_data, pixel, 0).w, spacing), 0.0, 0.0, 1.0);
+}
+""")
+    shader = gpu.shader.create_from_info(info)
+    layer_texture = data_texture(layers[:, :3], layers[:, 3])
+    below_texture = data_texture(np.zeros((count, 3)), below)
+
+    def bind(program):
+        program.uniform_sampler("layer_data", layer_texture)
+        program.uniform_sampler("below_data", below_texture)
+        program.uniform_float("spacing", spacing)
+
+    values = draw_full_screen(shader, bind)[:, 0]
+    reference = opacity_map.optical_depth(layers, below, spacing)
+    error = np.abs(values - reference) / np.maximum(reference, 1.0)
+    print(f"layered optical depth: max |tau_glsl - tau_ref| / max(tau_ref, 1) = {error.max():.2e} over {count} depths")
+    check((error <= 1e-5).all(), "layered optical depth: GLSL agrees with hairlod.opacity_map.optical_depth within 1e-5")
 
 
 def srbf_world_on_gpu(tables, lights, tangents, wo):
@@ -306,10 +359,26 @@ def run():
               f"mean {relative.mean():.5f} over {count} configurations")
         check((error <= 0.05 * reference + 0.01 * scale).all(), f"{name}: GLSL agrees with C++ within 5% + 1% of peak")
 
+        # The strands' build (HAIRLOD_SINGLE_HAIR, the normalisations as uniforms) against the general
+        # one at n = 1, rho = 1: the same function, so float32 rounding apart (1e-5 relative, well under
+        # the tables' interpolation error), and against C++ as above.
+        ones = np.ones(count)
+        single = evaluate_on_gpu(tables, wi, wo, ones, ones, single_hair=True)
+        general = evaluate_on_gpu(tables, wi, wo, ones, ones)
+        single_reference = bcsdf.evaluate("aggregated", params, wi, wo, hair_count=1.0, density=1.0)
+        single_scale = single_reference.max()
+        gap = np.abs(single - general) / np.maximum(np.abs(general), 1e-3 * single_scale)
+        print(f"{name}, single hair: max |S_single - S_general| / S_general = {gap.max():.2e}")
+        check(np.isfinite(single).all() and (gap <= 1e-5).all(),
+              f"{name}: the strands' single-hair shader reads the general shader's values at n = 1, rho = 1")
+        check((np.abs(single - single_reference) <= 0.05 * single_reference + 0.01 * single_scale).all(),
+              f"{name}: the strands' single-hair shader agrees with C++ within 5% + 1% of peak")
+
 
 def steps():
     run()
     check_self_shadowing()
+    check_layered_optical_depth()
     check_srbf_world()
     yield from ()
 

@@ -12,6 +12,12 @@ def rgba_texture(rows):
     return gpu.types.GPUTexture((width, height), format='RGBA32F', data=data)
 
 
+def deon_log_normalisation(variance):
+    """deon_log_normalisation of aggregated_bcsdf.glsl: the log of 2 v sinh(1 / v), in float64."""
+    v = float(variance)
+    return float(np.log(v) + 1.0 / v + np.log(max(-np.expm1(-2.0 / v), 1e-30)))
+
+
 class BcsdfTextures:
     """Uploads ShaderTables once; bind() sets the samplers and constants on a bound shader."""
 
@@ -24,6 +30,10 @@ class BcsdfTextures:
         r_shift, tt_shift = tables.lobe_shapes[0], tables.lobe_shapes[2]
         self.lobe_tilts = (float(np.sin(2.0 * r_shift)), float(np.cos(2.0 * r_shift)),
                            float(np.sin(2.0 * tt_shift)), float(np.cos(2.0 * tt_shift)))
+        # The table's constants, then the R and TT lobes' log normalisations at their own variances:
+        # a strand's (n = 1), which its fragments would otherwise take again (aggregated_bcsdf.glsl).
+        self.lut_constants = (*(float(c) for c in tables.lut_constants),
+                              deon_log_normalisation(tables.lobe_shapes[1]), deon_log_normalisation(tables.lobe_shapes[3]))
 
     def bind(self, shader):
         shader.uniform_sampler("fiber_lut", self.fiber)
@@ -31,7 +41,7 @@ class BcsdfTextures:
         shader.uniform_sampler("aggregated_lut", self.aggregated)
         shader.uniform_float("lobe_shapes", self.tables.lobe_shapes)
         shader.uniform_float("lobe_tilts", self.lobe_tilts)
-        shader.uniform_float("lut_constants", self.tables.lut_constants)
+        shader.uniform_float("lut_constants", self.lut_constants)
 
 
 def declare(info, first_slot=0):
@@ -40,4 +50,4 @@ def declare(info, first_slot=0):
         info.sampler(slot, 'FLOAT_2D', name)
     info.push_constant('VEC4', "lobe_shapes")
     info.push_constant('VEC4', "lobe_tilts")
-    info.push_constant('VEC2', "lut_constants")
+    info.push_constant('VEC4', "lut_constants")

@@ -46,7 +46,7 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
-_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity", test_level) -> GPUShader, built on first draw
+_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity", test_level) or ("strand shading",) -> GPUShader, built on first draw
 _view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
 # Custom property of an object whose drawing the preview replaces: its own display type, to restore.
 SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
@@ -124,11 +124,32 @@ STRAND_CONSTANTS = """#define v_across 0.0
 """
 
 
+# What shades a strand (hair_shading.glsl, one hair: n = 1, rho = 1). HAIRLOD_SINGLE_HAIR leaves out of
+# aggregated_bcsdf.glsl what depends on n (6 % of a near view's redraw when every fragment shaded).
+STRAND_SHADING = "#define HAIRLOD_SINGLE_HAIR\n#define HAIRLOD_DEFERRED_STRANDS\n"
+
+
+def _declare_shading(info):
+    """Declares on a GPUShaderCreateInfo what hair_radiance (hair_shading.glsl) reads, and returns the
+    fragment source's libraries it needs, up to hair_shading.glsl (a typedef_source holding FRAME_BLOCK
+    and world_srbf.WORLD_BLOCK, and the HairFrame block, are the caller's)."""
+    from . import bcsdf_textures
+
+    world_srbf.declare(info)
+    bcsdf_textures.declare(info)
+    view_transform.declare(info)
+    opacity_maps.declare(info)
+    return (view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
+            glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl", "opacity_map.glsl",
+                        "view_transform.glsl", "hair_shading.glsl"))
+
+
 def _create_shader(kind, purpose="shade", test_level=True):
     """The program drawing a level of `kind` ("thick" or "strand") for `purpose`: "shade" (the
     viewport), or a light's pass of the opacity maps, "depth" or "opacity". A shading program without
-    `test_level` draws segments all selected at its level (no selection test, no discard)."""
-    from . import bcsdf_textures
+    `test_level` draws segments all selected at its level (no selection test, no discard). Strands'
+    shading is deferred to the hair layer's pass (strand_shading_shader): their shading program only
+    leaves what it needs in the layer."""
 
     # Strands pass on only what varies along them (a strand is one hair: STRAND_CONSTANTS), and the
     # selection's key only where the fragment tests it: every varying is set up per primitive and
@@ -156,12 +177,9 @@ def _create_shader(kind, purpose="shade", test_level=True):
     if kind == "strand":
         info.sampler(SURFACE_SLOT, 'FLOAT_2D', "strand_frames")
     if purpose == "shade":
-        world_srbf.declare(info)
         info.push_constant('VEC4', "level_colour")
         info.push_constant('INT', "shading_mode")
-        bcsdf_textures.declare(info)
-        view_transform.declare(info)
-        opacity_maps.declare(info)
+        shading = _declare_shading(info) if kind == "thick" else STRAND_SHADING
     else:
         info.push_constant('INT', "shadow_light")
         opacity_maps.declare(info, depth=purpose == "opacity", opacity=False)
@@ -169,15 +187,14 @@ def _create_shader(kind, purpose="shade", test_level=True):
         info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
+    if purpose == "shade":
+        info.fragment_out(1, 'VEC4', "strandPosition")  # the hair layer's second buffer
     defines = ("" if selection_varyings else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") + \
         ("" if kind == "thick" else STRAND_CONSTANTS)
     info.vertex_source(defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n#define SURFACE_ROW {SURFACE_ROW}\n" +
                        glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
-        info.fragment_source(defines +
-                             view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
-                             glsl_source("selection.glsl", "aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl",
-                                         "opacity_map.glsl", "view_transform.glsl", "hair.frag.glsl"))
+        info.fragment_source(defines + glsl_source("selection.glsl") + shading + glsl_source("hair.frag.glsl"))
     else:
         info.fragment_source(defines + opacity_maps.glsl_constants(purpose == "opacity") +
                              glsl_source("selection.glsl", "opacity_map.glsl", "opacity_pass.frag.glsl"))
@@ -191,12 +208,27 @@ def shader(kind, purpose="shade", test_level=True):
     return _shaders[key]
 
 
+def strand_shading_shader():
+    """The hair layer's pass that shades the strands left in it (strand_shading.frag.glsl:
+    hair_radiance once per pixel where a strand is the nearest hair)."""
+    key = ("strand shading",)
+    if key not in _shaders:
+        info = gpu.types.GPUShaderCreateInfo()
+        info.typedef_source(FRAME_BLOCK + world_srbf.WORLD_BLOCK)
+        info.uniform_buf(0, "HairFrame", "frame")
+        hair_layer.declare_strand_shading(info)
+        info.fragment_source(STRAND_SHADING + _declare_shading(info) + glsl_source("strand_shading.frag.glsl"))
+        _shaders[key] = gpu.shader.create_from_info(info)
+    return _shaders[key]
+
+
 def compile_shaders():
     """Builds the preview's shaders now (once a session), so that a first frame does not wait for them."""
     for kind in ("thick", "strand"):
         for purpose in ("shade", "depth", "opacity"):
             shader(kind, purpose)
         shader(kind, "shade", test_level=False)
+    strand_shading_shader()
 
 
 def _attributes(kind):
@@ -769,8 +801,20 @@ class LodPreview:
                             self.asset.control_points, settings.strand_coverage, self.surface_texture is not None)
         if state.hair_layer is None:
             state.hair_layer = hair_layer.HairLayer()
+
+        def bind_shading(program):
+            program.uniform_block("frame", frame)
+            textures.bind(program)
+            if self.opacity is not None:
+                self.opacity.bind(program)
+            program.uniform_block("hair_world", world_block)
+            program.uniform_sampler("srbf_lut", world_texture)
+            program.uniform_sampler("view_lut", view_lut)
+
         with state.hair_layer.drawing((region.width, region.height)):
-            self._draw_levels(state, frame, textures, world_block, world_texture, view_lut, shaded)
+            self._draw_levels(state, frame, bind_shading, shaded)
+        if shaded:
+            state.hair_layer.shade_strands(strand_shading_shader(), bind_shading)
         state.hair_layer.composite(fitted)
         if finish is not None:
             finish()
@@ -780,8 +824,9 @@ class LodPreview:
                                   "changed": bool(changed), "gpu_timed": finish is not None})
         return changed
 
-    def _draw_levels(self, state, frame, textures, world_block, world_texture, view_lut, shaded):
-        """Every level's selected segments, into the bound framebuffer, depth tested."""
+    def _draw_levels(self, state, frame, bind_shading, shaded):
+        """Every level's selected segments, into the bound framebuffer (the hair layer), depth tested;
+        bind_shading(program) binds what hair_radiance reads."""
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
         for level in range(self.level_count):
@@ -797,13 +842,8 @@ class LodPreview:
                     program.uniform_int("draw_level", level)
                     program.uniform_sampler("selection_levels", state.texture)
                 self.bind_skinning(program, "thick" if level < self.level_count - 1 else "strand")
-                if shaded:
-                    textures.bind(program)
-                    if self.opacity is not None:
-                        self.opacity.bind(program)
-                    program.uniform_block("hair_world", world_block)
-                    program.uniform_sampler("srbf_lut", world_texture)
-                    program.uniform_sampler("view_lut", view_lut)
+                if shaded and level < self.level_count - 1:  # the strands are shaded in the composite
+                    bind_shading(program)
                 return program
 
             self._draw_level(state, level, program_for)

@@ -8,7 +8,10 @@
  * result does not depend on the sampler's filter. Directions are unit vectors; the fibre tangent is
  * t, theta is measured from the normal plane (sin theta = dot(w, t)), as in pbrt and docs/ARCHITECTURE.md ("Conventions").
  * Needs: sampler2D fiber_lut, dual_lut, aggregated_lut; vec4 lobe_shapes (R shift, R variance,
- * TT shift, TT variance); vec4 lobe_tilts (sin 2s, cos 2s of the R and of the TT shift s); vec2 lut_constants (TT azimuthal variance, n_max). */
+ * TT shift, TT variance); vec4 lobe_tilts (sin 2s, cos 2s of the R and of the TT shift s); vec4 lut_constants (TT azimuthal variance, n_max,
+ * deon_log_normalisation of the R and of the TT variance).
+ * Shaders that draw single strands only (n = 1, rho = 1) define HAIRLOD_SINGLE_HAIR: what depends on n is then
+ * constant and left out. */
 
 #define HAIRLOD_PI 3.14159265358979
 #define HAIRLOD_SIDE_SCATTER 0.6  /* d_1+ of Huang 2025 Eq. 10 */
@@ -42,6 +45,16 @@ vec3 aggregated_lookup(int block, float theta_d, float n)
   return mix(low, high, u);
 }
 
+/* a_F^(n-1) at theta_d (Huang 2025 Eq. 7): the share of light n - 1 hairs crossed before pass on forwards. */
+vec3 forward_attenuation(float theta_d, float n)
+{
+#ifdef HAIRLOD_SINGLE_HAIR
+  return vec3(1.0);
+#else
+  return aggregated_lookup(0, theta_d, n);
+#endif
+}
+
 /* log(I_0(x)) from the polynomial fits of Abramowitz & Stegun 9.8.1-9.8.2 (relative error < 2e-7). */
 float log_bessel_i0(float x)
 {
@@ -57,16 +70,22 @@ float log_bessel_i0(float x)
   return x + log(scaled) - 0.5 * log(x);
 }
 
+/* The log of the normalisation of d'Eon et al. 2011's longitudinal lobe of variance v,
+ * v (1 - exp(-2 / v)) exp(1 / v) = 2 v sinh(1 / v), taken apart so that narrow lobes (1/v ~ 1e3) do not overflow. */
+float deon_log_normalisation(float v)
+{
+  return log(v) + 1.0 / v + log(max(1.0 - exp(-2.0 / v), 1e-30));
+}
+
 /* d'Eon et al. 2011 longitudinal lobe of variance v, tilted by a shift s, tilt = (sin 2s, cos 2s) (Chiang et al. 2016 Sec. 4),
- * in log space so that narrow lobes (1/v ~ 1e3) neither overflow nor lose precision. */
-float tilted_deon_longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, vec2 tilt, float v)
+ * in log space so that narrow lobes neither overflow nor lose precision; log_normalisation = deon_log_normalisation(v). */
+float tilted_deon_longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, vec2 tilt, float v, float log_normalisation)
 {
   float sin_2s = tilt.x, cos_2s = tilt.y;
   float sin_op = sin_o * cos_2s - cos_o * sin_2s;
   float cos_op = abs(cos_o * cos_2s + sin_o * sin_2s);
   float a = sin_i * sin_op / v;
   float b = cos_i * cos_op / v;
-  float log_normalisation = log(v) + 1.0 / v + log(max(1.0 - exp(-2.0 / v), 1e-30));
   return exp(log_bessel_i0(b) - a - log_normalisation);
 }
 
@@ -123,13 +142,19 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
   float phi = acos(cos_phi);
 
   vec3 a_f = lut_row(dual_lut, 0, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
-  vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
-  float crossed = n - 1.0;
   /* Huang 2025 Eq. 7 and 9: n - 1 forward scatterings attenuate and widen R^, TT^, D^. */
-  vec3 attenuation = aggregated_lookup(0, theta_d, n);
-  float sigma_f2_mean = (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
-  float longitudinal_spread = 4.0 * crossed * sigma_f2_mean;
-  float azimuthal_spread = crossed * sigma_f2_mean;
+  vec3 attenuation = forward_attenuation(theta_d, n);
+#ifdef HAIRLOD_SINGLE_HAIR
+  /* A strand: the lobes keep their own widths, whose normalisations come as uniforms (lut_constants.zw)
+   * instead of being taken again in every fragment. */
+  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w, azimuthal_tt = lut_constants.x;
+  float normalisation_r = lut_constants.z, normalisation_tt = lut_constants.w;
+#else
+  vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+  float spread = (n - 1.0) * (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
+  float v_r = lobe_shapes.y + 4.0 * spread, v_tt = lobe_shapes.w + 4.0 * spread, azimuthal_tt = lut_constants.x + spread;
+  float normalisation_r = deon_log_normalisation(v_r), normalisation_tt = deon_log_normalisation(v_tt);
+#endif
 
   /* A_p at theta_o (fiber_rtd.cpp): the lossless fibre then returns A_R + A_TT + A_D. */
   float abs_theta_o = abs(theta_o);
@@ -138,9 +163,9 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
   vec3 a_d = lut_row(fiber_lut, 2, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
   float inv_cos_i = 1.0 / max(cos_i, 1e-6);
 
-  float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.xy, lobe_shapes.y + longitudinal_spread);
-  float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.zw, lobe_shapes.w + longitudinal_spread);
-  float n_tt = wrapped_gaussian(phi - HAIRLOD_PI, lut_constants.x + azimuthal_spread);
+  float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.xy, v_r, normalisation_r);
+  float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.zw, v_tt, normalisation_tt);
+  float n_tt = wrapped_gaussian(phi - HAIRLOD_PI, azimuthal_tt);
   vec3 value = attenuation * (a_r * (m_r * inv_cos_i / (2.0 * HAIRLOD_PI)) + a_tt * (m_tt * n_tt * inv_cos_i) +
                               a_d / (HAIRLOD_PI * HAIRLOD_PI));
 

@@ -1,18 +1,11 @@
-/* Shading of the LoD preview. shading_mode 0: the aggregated BCSDF (aggregated_bcsdf.glsl) under up
- * to 8 lights (frame.counts.x of them; `frame` is the HairFrame uniform block, lod_preview.py), world
- * space: light_vectors[k] = (unit direction towards a sun, 0) or (position of a point light, 1);
- * light_colours[k].rgb = the sun's irradiance, or the point light's intensity (its power over 4 pi)
- * that falls off with the squared distance, each times its self-shadowing transmittance through the
- * hair: through the light's deep opacity map (opacity_map.glsl) for the first lights, for the others
- * through the hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the
- * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
- * as the lights (hair_world_transmittance, averaged over 14 directions): as SRBF lights
- * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
- * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
- * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7).
+/* The LoD preview's hair into its hair layer (hair_layer.py): fragColor.a holds the window depth there,
+ * and strandPosition says which pixels the strands' deferred shading is left to.
+ * shading_mode 0: thick hairs shaded here (hair_radiance, hair_shading.glsl); strands
+ * (HAIRLOD_DEFERRED_STRANDS) only leave their unit tangent in fragColor.rgb and their position, w = 1,
+ * in strandPosition: the depth test keeps the nearest, and the layer's strand pass shades each such pixel
+ * once (strand_shading.frag.glsl), where shading every strand fragment shaded each pixel several times over.
  * shading_mode 1: the level's colour, darkened towards the silhouette.
- * The scene-linear radiance goes through the scene's view transform (view_transform.glsl). The hair
- * is drawn into the preview's hair layer (hair_layer.py): alpha holds the window depth there. */
+ * The scene-linear radiance goes through the scene's view transform (view_transform.glsl). */
 
 void main()
 {
@@ -24,85 +17,18 @@ void main()
     discard;
   }
 #endif
+  strandPosition = vec4(0.0);
   float across = clamp(v_across, -1.0, 1.0);
   if (shading_mode == 1) {
     float facing = sqrt(max(1.0 - across * across, 0.0));
     fragColor = vec4(level_colour.rgb * (0.45 + 0.55 * facing), gl_FragCoord.z);
     return;
   }
-  vec3 t = normalize(v_tangent);
-  vec3 wo = normalize(v_to_camera);
-  float n = 1.0, rho = v_cluster.y;
-  /* Where the hair the camera sees begins: a strand's line, or the near side of a thick hair's ellipse
-   * (the strip lies on its centre line), half the view ray's chord nearer. */
-  vec3 seen = v_position;
-  if (v_ellipse.z > 0.0) {
-    /* Sec. 4: the view ray's chord through the ellipse at this offset from its centre line;
-     * 2 r_A r_B / w through the middle, w the silhouette half-width, longer as the ray tilts along t. */
-    float along = sqrt(max(1.0 - dot(wo, t) * dot(wo, t), 0.05 * 0.05));
-    float chord = 2.0 * v_ellipse.x * v_ellipse.y / max(v_ellipse.z, 1e-20) * sqrt(max(1.0 - across * across, 0.0)) / along;
-    n = min(hairs_crossed(rho, chord, v_cluster.x, v_ellipse.x, v_ellipse.y), lut_constants.y);
-    seen += min(0.5 * chord, v_ellipse.x) * wo;
-  }
-  vec3 radiance = vec3(0.0);
-  vec3 p_object = (frame.model_inverse * vec4(v_position, 1.0)).xyz;
-  /* The world reaches the hair through the hair volume as the lights do (object space, as the volume),
-   * at the mean depth where the camera's first strand lies (as visible_transmittance, opacity_map.glsl:
-   * the mean free path 1 / sigma into the hair; sigma the density under the first mapped light's lit
-   * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
-   * Zinke et al. 2008): through the volume, a uniform random medium, the mean of a_f^N over the Poisson
-   * number N of strands crossed is exp(-tau (1 - a_f)) = T^(1 - a_f) per channel and direction, the
-   * world's a_f at normal incidence. Strands drawn by their coverage
-   * (strand.vert.glsl) are the strands the camera sees, at their own depth: there the depth is 0. */
-  bool at_own_depth = frame.counts.z > 0.5 && v_ellipse.z <= 0.0;
-  float first_density = frame.light_shadow[0].w > 0.5 && !at_own_depth ? light_side_density(0, seen) : 0.0;
-  float visible_density = frame.light_shadow[0].w > 0.5 || at_own_depth ? first_density : frame.hair_centre.w;
-  vec3 into_object = (frame.model_inverse * vec4(-wo, 0.0)).xyz;
-  float reach = frame.light_shadow[0].w > 0.5 ? OPACITY_LAYER_STEPS.w * frame.light_shadow[0].z
-                                              : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
-  float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
-  vec3 seen_object = (frame.model_inverse * vec4(seen, 1.0)).xyz;
-  vec3 world_shadow = hair_world_transmittance(
-      seen_object + world_depth * into_object, frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w,
-      vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
-  for (int k = 0; k < int(frame.counts.x); ++k) {
-    vec3 to_light = frame.light_vectors[k].xyz - v_position * frame.light_vectors[k].w;
-    /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */
-    vec3 to_light_object = (frame.model_inverse * frame.light_vectors[k]).xyz - p_object * frame.light_vectors[k].w;
-    float distance2 = frame.light_vectors[k].w > 0.0 ? max(dot(to_light, to_light), 1e-20) : 1.0;
-    vec3 wi = normalize(to_light);
-    float sin_i = dot(wi, t);
-    float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
-    /* The strands on the light's way pass a_f of it on forwards, coloured (dual scattering, Zinke et al.
-     * 2008 Sec. 4.2; a_f at the light's inclination). */
-    vec3 a_f = clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 1e-4, 1.0);
-    vec3 shadow;
-    if (k < OPACITY_MAX_LIGHTS && frame.light_shadow[k].w > 0.5) {
-      /* The light's deep opacity map (opacity_map.glsl), over the depths where the camera's first strand
-       * lies, read a pixel nearer the light than each (past the hair's own sample). The map counts the
-       * strands themselves: the light that crossed tau of them keeps Zinke's forward transmittance
-       * T_f = prod a_f = a_f^tau = exp(-tau (-ln a_f)) per sample, the spread of tau between the samples
-       * (depths, texels) averaged after. */
-      shadow = visible_transmittance(k, seen, -wo, k == 0 || at_own_depth ? first_density : light_side_density(k, seen),
-                                     light_pixel_size(k, light_depth(k, seen)), -frame.shadow.z * log(a_f),
-                                     OPACITY_LAYER_STEPS.w * frame.light_shadow[k].z);
-    }
-    else {
-      /* Through the hair volume, a uniform random medium (self_shadow.glsl): the number of strands crossed
-       * is Poisson with mean tau, and the mean of a_f^N over it is exp(-tau (1 - a_f)) = T^(1 - a_f). */
-      shadow = exp(-(vec3(1.0) - a_f) * hair_optical_depth(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
-                                                            frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w));
-    }
-    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
-  }
-  if (hair_world.constant.w > 0.5) {
-    radiance += srbf_world(wo, t) * aggregated_lookup(0, 0.0, n) * world_shadow;
-  }
-  else {
-    float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
-    vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
-                  lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
-    radiance += frame.ambient.rgb * albedo * aggregated_lookup(0, 0.0, n) * world_shadow;
-  }
+#ifdef HAIRLOD_DEFERRED_STRANDS
+  fragColor = vec4(normalize(v_tangent), gl_FragCoord.z);
+  strandPosition = vec4(v_position, 1.0);
+#else
+  vec3 radiance = hair_radiance(v_position, normalize(v_tangent), normalize(v_to_camera), across, v_ellipse, v_cluster);
   fragColor = vec4(view_transform(radiance), gl_FragCoord.z);
+#endif
 }

@@ -20,24 +20,15 @@ float light_pixel_size(int k, float depth)
 
 #ifndef OPACITY_PASS /* the shading pass reads the maps */
 /* tau at `below` under the first hair: piecewise linear through (0, 0) and (OPACITY_LAYER_STEPS s;
- * layers), constant beyond the last layer. */
+ * layers), constant beyond the last layer. Summed segment by segment, each segment's slope times the
+ * part of it above `below`, without branches: a software GPU runs every branch a block of fragments
+ * takes, and the 4 depths of visible_transmittance fall in different segments. */
 float layered_optical_depth(vec4 layers, float below, float spacing)
 {
-  float x = below / spacing;
-  vec4 steps = OPACITY_LAYER_STEPS;
-  if (x <= 0.0) {
-    return 0.0;
-  }
-  if (x < steps.x) {
-    return layers.x * x / steps.x;
-  }
-  if (x < steps.y) {
-    return mix(layers.x, layers.y, (x - steps.x) / (steps.y - steps.x));
-  }
-  if (x < steps.z) {
-    return mix(layers.y, layers.z, (x - steps.y) / (steps.z - steps.y));
-  }
-  return mix(layers.z, layers.w, clamp((x - steps.z) / (steps.w - steps.z), 0.0, 1.0));
+  vec4 starts = vec4(0.0, OPACITY_LAYER_STEPS.xyz);
+  vec4 lengths = OPACITY_LAYER_STEPS - starts;
+  vec4 slopes = (layers - vec4(0.0, layers.xyz)) / lengths;
+  return dot(slopes, clamp(vec4(below / spacing) - starts, vec4(0.0), lengths));
 }
 
 /* The map's texel under clip-space position `clip` of light k, moved by `offset` texels; (-1, -1) outside
