@@ -48,6 +48,7 @@ def _composite_shader():
         info.vertex_in(0, 'VEC2', "position")
         info.vertex_out(interface)
         info.sampler(0, 'FLOAT_2D', "hair_colour")
+        info.sampler(1, 'FLOAT_2D', "hair_depth")
         info.push_constant('VEC4', "planes")
         info.push_constant('INT', "perspective")
         info.fragment_out(0, 'VEC4', "fragColor")
@@ -60,8 +61,11 @@ def _composite_shader():
 class HairLayer:
     """A viewport's hair layer: rgb and the fitted window depth in alpha (RGBA32F); the strands'
     positions, w = 1 where a strand is the nearest hair (RGBA32F; fragment output 1 of every program
-    drawing into the layer); the colour with those strands shaded (RGBA32F, what the composite draws);
-    and a 32-bit depth buffer for the depth test. Made again when the viewport's size changes."""
+    drawing into the layer); the colour with those strands shaded (SRGB8_A8: display values, stored as
+    the viewport's framebuffer stores them, so the composite writes the same 8-bit values; the depth
+    stays in the first's alpha; RGBA16F changed dark pixels by up to 6/255); and a 32-bit depth buffer
+    for the depth test: 40 bytes a pixel (37 MB at 1280 x 720, 20 before the strands were deferred).
+    Made again when the viewport's size changes."""
 
     def __init__(self):
         self.size = None
@@ -80,8 +84,9 @@ class HairLayer:
         restores the viewport's framebuffer and viewport rectangle after."""
         size = (max(1, int(size[0])), max(1, int(size[1])))
         if size != self.size:
-            self.colour, self.strand_positions, self.shaded = (gpu.types.GPUTexture(size, format='RGBA32F')
-                                                               for _ in range(3))
+            self.colour = gpu.types.GPUTexture(size, format='RGBA32F')
+            self.strand_positions = gpu.types.GPUTexture(size, format='RGBA32F')
+            self.shaded = gpu.types.GPUTexture(size, format='SRGB8_A8')
             self._depth = gpu.types.GPUTexture(size, format='DEPTH_COMPONENT32F')
             self._framebuffer = gpu.types.GPUFrameBuffer(color_slots=(self.colour, self.strand_positions),
                                                          depth_slot=self._depth)
@@ -102,11 +107,11 @@ class HairLayer:
 
     def shade_strands(self, shader, bind):
         """Shades the strands left in the layer (after drawing()): `shader` (declare_strand_shading)
-        after bind(shader), into the layer's shaded colour, which the composite then draws."""
+        after bind(shader), into the layer's shaded colour, which the composite then draws where the
+        layer holds hair (the only pixels the pass writes: the rest is never read, and not cleared)."""
         if self._batch is None:
             self._batch = batch_for_shader(_composite_shader(), 'TRIS', {"position": [(-1.0, -1.0), (3.0, -1.0), (-1.0, 3.0)]})
         viewport, blend = gpu.state.viewport_get(), gpu.state.blend_get()
-        self.shaded.clear(format='FLOAT', value=(0.0, 0.0, 0.0, 1.0))
         with self._shading_framebuffer.bind():
             gpu.state.viewport_set(0, 0, *self.size)
             gpu.state.blend_set('NONE')
@@ -130,6 +135,7 @@ class HairLayer:
             self._batch = batch_for_shader(shader, 'TRIS', {"position": [(-1.0, -1.0), (3.0, -1.0), (-1.0, 3.0)]})
         shader.bind()
         shader.uniform_sampler("hair_colour", self._result)
+        shader.uniform_sampler("hair_depth", self.colour)
         shader.uniform_float("planes", tuple(float(v) for v in fitted.planes))
         shader.uniform_int("perspective", int(fitted.perspective))
         gpu.state.depth_test_set('LESS_EQUAL')

@@ -2,7 +2,7 @@
  * strand is the nearest hair (strand_positions.w = 1), hair_colour.rgb holds its unit tangent and
  * strand_positions.xyz its position (world space), and it is shaded as hair.frag.glsl shaded it
  * (hair_radiance, hair_shading.glsl, for one hair: HAIRLOD_SINGLE_HAIR); elsewhere the colour drawn is
- * kept. Alpha keeps the fitted window depth. */
+ * kept. */
 void main()
 {
   ivec2 texel = ivec2(gl_FragCoord.xy);
@@ -13,5 +13,5 @@ void main()
     vec3 to_camera = frame.camera.xyz - strand.xyz * frame.camera.w;
     colour = view_transform(hair_radiance(strand.xyz, hair.rgb, normalize(to_camera), 0.0, vec3(0.0), vec2(1.0)));
   }
-  fragColor = vec4(colour, hair.a);
+  fragColor = vec4(colour, 1.0);
 }
