@@ -105,12 +105,16 @@ class HairLayer:
         gpu.state.blend_set(blend)
         gpu.state.viewport_set(*viewport)
 
+    def _triangle(self):
+        """One triangle over the whole layer (the vertex input `position` of both passes over it)."""
+        if self._batch is None:
+            self._batch = batch_for_shader(_composite_shader(), 'TRIS', {"position": [(-1.0, -1.0), (3.0, -1.0), (-1.0, 3.0)]})
+        return self._batch
+
     def shade_strands(self, shader, bind):
         """Shades the strands left in the layer (after drawing()): `shader` (declare_strand_shading)
         after bind(shader), into the layer's shaded colour, which the composite then draws where the
         layer holds hair (the only pixels the pass writes: the rest is never read, and not cleared)."""
-        if self._batch is None:
-            self._batch = batch_for_shader(_composite_shader(), 'TRIS', {"position": [(-1.0, -1.0), (3.0, -1.0), (-1.0, 3.0)]})
         viewport, blend = gpu.state.viewport_get(), gpu.state.blend_get()
         with self._shading_framebuffer.bind():
             gpu.state.viewport_set(0, 0, *self.size)
@@ -121,7 +125,7 @@ class HairLayer:
             bind(shader)
             shader.uniform_sampler("hair_colour", self.colour)
             shader.uniform_sampler("strand_positions", self.strand_positions)
-            self._batch.draw(shader)
+            self._triangle().draw(shader)
             gpu.state.depth_test_set('NONE')
         gpu.state.blend_set(blend)
         gpu.state.viewport_set(*viewport)
@@ -131,8 +135,6 @@ class HairLayer:
         """Draws the layer into the bound (viewport) framebuffer: colour, and depth tested and written
         as the viewport's (fitted: depth_range.FittedDepth the layer was drawn with)."""
         shader = _composite_shader()
-        if self._batch is None:
-            self._batch = batch_for_shader(shader, 'TRIS', {"position": [(-1.0, -1.0), (3.0, -1.0), (-1.0, 3.0)]})
         shader.bind()
         shader.uniform_sampler("hair_colour", self._result)
         shader.uniform_sampler("hair_depth", self.colour)
@@ -140,6 +142,6 @@ class HairLayer:
         shader.uniform_int("perspective", int(fitted.perspective))
         gpu.state.depth_test_set('LESS_EQUAL')
         gpu.state.depth_mask_set(True)
-        self._batch.draw(shader)
+        self._triangle().draw(shader)
         gpu.state.depth_mask_set(False)
         gpu.state.depth_test_set('NONE')
