@@ -394,13 +394,21 @@ void bind_lod(py::module_& m) {
         .def("selection_geometry", [](const FrameSkinning& s) {
             const LodGeometry& g = s.selection_geometry();
             const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);
-            py::list widest;
-            for (const ThickHairGeometry& level : g.levels) widest.append(to_numpy<float>(level.widest, {clusters, nc, 4}));
+            py::list widest, ellipsoids, thinnest;
+            for (const ThickHairGeometry& level : g.levels) {
+                widest.append(to_numpy<float>(level.widest, {clusters, nc, 4}));
+                ellipsoids.append(to_numpy<float>(level.width_ellipsoid, {clusters, nc, 6}));
+                thinnest.append(to_numpy<float>(level.thinnest, {clusters, nc}));
+            }
             py::dict d;
             d["cluster_bounds"] = to_numpy<float>(g.cluster_bounds, {clusters, 4});
             d["widest"] = widest;
+            d["width_ellipsoid"] = ellipsoids;
+            d["thinnest"] = thinnest;
             return d;
-        }, "{'cluster_bounds': [clusters, 4] spheres, 'widest': per thick level [clusters, n_c, 4] (centre, diameter)}.");
+        }, "{'cluster_bounds': [clusters, 4] spheres, 'widest': per thick level [clusters, n_c, 4] (centre, diameter), "
+           "'width_ellipsoid': per thick level [clusters, n_c, 6] (xx, yy, zz, xy, yz, zx of the ellipsoid holding the "
+           "hairs' semi-axes), 'thinnest': per thick level [clusters, n_c] (that ellipsoid's smallest diameter)}.");
 
     py::class_<ViewSelection>(m, "ViewSelection",
                               "Per-view LoD state: the initial selection, then one Huang 2025 Eq. 16 step per update, "

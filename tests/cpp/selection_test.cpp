@@ -52,8 +52,11 @@ TEST(ProjectedWidth, OrthographicCorners) {
 }
 
 TEST_F(SelectionTest, WidthBoundIsNeverBelowTheProjectedCornerWidth) {
+    const glm::vec3 target(0, 0, -0.3f);
+    for (const glm::vec3 direction : {glm::vec3(1.0f, 0.3f, 0.2f), glm::vec3(0.0f, 0.1f, 1.0f), glm::vec3(-0.2f, 1.0f, -0.6f)})
     for (float distance : {2.5f, 8.0f}) {
-        const Camera camera = camera_at(distance);
+        Camera camera = camera_at(distance);
+        camera.view = glm::lookAt(target + distance * glm::normalize(direction), target, glm::vec3(0.3f, 0.1f, 1.0f));
         const ScreenWidthBound bound(camera);
         const glm::mat4 view_projection = camera.projection * camera.view;
         for (size_t l = 0; l < rest_->levels.size(); ++l) {
@@ -65,8 +68,19 @@ TEST_F(SelectionTest, WidthBoundIsNeverBelowTheProjectedCornerWidth) {
                         const size_t at = static_cast<size_t>(h) * nc + k;
                         const float exact = projected_width(view_projection, camera.viewport, g.centre[at], g.tangent[at], g.corners[at]);
                         const glm::vec4 widest = g.widest[c * nc + k];
-                        // The cluster's widest diameter at the hair's own centre bounds the hair's width.
+                        // The cluster's widest diameter at the hair's own centre bounds the hair's width,
+                        // and so does its ellipsoid, whatever the direction of view.
                         ASSERT_GE(bound(g.centre[at], widest.w), exact) << "level " << l << " hair " << h;
+                        const float ellipsoid = bound.ellipsoid_width(g.centre[at], g.width_ellipsoid[c * nc + k]);
+                        ASSERT_GE(ellipsoid, exact * (1.0f - 1e-5f)) << "level " << l << " hair " << h;
+                        // The thinnest diameter rejects only what the ellipsoid rejects too.
+                        ASSERT_LE(bound(g.centre[at], g.thinnest[c * nc + k]), ellipsoid) << "level " << l << " hair " << h;
+                        ASSERT_EQ(bound.ellipsoid_fits(g.centre[at], g.width_ellipsoid[c * nc + k], exact),
+                                  ellipsoid <= exact);
+                        // The widest diameter that fits a width fits it, a little more does not.
+                        const float fitting = bound.widest_fitting(g.centre[at], exact);
+                        ASSERT_LE(bound(g.centre[at], fitting * (1.0f - 1e-5f)), exact);
+                        ASSERT_GT(bound(g.centre[at], fitting * (1.0f + 1e-5f)), exact);
                     }
         }
     }

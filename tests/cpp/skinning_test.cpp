@@ -130,6 +130,10 @@ TEST_F(SkinningTest, SelectionGeometryBoundsTheSkinnedHair) {
         for (size_t i = 0; i < a.cluster_count() * nc; ++i) {
             ASSERT_LT(glm::distance(glm::vec3(at_rest.levels[l].widest[i]), glm::vec3(rest.levels[l].widest[i])), 1e-5f);
             ASSERT_NEAR(at_rest.levels[l].widest[i].w, rest.levels[l].widest[i].w, 1e-4f * rest.levels[l].widest[i].w);
+            const float scale = rest.levels[l].widest[i].w * rest.levels[l].widest[i].w;
+            for (int e = 0; e < 6; ++e)
+                ASSERT_NEAR(at_rest.levels[l].width_ellipsoid[i][e], rest.levels[l].width_ellipsoid[i][e], 1e-3f * scale) << e;
+            ASSERT_NEAR(at_rest.levels[l].thinnest[i], rest.levels[l].thinnest[i], 1e-4f * rest.levels[l].widest[i].w);
         }
     double box_radius = 0.0, exact_radius = 0.0;
     for (size_t c = 0; c < a.cluster_count(); ++c) {
@@ -159,6 +163,25 @@ TEST_F(SkinningTest, SelectionGeometryBoundsTheSkinnedHair) {
             const glm::vec4 widest = skinning.selection_geometry().levels[l].widest[i];
             ASSERT_LT(glm::distance(glm::vec3(widest), rigid(glm::vec3(rest.levels[l].widest[i]))), 2e-5f * 4.0f);
             ASSERT_NEAR(widest.w, rest.levels[l].widest[i].w, 1e-4f * rest.levels[l].widest[i].w + 1e-7f);
+            ASSERT_NEAR(skinning.selection_geometry().levels[l].thinnest[i], rest.levels[l].thinnest[i],
+                        1e-4f * rest.levels[l].widest[i].w + 1e-7f);
+            // The ellipsoid turns with the hair: E' = R E R^T, read here as x^T E' x = (R^T x)^T E (R^T x).
+            const SymmetricEntries& moved_entries = skinning.selection_geometry().levels[l].width_ellipsoid[i];
+            const SymmetricEntries& rest_entries = rest.levels[l].width_ellipsoid[i];
+            const auto form = [](const SymmetricEntries& e, const glm::vec3& x) {
+                return e[0] * x.x * x.x + e[1] * x.y * x.y + e[2] * x.z * x.z + 2.0f * (e[3] * x.x * x.y + e[4] * x.y * x.z + e[5] * x.z * x.x);
+            };
+            const glm::vec3 origin = rigid(glm::vec3(0.0f));
+            for (const glm::vec3 x : {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::normalize(glm::vec3(1, -2, 0.5f))}) {
+                // R^T x: the rest direction that the rotation takes to x.
+                glm::vec3 back(0.0f);
+                for (int axis = 0; axis < 3; ++axis) {
+                    glm::vec3 unit(0.0f);
+                    unit[axis] = 1.0f;
+                    back[axis] = glm::dot(rigid(unit) - origin, x);
+                }
+                ASSERT_NEAR(form(moved_entries, x), form(rest_entries, back), 1e-4f * widest.w * widest.w + 1e-9f);
+            }
         }
 }
 

@@ -101,6 +101,19 @@ def test_selection_follows_the_skinned_geometry(asset):
     assert not selection.selection.visible.any()
     bounds = skinning.selection_geometry()["cluster_bounds"]
     assert bounds.shape == (asset.cluster_count, 4) and np.all(bounds[:, 1] > 45.0)
+    # A translation keeps every width ellipsoid; at rest each holds its level's semi-axes there.
+    nc = asset.control_points
+    for level, (ellipsoids, hairs) in enumerate(zip(skinning.selection_geometry()["width_ellipsoid"],
+                                                    asset.skin(None)["levels"])):
+        assert ellipsoids.shape == (asset.cluster_count, nc, 6)
+        xx, yy, zz, xy, yz, zx = np.moveaxis(ellipsoids.astype(np.float64), -1, 0)
+        matrices = np.stack([np.stack([xx, xy, zx], -1), np.stack([xy, yy, yz], -1), np.stack([zx, yz, zz], -1)], -2)
+        cluster_first = asset.arrays()["levels"][level]["cluster_first"]
+        cluster = np.repeat(np.arange(asset.cluster_count), np.diff(cluster_first))
+        inverse = np.linalg.inv(matrices)[cluster]  # [hairs, n_c, 3, 3]
+        for axis in ("major", "minor"):
+            x = hairs[axis] - (hairs[axis] * hairs["tangents"]).sum(-1, keepdims=True) * hairs["tangents"]
+            assert np.einsum("hki,hkij,hkj->hk", x, inverse, x).max() <= 1.0 + 1e-3
     with pytest.raises(HairlodError, match="deformed guides must have shape"):
         skinning.update(asset.rest_guides[:3])
     nan = asset.rest_guides.copy()

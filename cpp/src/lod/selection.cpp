@@ -8,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "hairlod/core/error.h"
 
@@ -52,13 +54,54 @@ struct Context {
     int segments;
     int finest;  // the strands' level
 
-    // Width of segment s of cluster c at a thick level: the larger bound of its two control points.
-    float segment_width(size_t c, int level, size_t s) const {
-        if (level >= finest) return 0.0f;  // the strands are always fine enough
-        const glm::vec4* widest =
-            geometry.levels[static_cast<size_t>(level)].widest.data() + c * static_cast<size_t>(segments + 1) + s;
-        return std::max(bound(glm::vec3(widest[0]), widest[0].w), bound(glm::vec3(widest[1]), widest[1].w));
+    // Whether control point `at` (cluster c n_c + k) of a thick level is at most width_px wide on
+    // screen. Its width is the smaller of two bounds of its hairs' Sec. 5.2 widths: the widest
+    // hair's diameter at the camera's largest stretch, and the view-dependent ellipsoid of
+    // width_ellipsoid.h. The first takes a few flops and settles most points well below eps_w; the
+    // ellipsoid's thinnest diameter at that stretch settles most of those well above it (near views,
+    // where the finest thick hairs are many pixels wide); the 2 x 2 eigenvalue decides the rest.
+    bool point_fits(int level, size_t at) const {
+        const ThickHairGeometry& g = geometry.levels[static_cast<size_t>(level)];
+        const glm::vec3 centre(g.widest[at]);
+        const float widest_fitting = bound.widest_fitting(centre, width_px);
+        if (g.widest[at].w <= widest_fitting) return true;
+        if (g.thinnest[at] > widest_fitting) return false;
+        return bound.ellipsoid_fits(centre, g.width_ellipsoid[at], width_px);
     }
+};
+
+// Whether the segments of one cluster fit at each level: the strands always do; a thick level's
+// segment where both its control points do. Segments are visited in order, so the last point
+// measured at each level is the next segment's first: it is kept, and each point is measured about
+// once per level read (a cache of every point and level cost more than it saved).
+class ClusterFits {
+public:
+    explicit ClusterFits(const Context& context) : context_(context), points_(static_cast<size_t>(context.segments + 1)) {}
+
+    void start(size_t cluster) {
+        cluster_ = cluster;
+        last_point_.fill(kNone);
+    }
+
+    bool fits(int level, size_t s) { return level >= context_.finest || (point(level, s) && point(level, s + 1)); }
+
+private:
+    static constexpr size_t kNone = std::numeric_limits<size_t>::max();
+
+    bool point(int level, size_t k) {
+        const auto l = static_cast<size_t>(level);
+        if (last_point_[l] != k) {
+            last_point_[l] = k;
+            last_fits_[l] = context_.point_fits(level, cluster_ * points_ + k);
+        }
+        return last_fits_[l];
+    }
+
+    const Context& context_;
+    size_t points_;
+    size_t cluster_ = 0;
+    std::array<size_t, kMaxLevels> last_point_{};  // per thick level: the point measured last, or kNone
+    std::array<bool, kMaxLevels> last_fits_{};
 };
 
 Context make_context(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px) {
@@ -68,6 +111,24 @@ Context make_context(const LodAsset& asset, const LodGeometry& geometry, const C
         throw Error("select: geometry does not belong to this asset");
     return {asset, geometry, Frustum(camera.projection * camera.view), ScreenWidthBound(camera), width_px,
             asset.control_points - 1, static_cast<int>(asset.thick_levels.size())};
+}
+
+// Marks each cluster visible or culled in `selection`, and calls body(c, fits) for each visible one
+// with `fits` started on it. Clusters are selected independently, in parallel over ranges that hold
+// enough of them (tens of microseconds of work) that starting one costs little.
+template <typename Body>
+void for_visible_clusters(const Context& context, Selection& selection, const Body& body) {
+    constexpr size_t kClustersPerRange = 128;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, context.asset.cluster_count(), kClustersPerRange),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                          ClusterFits fits(context);
+                          for (size_t c = range.begin(); c != range.end(); ++c) {
+                              selection.visible[c] = context.frustum.intersects(context.geometry.cluster_bounds[c]);
+                              if (!selection.visible[c]) continue;
+                              fits.start(c);
+                              body(c, fits);
+                          }
+                      });
 }
 
 // Runs of equal level within each visible cluster become draw ranges.
@@ -113,6 +174,40 @@ ScreenWidthBound::ScreenWidthBound(const Camera& camera) {
     const double largest = 0.5 * (a + d + std::sqrt((a - d) * (a - d) + 4.0 * b * b));
     // Rounded up a little so the float bound stays above the float width.
     pixels_per_unit_ = static_cast<float>(std::sqrt(largest) * (1.0 + 1e-5));
+    // x^T E x for x = x_row, y_row and the cross term, as dot products with E's six entries.
+    const auto quadratic_form = [](const glm::vec3& p, const glm::vec3& q) {
+        return std::array<float, 6>{p.x * q.x, p.y * q.y, p.z * q.z, p.x * q.y + p.y * q.x, p.y * q.z + p.z * q.y,
+                                    p.z * q.x + p.x * q.z};
+    };
+    const std::array<float, 6> xx = quadratic_form(x_row, x_row), yy = quadratic_form(y_row, y_row),
+                               xy = quadratic_form(x_row, y_row);
+    for (int i = 0; i < 6; ++i) form_rows_[static_cast<size_t>(i)] = glm::vec3(xx[i], yy[i], xy[i]);
+}
+
+glm::vec3 ScreenWidthBound::projected_form(const SymmetricEntries& e) const {
+    glm::vec3 form(0.0f);  // B E B^T = [[x, z], [z, y]]
+    for (size_t i = 0; i < 6; ++i) form += form_rows_[i] * e[i];
+    return form;
+}
+
+float ScreenWidthBound::ellipsoid_width(const glm::vec3& centre, const SymmetricEntries& e) const {
+    const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w;
+    if (!(w > 0.0f)) return std::numeric_limits<float>::infinity();
+    const glm::vec3 form = projected_form(e);
+    const float half_gap = 0.5f * (form.x - form.y);
+    const float largest = 0.5f * (form.x + form.y) + std::sqrt(half_gap * half_gap + form.z * form.z);
+    return 2.0f * std::sqrt(std::max(largest, 0.0f)) / w;
+}
+
+bool ScreenWidthBound::ellipsoid_fits(const glm::vec3& centre, const SymmetricEntries& e, float width_px) const {
+    const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w;
+    if (!(w > 0.0f)) return false;
+    // 2 sqrt(lambda_max) / w <= width_px, without square roots: lambda_max <= t for the 2 x 2
+    // matrix [[x, z], [z, y]] exactly when both diagonal entries are <= t and (t - x)(t - y) >= z^2.
+    const float half = 0.5f * width_px * w;
+    const float t = half * half;
+    const glm::vec3 form = projected_form(e);
+    return form.x <= t && form.y <= t && (t - form.x) * (t - form.y) >= form.z * form.z;
 }
 
 float projected_width(const glm::mat4& view_projection, const glm::vec2& viewport, const glm::vec3& centre,
@@ -142,16 +237,14 @@ Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, con
     selection.segments = context.segments;
     selection.level.assign(asset.cluster_count() * segments, 0);
     selection.visible.assign(asset.cluster_count(), 0);
-    for (size_t c = 0; c < asset.cluster_count(); ++c) {
-        selection.visible[c] = context.frustum.intersects(geometry.cluster_bounds[c]);
-        if (!selection.visible[c]) continue;
+    for_visible_clusters(context, selection, [&](size_t c, ClusterFits& fits) {
         // Coarsest to finest; a segment takes the first level that is narrow enough.
         for (size_t s = 0; s < segments; ++s) {
             int level = 0;
-            while (level < context.finest && context.segment_width(c, level, s) > width_px) ++level;
+            while (!fits.fits(level, s)) ++level;
             selection.level[c * segments + s] = static_cast<uint8_t>(level);
         }
-    }
+    });
     collect_draws(context, selection);
     return selection;
 }
@@ -163,25 +256,23 @@ void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry
     if (selection.segments != context.segments || selection.level.size() != asset.cluster_count() * segments ||
         selection.visible.size() != asset.cluster_count())
         throw Error("select: the previous selection does not belong to this asset");
-    for (size_t c = 0; c < asset.cluster_count(); ++c) {
-        selection.visible[c] = context.frustum.intersects(geometry.cluster_bounds[c]);
-        if (!selection.visible[c]) continue;
+    for_visible_clusters(context, selection, [&](size_t c, ClusterFits& fits) {
         uint8_t* levels = selection.level.data() + c * segments;
         for (size_t s = 0; s < segments; ++s) {
             int level = std::min<int>(levels[s], context.finest);
             // Huang 2025 Eq. 16: w_cur > eps -> finer; w_cur- (one level coarser) <= eps -> coarser. Widths grow
             // with coarseness, so the steps go one way and stop at the coarsest level that fits.
             int direction = 0;
-            if (level < context.finest && context.segment_width(c, level, s) > width_px) direction = 1;
-            else if (level > 0 && context.segment_width(c, level - 1, s) <= width_px) direction = -1;
+            if (!fits.fits(level, s)) direction = 1;
+            else if (level > 0 && fits.fits(level - 1, s)) direction = -1;
             level += direction;
             if (steps == DeferredSteps::until_stable && direction > 0)
-                while (level < context.finest && context.segment_width(c, level, s) > width_px) ++level;
+                while (!fits.fits(level, s)) ++level;
             else if (steps == DeferredSteps::until_stable && direction < 0)
-                while (level > 0 && context.segment_width(c, level - 1, s) <= width_px) --level;
+                while (level > 0 && fits.fits(level - 1, s)) --level;
             levels[s] = static_cast<uint8_t>(level);
         }
-    }
+    });
     collect_draws(context, selection);
 }
 

@@ -27,6 +27,15 @@ glm::vec3 unit_or_zero(const glm::vec3& v) {
     return length > 0.0f ? v / length : glm::vec3(0.0f);
 }
 
+// A hair's two semi-axes at `at`, projected onto the plane normal to its tangent (as Sec. 5.2
+// projects its corners), appended to `out`.
+void append_projected_semi_axes(std::span<const glm::vec3> tangent, std::span<const glm::vec3> major,
+                                std::span<const glm::vec3> minor, size_t at, std::vector<glm::vec3>& out) {
+    const glm::vec3& t = tangent[at];
+    out.push_back(major[at] - glm::dot(major[at], t) * t);
+    out.push_back(minor[at] - glm::dot(minor[at], t) * t);
+}
+
 }  // namespace
 
 glm::vec3 map_point(const ClusterMap& map, const glm::vec3& d) {
@@ -144,7 +153,8 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
         tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
             std::vector<float> best(nc, -1.0f);
             std::vector<RestSection> sections(nc);
-            std::vector<glm::vec3> centres(nc);
+            std::vector<glm::vec3> centres(nc), tangents(nc);
+            std::vector<std::vector<glm::vec3>> semi_axes(nc);  // every hair's, per control point
             for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
                 for (size_t k = 0; k < nc; ++k) {
                     sections[k] = asset.section(l, static_cast<size_t>(h), k);
@@ -155,12 +165,21 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
                     const glm::vec3 tangent = unit_or_zero(centres[after] - centres[before]);
                     const glm::vec3 major = sections[k].major_axis * sections[k].radii.x;
                     const glm::vec3 minor = sections[k].minor_axis * sections[k].radii.y;
+                    semi_axes[k].push_back(major - glm::dot(major, tangent) * tangent);
+                    semi_axes[k].push_back(minor - glm::dot(minor, tangent) * tangent);
                     const float diameter = section_diameter(tangent, major, minor);
                     if (diameter > best[k]) {
                         best[k] = diameter;
-                        widest[c * nc + k] = WidestRest{centres[before], centres[k], centres[after], major, minor};
+                        tangents[k] = tangent;
+                        widest[c * nc + k] = WidestRest{centres[before], centres[k], centres[after], major, minor, {}, 0.0f};
                     }
                 }
+            }
+            for (size_t k = 0; k < nc; ++k) {
+                WidestRest& rest = widest[c * nc + k];
+                rest.ellipsoid = width_ellipsoid(tangents[k], rest.major, rest.minor, semi_axes[k]);
+                const float diameter = section_diameter(tangents[k], rest.major, rest.minor);
+                rest.thinnest_fraction = diameter > 0.0f ? thinnest_diameter(rest.ellipsoid) / diameter : 0.0f;
             }
         });
     }
@@ -174,7 +193,11 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
     });
     geometry_.cluster_bounds.resize(clusters);
     geometry_.levels.resize(asset.thick_levels.size());
-    for (ThickHairGeometry& level : geometry_.levels) level.widest.resize(clusters * nc);
+    for (ThickHairGeometry& level : geometry_.levels) {
+        level.widest.resize(clusters * nc);
+        level.width_ellipsoid.resize(clusters * nc);
+        level.thinnest.resize(clusters * nc);
+    }
     texels_.resize(clusters * nc);
     set_maps(identity_maps(rest_.frames));
 }
@@ -244,7 +267,10 @@ void FrameSkinning::set_cluster_maps(size_t c, std::span<const ClusterMap> maps,
             const glm::vec3 tangent = unit_or_zero(at_after - at_before);
             const glm::mat3 jacobian = map_jacobian(maps[k], rest.centre - maps[k].rest_origin);
             const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
-            geometry_.levels[l].widest[first + k] = glm::vec4(centres[k], section_diameter(tangent, major, minor));
+            const float diameter = section_diameter(tangent, major, minor);
+            geometry_.levels[l].widest[first + k] = glm::vec4(centres[k], diameter);
+            geometry_.levels[l].width_ellipsoid[first + k] = symmetric_entries(mapped(rest.ellipsoid, jacobian));
+            geometry_.levels[l].thinnest[first + k] = rest.thinnest_fraction * diameter;
         }
     }
 }
@@ -307,7 +333,10 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
         g.minor.resize(count);
         g.corners.resize(count);
         g.widest.resize(clusters * nc);
+        g.width_ellipsoid.resize(clusters * nc);
+        g.thinnest.resize(clusters * nc);
         tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+            std::vector<size_t> widest_hair(nc);
             for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
                 const size_t first = static_cast<size_t>(h) * nc;
                 for (size_t k = 0; k < nc; ++k) {
@@ -329,8 +358,21 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
                     g.tangent[first + k] = length > 0.0f ? step / length : glm::vec3(0.0f);
                     const float diameter = section_diameter(g.tangent[first + k], g.major[first + k], g.minor[first + k]);
                     glm::vec4& widest = g.widest[c * nc + k];
-                    if (h == level.cluster_first[c] || diameter > widest.w) widest = glm::vec4(g.centre[first + k], diameter);
+                    if (h == level.cluster_first[c] || diameter > widest.w) {
+                        widest = glm::vec4(g.centre[first + k], diameter);
+                        widest_hair[k] = first + k;
+                    }
                 }
+            }
+            std::vector<glm::vec3> semi_axes;
+            for (size_t k = 0; k < nc; ++k) {
+                semi_axes.clear();
+                for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h)
+                    append_projected_semi_axes(g.tangent, g.major, g.minor, static_cast<size_t>(h) * nc + k, semi_axes);
+                const size_t w = widest_hair[k];
+                const WidthEllipsoid ellipsoid = width_ellipsoid(g.tangent[w], g.major[w], g.minor[w], semi_axes);
+                g.width_ellipsoid[c * nc + k] = symmetric_entries(ellipsoid);
+                g.thinnest[c * nc + k] = thinnest_diameter(ellipsoid);
             }
         });
     }

@@ -17,6 +17,7 @@
 #include "hairlod/core/strand_set.h"
 #include "hairlod/lod/compact.h"
 #include "hairlod/lod/guide_frame.h"
+#include "hairlod/lod/width_ellipsoid.h"
 
 namespace hairlod {
 
@@ -112,8 +113,12 @@ struct ThickHairGeometry {
     std::vector<std::array<glm::vec3, 4>> corners;  // centre +- major, centre +- minor
     // Per L0 cluster and control point [clusters * n_c]: the centre (xyz) and corner diameter (w)
     // of the cluster's widest hair there, the diameter measured between the corners projected onto
-    // the plane normal to the tangent (Sec. 5.2). All the per-frame selection reads.
+    // the plane normal to the tangent (Sec. 5.2), the ellipsoid holding the semi-axes of all its
+    // hairs there (width_ellipsoid.h) and that ellipsoid's thinnest diameter. All the per-frame
+    // selection reads.
     std::vector<glm::vec4> widest;
+    std::vector<SymmetricEntries> width_ellipsoid;
+    std::vector<float> thinnest;
 };
 
 struct LodGeometry {

@@ -1,12 +1,14 @@
 #pragma once
 // Screen-width LoD selection per L0 cluster and segment (hair-lod-aggregated-bcsdf.txt Sec. 5.1
 // step 5 and Sec. 5.2): the initial selection and the deferred per-frame rule of Huang 2025 Eq. 16.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "hairlod/lod/lod_asset.h"
@@ -65,6 +67,12 @@ public:
         const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w;
         return w > 0.0f ? diameter * pixels_per_unit_ / w : std::numeric_limits<float>::infinity();
     }
+    // The largest diameter at `centre` whose bound is at most width_px (one division for any
+    // number of diameters); -1 when the centre is behind the camera, where nothing fits.
+    float widest_fitting(const glm::vec3& centre, float width_px) const {
+        const float w = depth_row_.x * centre.x + depth_row_.y * centre.y + depth_row_.z * centre.z + depth_row_.w;
+        return w > 0.0f ? width_px * w / pixels_per_unit_ : -1.0f;
+    }
     // The same at the nearest depth of the sphere (centre, radius): the most pixels `diameter` may
     // take anywhere in it. Infinite when the sphere reaches the eye.
     float at_nearest(const glm::vec3& centre, float radius, float diameter) const {
@@ -74,14 +82,27 @@ public:
         return w > 0.0f ? diameter * pixels_per_unit_ / w : std::numeric_limits<float>::infinity();
     }
 
+    // The view-dependent bound (width_ellipsoid.h): 2 sqrt(lambda_max(B E B^T)) / w for the
+    // ellipsoid with entries `e`, B the viewport-scaled xy rows of projection * view and w the
+    // centre's clip w; the largest projected corner distance of any hair whose semi-axes it holds.
+    // Infinite when the centre is behind the camera.
+    float ellipsoid_width(const glm::vec3& centre, const SymmetricEntries& e) const;
+    // ellipsoid_width(centre, e) <= width_px, decided without square roots.
+    bool ellipsoid_fits(const glm::vec3& centre, const SymmetricEntries& e, float width_px) const;
+
 private:
+    glm::vec3 projected_form(const SymmetricEntries& e) const;  // (x, y, z): B E B^T = [[x, z], [z, y]]
+
     glm::vec4 depth_row_;  // row 3 of projection * view: clip w
     float pixels_per_unit_ = 0.0f;
+    // Row i: what E's entry i adds to (x_row^T E x_row, y_row^T E y_row, x_row^T E y_row).
+    std::array<glm::vec3, 6> form_rows_{};
 };
 
 // Sec. 5.1 step 5: per visible cluster and segment, the coarsest level whose largest thick-hair
-// width is at most width_px (the strands when none is). Widths are ScreenWidthBound of
-// ThickHairGeometry::widest, a segment's width the larger of its two control points'.
+// width is at most width_px (the strands when none is). A control point's width is the smaller of
+// ScreenWidthBound's two bounds (ThickHairGeometry::widest and width_ellipsoid), a segment's the
+// larger of its two control points'.
 Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px);
 
 // How far select_deferred_in_place moves a segment: one Huang 2025 Eq. 16 step (one level), or steps until
@@ -89,8 +110,9 @@ Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, con
 enum class DeferredSteps { one, until_stable };
 
 // Huang 2025 Eq. 16 per cluster and segment from the current levels in `selection`, updated in place (no
-// allocation once its draw list has grown to size): finer when the current level is too wide,
-// coarser when one coarser level fits, else unchanged. Culled clusters keep their level.
+// array allocated once its draw list has grown to size; clusters in parallel): finer when the
+// current level is too wide, coarser when one coarser level fits, else unchanged. Culled clusters
+// keep their level.
 void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
                               Selection& selection, DeferredSteps steps = DeferredSteps::one);
 

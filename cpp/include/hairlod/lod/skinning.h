@@ -94,8 +94,10 @@ public:
 
     // What LoD selection reads (Selection's geometry): per thick level the skinned widest hair of
     // each L0 cluster and control point, and per cluster a sphere holding its deformed strands.
-    // Strands and per-hair arrays are empty. The widest hair is the rest pose's: under a rigid
-    // motion it stays the widest; under a non-rigid one another hair of the cluster may grow wider.
+    // Strands and per-hair arrays are empty. The widest hair is the rest pose's, and the ellipsoid
+    // holding every hair's semi-axes moves by the Jacobian at its centre, its thinnest diameter
+    // scaling with the widest hair's: under a rigid motion all stay exact; under a non-rigid one
+    // another hair of the cluster may grow wider.
     // The sphere bounds the cluster's quantisation boxes mapped at every control point, so it holds
     // every skinned strand point (plus the widest strand radius) under any deformation.
     const LodGeometry& selection_geometry() const { return geometry_; }
@@ -107,6 +109,8 @@ private:
     struct WidestRest {
         glm::vec3 before, centre, after;  // rest centres at control points k - 1, k, k + 1 (clamped)
         glm::vec3 major, minor;           // rest semi-axis vectors at k
+        WidthEllipsoid ellipsoid;         // at rest, holding every hair's semi-axes at k
+        float thinnest_fraction;          // its thinnest diameter over the widest hair's diameter
     };
     const LodAsset* asset_;
     SkinningRest rest_;
