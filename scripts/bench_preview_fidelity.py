@@ -2,7 +2,7 @@
 a real Blender window (run under Xvfb).
 
 Run: xvfb-run -a -s '-screen 0 1280x720x24' blender --factory-startup --python scripts/bench_preview_fidelity.py
-     [-- --spp 256 --scale 0.25 --out FILE.json]
+     [-- --spp 256 --scale 0.25 --sun 3 --world 0.15 --out FILE.json]
 For the bundled real hair (examples/data/tressfx/Ratboy_mohawk.tfx, stood upright from Y up) and 20,000
 strands generated in examples/data/wavy_cap.hairmesh.json: builds the LoD, previews it lit by one sun
 (irradiance 3) and a uniform grey world (0.15) under the Standard view transform, at a mid and a near
@@ -51,6 +51,8 @@ def parse_args():
     parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--views", default="mid,near")
     parser.add_argument("--world", type=float, default=0.15, help="the uniform world's colour (grey)")
+    parser.add_argument("--sun", type=float, default=SUN_IRRADIANCE,
+                        help=f"the sun's irradiance (default {SUN_IRRADIANCE:g}; 0 lights the hair by the world alone)")
     parser.add_argument("--strand-coverage", choices=("on", "off"), default="on",
                         help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--cycles-samples", type=int, default=0,
@@ -104,7 +106,7 @@ def unmixed(image, alpha, background):
     return (image - (1.0 - alpha[..., None]) * background) / np.maximum(alpha[..., None], 1e-6)
 
 
-def cycles_image(strands, camera, sun_direction, samples, world):
+def cycles_image(strands, camera, sun_direction, samples, world, sun=SUN_IRRADIANCE):
     """The view rendered by Cycles (a headless Blender running tests/blender/cycles_scene.py) with the
     Principled Hair BSDF of the preview's default hair: linear RGB [H, W, 3], rows top-down."""
     import subprocess
@@ -119,7 +121,7 @@ def cycles_image(strands, camera, sun_direction, samples, world):
     io.write(hair, strands)
     spec = {"addon": os.path.join(REPO_ROOT, "addon"), "hair": hair,
             "camera": {key: (list(map(float, value)) if isinstance(value, list) else value) for key, value in camera.items()},
-            "sun": {"direction": list(map(float, sun_direction)), "irradiance": SUN_IRRADIANCE}, "world": world,
+            "sun": {"direction": list(map(float, sun_direction)), "irradiance": sun}, "world": world,
             "node": {"parametrization": "MELANIN", "melanin": 0.5, "melanin_redness": 0.3, "roughness": 0.3,
                      "radial_roughness": 0.3},
             "spp": samples, "seed": 5, "max_bounces": 70}
@@ -137,13 +139,14 @@ def cycles_image(strands, camera, sun_direction, samples, world):
 def steps(args):
     results = {}
     yield from measure(results, views=args.views.split(","), spp=args.spp, scale=args.scale, world=args.world,
+                       sun_irradiance=args.sun,
                        strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
                        cycles_samples=args.cycles_samples)
     window_steps.report(results, args.out)
 
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
-            cycles_samples=0):
+            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
     and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
@@ -225,7 +228,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             sun = bpy.data.objects.get("Sun") or bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
             if sun.name not in scene.collection.objects:
                 scene.collection.objects.link(sun)
-            sun.data.energy = SUN_IRRADIANCE
+            sun.data.energy = sun_irradiance
             sun.rotation_euler = Vector(-np.asarray(sun_direction)).to_track_quat('Z', 'Y').to_euler()
             settings.enabled = True
             area.tag_redraw()
@@ -243,7 +246,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             preview_linear, mask = to_linear(with_hair[box]), mask[box]
             # The viewport's projection, so that the path-traced camera sees what the viewport shows.
             traced_camera = render_camera(region, region_3d, target, scale)
-            lights = {"directional": [(tuple(sun_direction), (SUN_IRRADIANCE,) * 3)], "points": [],
+            lights = {"directional": [(tuple(sun_direction), (sun_irradiance,) * 3)], "points": [],
                       "environment": np.full(3, world, np.float32)}
             start = time.perf_counter()
             params = object_hair_params(holder)  # the hair the preview shades
@@ -267,7 +270,8 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             # coverage summed over the image (the same pixel grid at --scale 1).
             entry["coverage_ratio"] = float(mask.sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))
             if cycles_samples:
-                cycles = cycles_image(strands, traced_camera, sun_direction, cycles_samples, world)[::-1]
+                cycles = cycles_image(strands, traced_camera, sun_direction, cycles_samples, world,
+                                      sun_irradiance)[::-1]
                 entry["cycles"] = summary(unmixed(cycles, alpha, world), covered, weights=alpha)
                 entry["cycles_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["cycles"]["mean"])).tolist()
                 entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
