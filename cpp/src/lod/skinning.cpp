@@ -27,13 +27,12 @@ glm::vec3 unit_or_zero(const glm::vec3& v) {
     return length > 0.0f ? v / length : glm::vec3(0.0f);
 }
 
-// A hair's two semi-axes at `at`, projected onto the plane normal to its tangent (as Sec. 5.2
-// projects its corners), appended to `out`.
-void append_projected_semi_axes(std::span<const glm::vec3> tangent, std::span<const glm::vec3> major,
-                                std::span<const glm::vec3> minor, size_t at, std::vector<glm::vec3>& out) {
-    const glm::vec3& t = tangent[at];
-    out.push_back(major[at] - glm::dot(major[at], t) * t);
-    out.push_back(minor[at] - glm::dot(minor[at], t) * t);
+// A hair's two semi-axes projected onto the plane normal to its unit `tangent` (as Sec. 5.2
+// projects its corners), appended to `out`: what width_ellipsoid must hold.
+void append_projected_semi_axes(const glm::vec3& tangent, const glm::vec3& major, const glm::vec3& minor,
+                                std::vector<glm::vec3>& out) {
+    out.push_back(major - glm::dot(major, tangent) * tangent);
+    out.push_back(minor - glm::dot(minor, tangent) * tangent);
 }
 
 }  // namespace
@@ -165,8 +164,7 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
                     const glm::vec3 tangent = unit_or_zero(centres[after] - centres[before]);
                     const glm::vec3 major = sections[k].major_axis * sections[k].radii.x;
                     const glm::vec3 minor = sections[k].minor_axis * sections[k].radii.y;
-                    semi_axes[k].push_back(major - glm::dot(major, tangent) * tangent);
-                    semi_axes[k].push_back(minor - glm::dot(minor, tangent) * tangent);
+                    append_projected_semi_axes(tangent, major, minor, semi_axes[k]);
                     const float diameter = section_diameter(tangent, major, minor);
                     if (diameter > best[k]) {
                         best[k] = diameter;
@@ -367,8 +365,10 @@ LodGeometry mapped_geometry(const LodAsset& asset, std::span<const ClusterMap> m
             std::vector<glm::vec3> semi_axes;
             for (size_t k = 0; k < nc; ++k) {
                 semi_axes.clear();
-                for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h)
-                    append_projected_semi_axes(g.tangent, g.major, g.minor, static_cast<size_t>(h) * nc + k, semi_axes);
+                for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
+                    const size_t at = static_cast<size_t>(h) * nc + k;
+                    append_projected_semi_axes(g.tangent[at], g.major[at], g.minor[at], semi_axes);
+                }
                 const size_t w = widest_hair[k];
                 const WidthEllipsoid ellipsoid = width_ellipsoid(g.tangent[w], g.major[w], g.minor[w], semi_axes);
                 g.width_ellipsoid[c * nc + k] = symmetric_entries(ellipsoid);
