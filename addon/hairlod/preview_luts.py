@@ -4,7 +4,7 @@ The shader (addon/hairlod/blender/preview/shaders/aggregated_bcsdf.glsl) takes t
 textures whose rows are the baked quantities, one RGB quantity per row, and a few lobe constants:
 
   fiber:       rows A_R, A_TT, A_D over theta_o in [0, pi/2]                       (Huang et al. 2025, Eq. 1)
-  dual:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2 over theta_d   (Zinke et al. 2008; Huang 2025 Eq. 9)
+  dual:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2, beta_f^2 over theta_d (Zinke et al. 2008; Huang 2025 Eq. 9)
   aggregated:  blocks a_F^(n-1), A_1+, B^ budget, each n_samples rows over (theta_d, n in [1, n_max])
                (Huang 2025 Eq. 7, 10)
 
@@ -25,7 +25,7 @@ __all__ = ["ShaderTables", "SrbfTables", "shader_tables", "srbf_tables", "theta_
 
 _ROWS = {
     "fiber_attenuation": ("A_R", "A_TT", "A_D"),
-    "dual_scattering": ("a_f", "a_b", "A_1", "A_3", "delta_b", "sigma_b", "sigma_f2"),
+    "dual_scattering": ("a_f", "a_b", "A_1", "A_3", "delta_b", "sigma_b", "sigma_f2", "beta_f2"),
     "aggregated_attenuation": ("a_F_n", "A_1plus", "budget"),
 }
 
@@ -33,7 +33,7 @@ _ROWS = {
 @dataclass(frozen=True)
 class ShaderTables:
     fiber: np.ndarray        # float32 [3, theta_samples, 4]
-    dual: np.ndarray         # float32 [7, theta_samples, 4]
+    dual: np.ndarray         # float32 [8, theta_samples, 4]
     aggregated: np.ndarray   # float32 [3 n_samples, theta_samples, 4]
     lobe_shapes: tuple       # R shift, R variance, TT shift, TT variance (theta_i measure)
     lut_constants: tuple     # TT azimuthal variance, n_max

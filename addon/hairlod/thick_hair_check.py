@@ -15,9 +15,10 @@ is checked against what that model assumes, one number per cause:
   against the model's expected count (bcsdf::expected_hairs_met), and the share passing none against
   the mean of exp(-count);
 - renders: sampled hairs (of at least the median member count) rendered alone as their strands (`pt`)
-  and as the thick hair (`lod-single`, paths inside the hair attenuated and scattering, render.OWN_HAIR),
-  seen across the major and across the minor axis of the middle section, under one sun on the viewer's
-  side, to the side or behind: the thick hair's mean image over its strands' per channel.
+  and as the thick hair: with the single fibre (`lod-single`, paths inside the hair attenuated and
+  scattering, render.OWN_HAIR) and with the aggregated BCSDF (`lod`, RENDERED_AGGREGATED), seen across
+  the major and across the minor axis of the middle section, under one sun on the viewer's side, to the
+  side or behind: the thick hair's mean image over its strands' per channel.
 
 bench_thick_hairs() returns the numbers, format_tables() a Markdown table. A benchmark: no assertions.
 """
@@ -29,7 +30,7 @@ import numpy as np
 from . import _core, bcsdf, lod, render
 from .hair_params import as_params
 
-__all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_HAIRS", "SPP", "axes_coordinates", "bench_thick_hairs", "crossings", "format_tables",
+__all__ = ["LIGHT_SIDES", "LINE_HAIRS", "RENDERED_AGGREGATED", "RENDERED_HAIRS", "SPP", "axes_coordinates", "bench_thick_hairs", "crossings", "format_tables",
            "member_ends", "renders_against_members", "strands_through_sections"]
 
 # The suns of renders_against_members(), towards the light in the hair's frame at its middle section:
@@ -41,6 +42,8 @@ CAMERA_DISTANCE = 1.5  # in lengths of the hair
 # moved the generated hair's ratios by up to 0.1), their samples per pixel, and hairs per level
 # whose sections the lines sample.
 RENDERED_HAIRS, SPP, LINE_HAIRS = 16, 128, 150
+# The key of the renders' ratios with the aggregated BCSDF (method `lod`), beside render.OWN_HAIR's.
+RENDERED_AGGREGATED = "aggregated"
 
 
 def _unit(vectors):
@@ -178,7 +181,7 @@ def renders_against_members(level, members, points, radius, params, rng, hairs=R
     nc = points.shape[1]
     candidates = np.nonzero(level.n_total >= max(np.median(level.n_total), 2))[0]
     chosen = rng.choice(candidates, size=min(len(candidates), hairs), replace=False)
-    sums = {own: {side: np.zeros(3) for side in LIGHT_SIDES} for own in render.OWN_HAIR}
+    sums = {kind: {side: np.zeros(3) for side in LIGHT_SIDES} for kind in (*render.OWN_HAIR, RENDERED_AGGREGATED)}
     for h in chosen:
         member_strands = members(h)
         strands = _core.Strands.from_counts(np.ascontiguousarray(points[member_strands].reshape(-1, 3), np.float32),
@@ -201,10 +204,11 @@ def renders_against_members(level, members, points, radius, params, rng, hairs=R
                           "environment": np.zeros(3, np.float32)}
                 reference = _core.render(strands, None, camera, lights, params, method="pt", spp=spp,
                                          seed=seed + 1)["image"].mean(axis=(0, 1))
-                for own in render.OWN_HAIR:
-                    image = _core.render(None, thick, camera, lights, params, method="lod-single", spp=spp, seed=seed + 2,
+                for kind in sums:
+                    method, own = ("lod", None) if kind == RENDERED_AGGREGATED else ("lod-single", kind)
+                    image = _core.render(None, thick, camera, lights, params, method=method, spp=spp, seed=seed + 2,
                                          own_hair=own)["image"].mean(axis=(0, 1))
-                    sums[own][side] += image / np.maximum(reference, 1e-30)
+                    sums[kind][side] += image / np.maximum(reference, 1e-30)
     views = max(2 * len(chosen), 1)
     return {"hairs": int(len(chosen)),
             "ratios": {own: {side: (total / views).tolist() for side, total in by_side.items()} for own, by_side in sums.items()}}
@@ -265,11 +269,11 @@ def format_tables(result):
              f"build's coverage: the same crossings, a member not reaching a plane taken at its k-th point). Lines in sampled sections' planes: "
              f"members passed over the model's count, and the share passing none (members / model), across the "
              f"ellipse and from a member outwards. Renders: hairs alone at {result['spp']} spp, the thick hair "
-             f"(lod-single) over its strands (pt), R / G / B, per sun.", "",
+             f"(lod-single attenuated and scattering inside, lod) over its strands (pt), R / G / B, per sun.", "",
              "| level | hairs | strands per hair | tips past the end | roots before | through | across: count ratio, none | "
              "from a member: count ratio, none | attenuated: viewer / side / behind | scattering: viewer / side / "
-             "behind |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "behind | aggregated (lod): viewer / side / behind |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for level in result["levels"]:
         ends, lines_ = level["ends"], level["crossings"]
 
@@ -284,5 +288,6 @@ def format_tables(result):
                      f"{ends['roots_before_p90']:.2f} | {level['through_sections']:.2f} ({level['coverage_in_plane']:.2f}) | "
                      f"{line_cell('across')} | {line_cell('from_member')} | "
                      + " ; ".join(_rgb(ratios["attenuate"][side]) for side in LIGHT_SIDES) + " | "
-                     + " ; ".join(_rgb(ratios["scatter"][side]) for side in LIGHT_SIDES) + " |")
+                     + " ; ".join(_rgb(ratios["scatter"][side]) for side in LIGHT_SIDES) + " | "
+                     + " ; ".join(_rgb(ratios[RENDERED_AGGREGATED][side]) for side in LIGHT_SIDES) + " |")
     return "\n".join(lines)

@@ -100,7 +100,7 @@ TEST(Aggregated, BackLobeFollowsEq10And11) {
 }
 
 // Shaded inside by a path tracer (render/integrator.cpp): R^, TT^, D^ are the fibre's behind k = the
-// light's crossings (attenuation E[a_F^k] over a Poisson count, Huang 2025 Eq. 9's spread with n - 1 = k), and B^
+// light's crossings (attenuation E[a_F^k] over a Poisson count, Huang 2025 Eq. 9's spread with n - 1 = k, along the fibre by beta_f^2), and B^
 // is A_1+ over the hair_count - 1 strands behind alone (A_1 + A_3 are on the traced paths).
 TEST(Aggregated, ShadedInsideTakesTheLightsCrossingsAndKeepsOnlyA1Plus) {
     const FiberRtdBcsdf fiber(brown());
@@ -122,7 +122,9 @@ TEST(Aggregated, ShadedInsideTakesTheLightsCrossingsAndKeepsOnlyA1Plus) {
         const double sigma_f2_mean = (sigma_f2.x + sigma_f2.y + sigma_f2.z) / 3.0;
         RtdSpread spread;
         spread.attenuation = glm::exp(-crossings * (1.0 - hair.a_f));
-        spread.longitudinal_variance = 4.0 * crossings * sigma_f2_mean;
+        const glm::dvec3 beta_f2 = hair.beta_f * hair.beta_f;
+        // Along the fibre the lobes widen by dual scattering's beta_f^2, across it by sigma_f^2.
+        spread.longitudinal_variance = 4.0 * crossings * (beta_f2.x + beta_f2.y + beta_f2.z) / 3.0;
         spread.azimuthal_variance = crossings * sigma_f2_mean;
         const glm::dvec3 behind = aggregated.eval_lobes(wi, wo, {1.0, 1.0, true, crossings}).sum();
         const glm::dvec3 expected = fiber.eval_lobes(wi, wo, spread).sum();

@@ -196,12 +196,19 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
     const double crossed = cluster.shaded_inside ? cluster.light_crossings : cluster.hair_count - 1.0;
 
     // Huang 2025 Eq. 7 and 9: R^, TT^, D^ after n - 1 forward scatterings (variances in theta_h, x4 in theta_i).
+    // Huang 2025 Eq. 9 as printed widens the longitudinal lobes by the forward *azimuthal* variance sigma_f^2 too;
+    // here they widen by dual scattering's longitudinal one, beta_f^2 (Zinke et al. 2008, whose spread Eq. 9
+    // accumulates; the renderer's ds method does the same). sigma_f^2 is about 0.4 rad^2 for brown hair,
+    // beta_f^2 under 0.01: with sigma_f^2 a thick hair lit from behind spread its transmitted light over
+    // every inclination after one crossing and returned 1.8-2x its strands' light, 1.1-1.3x with beta_f^2
+    // (`bench thick-hairs`, the artist-made hair).
     RtdSpread spread;
     spread.attenuation = cluster.shaded_inside ? glm::exp(-crossed * (1.0 - glm::min(hair.a_f, glm::dvec3(1.0))))
                                                : glm::pow(hair.a_f, glm::dvec3(crossed));
     const glm::dvec3 sigma_f2 = table_->azimuthal_variance(angles.theta_d);
     const double sigma_f2_mean = (sigma_f2.x + sigma_f2.y + sigma_f2.z) / 3.0;
-    spread.longitudinal_variance = 4.0 * crossed * sigma_f2_mean;
+    const glm::dvec3 beta_f2 = hair.beta_f * hair.beta_f;
+    spread.longitudinal_variance = 4.0 * crossed * (beta_f2.x + beta_f2.y + beta_f2.z) / 3.0;
     spread.azimuthal_variance = crossed * sigma_f2_mean;
     LobeValues out = fiber_.eval_lobes(wi, wo, spread);
     out.count = 4;

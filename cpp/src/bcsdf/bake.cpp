@@ -62,8 +62,9 @@ std::vector<BakedTable> bake_aggregated(const HairParams& params, const BakeOpti
                                 {theta_outgoing}, rgb_channels({"A_R", "A_TT", "A_D"})));
     tables.push_back(make_table("dual_scattering",
                                 "a_f, a_b (Xu et al. 2011, Eq. 32-33), A_1, A_3, Delta_b, sigma_b (Zinke et al. 2008, "
-                                "Sec. 4), sigma_f^2 (Huang et al. 2025, Eq. 9) of the fibre at theta_d",
-                                {theta_full}, rgb_channels({"a_f", "a_b", "A_1", "A_3", "delta_b", "sigma_b", "sigma_f2"})));
+                                "Sec. 4), sigma_f^2 (Huang et al. 2025, Eq. 9) and beta_f^2 (Zinke et al. 2008) of the fibre at theta_d",
+                                {theta_full},
+                                rgb_channels({"a_f", "a_b", "A_1", "A_3", "delta_b", "sigma_b", "sigma_f2", "beta_f2"})));
     tables.push_back(make_table("aggregated_attenuation",
                                 "a_F^(n-1) (Huang et al. 2025, Eq. 7), A_1+ (Eq. 10, d_1+ = 0.6) and the B^ budget "
                                 "max(0, 1 - a_F^(n-1) (a_f + a_b)) at (theta_d, n)",
@@ -74,8 +75,8 @@ std::vector<BakedTable> bake_aggregated(const HairParams& params, const BakeOpti
         for (int p = 0; p < 3; ++p) put(tables[0], x, 0, 3 * p, a[p]);
         const double theta_d = theta_full.at(x);
         const DualScatteringSample s = per_hair.sample(theta_d);
-        const std::array<glm::dvec3, 7> terms{s.a_f, s.a_b, s.A_1, s.A_3, s.delta_b, s.sigma_b,
-                                              per_hair.azimuthal_variance(theta_d)};
+        const std::array<glm::dvec3, 8> terms{s.a_f, s.a_b, s.A_1, s.A_3, s.delta_b, s.sigma_b,
+                                              per_hair.azimuthal_variance(theta_d), s.beta_f * s.beta_f};
         for (size_t t = 0; t < terms.size(); ++t) put(tables[1], x, 0, 3 * t, terms[t]);
         for (int y = 0; y < count.samples; ++y) {
             const double n = count.at(y);

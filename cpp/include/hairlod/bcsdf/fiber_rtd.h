@@ -35,7 +35,9 @@ public:
     std::span<const LongitudinalLobe> lobe_shapes() const override { return lobes_; }
     std::string_view name() const override { return "fiber_rtd"; }
 
-    // Variance of N_TT around phi = pi: the variance pi^2 s^2 / 3 of Chiang's logistic of scale s.
+    // Variance of N_TT around phi = pi (Huang 2025 Eq. 8's beta_TT^N, which the paper leaves open): that
+    // of the material's own far-field TT lobe (Chiang et al. 2016, averaged over the offset h) at normal
+    // incidence, at least its logistic's pi^2 s^2 / 3.
     double azimuthal_variance() const { return azimuthal_variance_; }
 
 private:

@@ -2,7 +2,7 @@
  * over the R, TT, D fibre of Huang 2025 Eq. 1, as cpp/src/bcsdf/aggregated.cpp and fiber_rtd.cpp evaluate it,
  * reading the baked tables (cpp/src/bcsdf/bake.cpp) instead of integrating:
  *   fiber_lut:       rows A_R, A_TT, A_D over theta_o in [0, pi/2]
- *   dual_lut:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2 over theta_d in [-pi/2, pi/2]
+ *   dual_lut:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2, beta_f^2 over theta_d in [-pi/2, pi/2]
  *   aggregated_lut:  blocks a_F^(n-1), A_1+, B^ budget, each over (theta_d in [-pi/2, pi/2], n in [1, n_max])
  * Texel centres sit on the axis nodes; every lookup interpolates linearly with texelFetch, so the
  * result does not depend on the sampler's filter. Directions are unit vectors; the fibre tangent is
@@ -150,9 +150,13 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
   float v_r = lobe_shapes.y, v_tt = lobe_shapes.w, azimuthal_tt = lut_constants.x;
   float normalisation_r = lut_constants.z, normalisation_tt = lut_constants.w;
 #else
+  /* Across the fibre the forward scatterings widen by sigma_f^2 each, along it by Zinke's beta_f^2
+   * (aggregated.cpp says why). */
   vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+  vec3 beta_f2 = lut_row(dual_lut, 7, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
   float spread = (n - 1.0) * (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
-  float v_r = lobe_shapes.y + 4.0 * spread, v_tt = lobe_shapes.w + 4.0 * spread, azimuthal_tt = lut_constants.x + spread;
+  float along = 4.0 * (n - 1.0) * (beta_f2.r + beta_f2.g + beta_f2.b) / 3.0;
+  float v_r = lobe_shapes.y + along, v_tt = lobe_shapes.w + along, azimuthal_tt = lut_constants.x + spread;
   float normalisation_r = deon_log_normalisation(v_r), normalisation_tt = deon_log_normalisation(v_tt);
 #endif
 
