@@ -24,7 +24,7 @@ constexpr int kAzimuthSamples = 720;
 // 2016), energy-weighted over the channels. Its light leaves the fibre at Phi(1, h) = 2 gamma_t -
 // 2 gamma_o + pi, which sweeps up to 1.7 rad either side of pi over the offsets h (eta 1.55), and is
 // spread further by the logistic. The logistic's variance alone (pi^2 s^2 / 3, an earlier choice)
-// left N_TT 8x too narrow in variance for the default brown fibre (0.045 against 0.37 rad^2): a
+// left N_TT 8x too narrow in variance for the default brown fibre (0.045 against 0.36 rad^2): a
 // thick hair lit from behind returned 4x its strands' light where it peaks and too little off it.
 double material_tt_azimuthal_variance(const HairParams& params) {
     HairParams tt_only = params;
