@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "hairlod/core/error.h"
+#include "hairlod/lod/cross_section.h"
 #include "hairlod/lod/selection.h"
 #include "hanging_hair.h"
 
@@ -183,6 +184,48 @@ TEST_F(SkinningTest, SelectionGeometryBoundsTheSkinnedHair) {
                 ASSERT_NEAR(form(moved_entries, x), form(rest_entries, back), 1e-4f * widest.w * widest.w + 1e-9f);
             }
         }
+}
+
+// Under a non-rigid bend, what selection reads of each cluster's widest hair at rest is that hair
+// as the CPU skin moves it: its centre, and its width across the tangent through its neighbouring
+// centres (each control point skinned by its own map, and the neighbours by theirs).
+TEST_F(SkinningTest, SelectionGeometryOfABendIsTheSkinnedWidestHair) {
+    const LodAsset& a = *asset_;
+    const size_t nc = kControlPoints;
+    const LodGeometry rest = a.rest_geometry();
+    const std::vector<glm::vec3> guides = moved(a.rest_guides, bend);
+    const LodGeometry skinned = a.skin(guides);
+    FrameSkinning skinning(a);
+    skinning.update(guides);
+    const LodGeometry& geometry = skinning.selection_geometry();
+    size_t checked = 0;
+    double largest_move = 0.0;
+    for (size_t l = 0; l < a.thick_levels.size(); ++l) {
+        const ThickHairLevel& level = a.thick_levels[l];
+        const ThickHairGeometry& before = rest.levels[l];
+        const ThickHairGeometry& after = skinned.levels[l];
+        for (size_t c = 0; c < a.cluster_count(); ++c)
+            for (size_t k = 0; k < nc; ++k) {
+                // The widest hair at rest (the first of the widest, as FrameSkinning picks it).
+                size_t widest = 0;
+                float best = -1.0f;
+                for (auto h = static_cast<size_t>(level.cluster_first[c]); h < static_cast<size_t>(level.cluster_first[c + 1]); ++h) {
+                    const size_t j = h * nc + k;
+                    const float diameter = section_diameter(before.tangent[j], before.major[j], before.minor[j]);
+                    if (diameter > best) best = diameter, widest = j;
+                }
+                const size_t i = c * nc + k;
+                const glm::vec4 selected = geometry.levels[l].widest[i];
+                const float diameter = section_diameter(after.tangent[widest], after.major[widest], after.minor[widest]);
+                ASSERT_LT(glm::distance(glm::vec3(selected), after.centre[widest]), 1e-5f) << "level " << l << " point " << i;
+                ASSERT_NEAR(selected.w, diameter, 1e-3f * diameter + 1e-7f) << "level " << l << " point " << i;
+                ASSERT_NEAR(geometry.levels[l].thinnest[i], rest.levels[l].thinnest[i] / best * selected.w, 1e-4f * selected.w + 1e-7f);
+                largest_move = std::max(largest_move, double(glm::distance(after.centre[widest], before.centre[widest])));
+                ++checked;
+            }
+    }
+    EXPECT_GT(checked, 0u);
+    EXPECT_GT(largest_move, 0.1);  // the bend moves the hair, so the test tells maps apart
 }
 
 // A camera moving with the hair sees the same levels: selection on the skinned geometry is

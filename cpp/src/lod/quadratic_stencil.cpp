@@ -166,7 +166,7 @@ SkinningStencils skinning_stencils(const LodAsset& asset, std::span<const GuideF
             for (int prior = 0; prior < 4; ++prior)
                 for (int r = 0; r < kMonomials; ++r)
                     stencil.prior[prior][static_cast<size_t>(r)] =
-                        ridge * (prior == 0 ? 1.0 : h) * inverse[static_cast<size_t>(r * kMonomials + prior)];
+                        static_cast<float>(ridge * (prior == 0 ? 1.0 : h) * inverse[static_cast<size_t>(r * kMonomials + prior)]);
         }
     });
     return out;
@@ -181,14 +181,17 @@ QuadraticMap stencil_map(const SkinningStencils& stencils, size_t i, std::span<c
     const glm::dvec3 reference(reference_f);
     guide_term_sums(stencils.terms.data() + stencil.first_term, stencil.term_count, deformed_guides.data(), reference_f,
                     sum_x.data(), sum_y.data(), sum_z.data());
+    // The prism map's share, in the same float sums: c0 prior[0]_m + sum_i (M e_i) prior[1 + i]_m.
+    const glm::dmat3 prism(prism_map);
+    const glm::vec3 c0(glm::dvec3(deformed_frame.origin) - reference + prism * (stencil.centroid - glm::dvec3(rest_frame.origin)));
+    for (size_t m = 0; m < kMonomials; ++m) {
+        const float p0 = stencil.prior[0][m], p1 = stencil.prior[1][m], p2 = stencil.prior[2][m], p3 = stencil.prior[3][m];
+        sum_x[m] += c0.x * p0 + prism_map[0].x * p1 + prism_map[1].x * p2 + prism_map[2].x * p3;
+        sum_y[m] += c0.y * p0 + prism_map[0].y * p1 + prism_map[1].y * p2 + prism_map[2].y * p3;
+        sum_z[m] += c0.z * p0 + prism_map[0].z * p1 + prism_map[1].z * p2 + prism_map[2].z * p3;
+    }
     std::array<glm::dvec3, kMonomials> field{};  // C_m
     for (size_t m = 0; m < kMonomials; ++m) field[m] = glm::dvec3(sum_x[m], sum_y[m], sum_z[m]);
-    auto add = [&](const glm::dvec3& v, const FieldWeights& w) {
-        for (int m = 0; m < kMonomials; ++m) field[static_cast<size_t>(m)] += w[static_cast<size_t>(m)] * v;
-    };
-    const glm::dmat3 prism(prism_map);
-    add(glm::dvec3(deformed_frame.origin) - reference + prism * (stencil.centroid - glm::dvec3(rest_frame.origin)), stencil.prior[0]);
-    for (int axis = 0; axis < 3; ++axis) add(prism[axis], stencil.prior[1 + axis]);
 
     // The field is quadratic, so its Taylor expansion at the anchor is exact: the value, the
     // gradient (over the scale, as x = (p - centroid) / scale) and the second-order coefficients.

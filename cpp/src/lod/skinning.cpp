@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "hairlod/core/error.h"
+#include "hairlod/core/vector_clones.h"
 #include "hairlod/curves/resample.h"
 #include "hairlod/lod/compact.h"
 #include "hairlod/lod/cross_section.h"
@@ -17,10 +18,6 @@
 namespace hairlod {
 
 namespace {
-
-glm::vec3 skin_point(const ClusterMap& map, const glm::vec3& rest_point) {
-    return map_point(map, rest_point - map.rest_origin);
-}
 
 glm::vec3 unit_or_zero(const glm::vec3& v) {
     const float length = glm::length(v);
@@ -33,6 +30,130 @@ void append_projected_semi_axes(const glm::vec3& tangent, const glm::vec3& major
                                 std::vector<glm::vec3>& out) {
     out.push_back(major - glm::dot(major, tangent) * tangent);
     out.push_back(minor - glm::dot(minor, tangent) * tangent);
+}
+
+// A cluster's n_c maps field by field over the control points (MapField x n_c floats), and the rest
+// pose of its widest hairs the same way (WidestField x n_c): the layouts the lane kernel reads.
+enum MapField : size_t {
+    kRestOrigin = 0,   // 3
+    kOrigin = 3,       // 3
+    kLinear = 6,       // 9, column-major as glm: linear[col][row] at kLinear + 3 col + row
+    kQuadratic = 15,   // 18: quadratic[m][row] at kQuadratic + 3 m + row
+    kMapFields = 33
+};
+enum WidestField : size_t {
+    kBefore = 0, kCentre = 3, kAfter = 6,  // rest centres at k - 1, k, k + 1 (clamped)
+    kMajor = 9, kMinor = 12,                // rest semi-axis vectors at k
+    kAxes = 15,                             // 9: the width ellipsoid's axes at rest, axis a at kAxes + 3 a
+    kThinnestFraction = 24,                 // its thinnest diameter over the widest hair's diameter
+    kWidestFields = 25
+};
+// What the lane kernel writes per control point: the skinned centre, the square of the widest hair's
+// half-width (section_diameter / 2) and the ellipsoid's entries, field by field over at most
+// kLaneChunk lanes. A fixed stride tells the compiler that the fields' stores never overlap (with
+// n_c as the stride it would test each pair at run time, and gives up past 10 such tests).
+enum SelectionField : size_t { kOutCentre = 0, kOutSquaredRadius = 3, kOutEntries = 4, kSelectionFields = 10 };
+constexpr size_t kLaneChunk = 16;
+
+void put_map_lanes(const ClusterMap& map, size_t k, size_t nc, float* lanes) {
+    for (int r = 0; r < 3; ++r) {
+        lanes[(kRestOrigin + r) * nc + k] = map.rest_origin[r];
+        lanes[(kOrigin + r) * nc + k] = map.origin[r];
+        for (int col = 0; col < 3; ++col) lanes[(kLinear + 3 * col + r) * nc + k] = map.linear[col][r];
+        for (int m = 0; m < 6; ++m) lanes[(kQuadratic + 3 * m + r) * nc + k] = map.quadratic[m][r];
+    }
+}
+
+// Field `field` of lane p (a pointer to the lane's entry of field 0) in a field-by-field layout of
+// n_c lanes.
+[[gnu::always_inline]] inline float lane(const float* p, size_t nc, size_t field) { return p[field * nc]; }
+
+struct LaneVector {
+    float x, y, z;
+};
+
+// map_point of the map in lane `map` (MapField layout) at the rest point p.
+[[gnu::always_inline]] inline LaneVector lane_map_point(const float* map, size_t nc, float px, float py, float pz) {
+    const float dx = px - lane(map, nc, kRestOrigin), dy = py - lane(map, nc, kRestOrigin + 1),
+                dz = pz - lane(map, nc, kRestOrigin + 2);
+    const float xx = dx * dx, yy = dy * dy, zz = dz * dz, xy = dx * dy, yz = dy * dz, zx = dz * dx;
+    float out[3];
+    for (size_t r = 0; r < 3; ++r)
+        out[r] = lane(map, nc, kOrigin + r) + lane(map, nc, kLinear + r) * dx + lane(map, nc, kLinear + 3 + r) * dy +
+                 lane(map, nc, kLinear + 6 + r) * dz + lane(map, nc, kQuadratic + r) * xx +
+                 lane(map, nc, kQuadratic + 3 + r) * yy + lane(map, nc, kQuadratic + 6 + r) * zz +
+                 lane(map, nc, kQuadratic + 9 + r) * xy + lane(map, nc, kQuadratic + 12 + r) * yz +
+                 lane(map, nc, kQuadratic + 15 + r) * zx;
+    return {out[0], out[1], out[2]};
+}
+
+// Row `row` of the Jacobian (map_jacobian) of the map in lane `map` at offset d from its rest origin.
+[[gnu::always_inline]] inline LaneVector lane_jacobian_row(const float* map, size_t nc, size_t row, float dx, float dy, float dz) {
+    const float q0 = lane(map, nc, kQuadratic + row), q1 = lane(map, nc, kQuadratic + 3 + row);
+    const float q2 = lane(map, nc, kQuadratic + 6 + row), q3 = lane(map, nc, kQuadratic + 9 + row);
+    const float q4 = lane(map, nc, kQuadratic + 12 + row), q5 = lane(map, nc, kQuadratic + 15 + row);
+    return {lane(map, nc, kLinear + row) + (2.0f * dx * q0 + dy * q3 + dz * q5),
+            lane(map, nc, kLinear + 3 + row) + (2.0f * dy * q1 + dx * q3 + dz * q4),
+            lane(map, nc, kLinear + 6 + row) + (2.0f * dz * q2 + dy * q4 + dx * q5)};
+}
+
+[[gnu::always_inline]] inline float dot(const LaneVector& a, float x, float y, float z) { return a.x * x + a.y * y + a.z * z; }
+
+// The rest vector in field `field` of lane `rest` times the Jacobian with rows jx, jy, jz.
+[[gnu::always_inline]] inline LaneVector lane_apply(const LaneVector& jx, const LaneVector& jy, const LaneVector& jz,
+                                                    const float* rest, size_t nc, size_t field) {
+    const float x = lane(rest, nc, field), y = lane(rest, nc, field + 1), z = lane(rest, nc, field + 2);
+    return {dot(jx, x, y, z), dot(jy, x, y, z), dot(jz, x, y, z)};
+}
+
+// The selection geometry of one level's widest hairs of a cluster, lane k being control point
+// first + k for k < count <= kLaneChunk: `at`, `before`, `after` point at lane `first` of the
+// cluster's maps at each control point, its previous and its next (clamped), `rest` at that of the
+// widest hairs (WidestField layout), all n_c lanes apart; `out` receives SelectionField x kLaneChunk
+// floats. The same sums as
+// map_point, map_jacobian, section_diameter (but its square root), mapped and symmetric_entries,
+// one lane per control point. No lambdas and no branches: GCC vectorises the loop only so.
+HAIRLOD_VECTOR_CLONES void widest_hair_lanes(const float* __restrict at, const float* __restrict before,
+                                             const float* __restrict after, const float* __restrict rest, size_t nc,
+                                             size_t count, float* __restrict out) {
+    for (size_t k = 0; k < count; ++k) {
+        const float* r = rest + k;
+        const float* m = at + k;
+        const float cx = lane(r, nc, kCentre), cy = lane(r, nc, kCentre + 1), cz = lane(r, nc, kCentre + 2);
+        const LaneVector centre = lane_map_point(m, nc, cx, cy, cz);
+        const LaneVector p_before = lane_map_point(before + k, nc, lane(r, nc, kBefore), lane(r, nc, kBefore + 1), lane(r, nc, kBefore + 2));
+        const LaneVector p_after = lane_map_point(after + k, nc, lane(r, nc, kAfter), lane(r, nc, kAfter + 1), lane(r, nc, kAfter + 2));
+        // The tangent's direction v, unnormalised (a square root keeps the loop scalar where errno is
+        // kept): projections onto the plane normal to it divide by |v|^2, and by nothing when v = 0.
+        const float vx = p_after.x - p_before.x, vy = p_after.y - p_before.y, vz = p_after.z - p_before.z;
+        const float squared = vx * vx + vy * vy + vz * vz;
+        const bool moved = squared > 0.0f;
+        const float inverse = (moved ? 1.0f : 0.0f) / (moved ? squared : 1.0f);
+        // The Jacobian at the centre (map_jacobian), by rows.
+        const float dx = cx - lane(m, nc, kRestOrigin), dy = cy - lane(m, nc, kRestOrigin + 1), dz = cz - lane(m, nc, kRestOrigin + 2);
+        const LaneVector jx = lane_jacobian_row(m, nc, 0, dx, dy, dz), jy = lane_jacobian_row(m, nc, 1, dx, dy, dz),
+                         jz = lane_jacobian_row(m, nc, 2, dx, dy, dz);
+        // section_diameter of the skinned semi-axes, normal to the skinned tangent.
+        const LaneVector major = lane_apply(jx, jy, jz, r, nc, kMajor), minor = lane_apply(jx, jy, jz, r, nc, kMinor);
+        const float along_a = dot(major, vx, vy, vz) * inverse, along_b = dot(minor, vx, vy, vz) * inverse;
+        const float ax = major.x - along_a * vx, ay = major.y - along_a * vy, az = major.z - along_a * vz;
+        const float bx = minor.x - along_b * vx, by = minor.y - along_b * vy, bz = minor.z - along_b * vz;
+        const float squared_a = ax * ax + ay * ay + az * az, squared_b = bx * bx + by * by + bz * bz;
+        // The ellipsoid's axes mapped by the Jacobian, as the entries of E = sum a a^T.
+        const LaneVector u = lane_apply(jx, jy, jz, r, nc, kAxes), v = lane_apply(jx, jy, jz, r, nc, kAxes + 3),
+                         w = lane_apply(jx, jy, jz, r, nc, kAxes + 6);
+        float* o = out + k;
+        o[(kOutCentre + 0) * kLaneChunk] = centre.x;
+        o[(kOutCentre + 1) * kLaneChunk] = centre.y;
+        o[(kOutCentre + 2) * kLaneChunk] = centre.z;
+        o[kOutSquaredRadius * kLaneChunk] = squared_a > squared_b ? squared_a : squared_b;
+        o[(kOutEntries + 0) * kLaneChunk] = u.x * u.x + v.x * v.x + w.x * w.x;
+        o[(kOutEntries + 1) * kLaneChunk] = u.y * u.y + v.y * v.y + w.y * w.y;
+        o[(kOutEntries + 2) * kLaneChunk] = u.z * u.z + v.z * v.z + w.z * w.z;
+        o[(kOutEntries + 3) * kLaneChunk] = u.x * u.y + v.x * v.y + w.x * w.y;
+        o[(kOutEntries + 4) * kLaneChunk] = u.y * u.z + v.y * v.z + w.y * w.z;
+        o[(kOutEntries + 5) * kLaneChunk] = u.z * u.x + v.z * v.x + w.z * w.x;
+    }
 }
 
 }  // namespace
@@ -148,11 +269,15 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
     // The widest hair of each cluster and control point at rest, as LodAsset::skin measures it.
     for (size_t l = 0; l < asset.thick_levels.size(); ++l) {
         const ThickHairLevel& level = asset.thick_levels[l];
-        std::vector<WidestRest>& widest = widest_rest_.emplace_back(clusters * nc);
+        std::vector<float>& widest = widest_rest_.emplace_back(clusters * kWidestFields * nc);
         tbb::parallel_for(size_t{0}, clusters, [&](size_t c) {
+            float* lanes = widest.data() + c * kWidestFields * nc;
+            auto put = [&](size_t field, size_t k, const glm::vec3& v) {
+                for (int r = 0; r < 3; ++r) lanes[(field + static_cast<size_t>(r)) * nc + k] = v[r];
+            };
             std::vector<float> best(nc, -1.0f);
             std::vector<RestSection> sections(nc);
-            std::vector<glm::vec3> centres(nc), tangents(nc);
+            std::vector<glm::vec3> centres(nc), tangents(nc), majors(nc), minors(nc);
             std::vector<std::vector<glm::vec3>> semi_axes(nc);  // every hair's, per control point
             for (int32_t h = level.cluster_first[c]; h < level.cluster_first[c + 1]; ++h) {
                 for (size_t k = 0; k < nc; ++k) {
@@ -169,15 +294,21 @@ FrameSkinning::FrameSkinning(const LodAsset& asset) : asset_(&asset) {
                     if (diameter > best[k]) {
                         best[k] = diameter;
                         tangents[k] = tangent;
-                        widest[c * nc + k] = WidestRest{centres[before], centres[k], centres[after], major, minor, {}, 0.0f};
+                        majors[k] = major;
+                        minors[k] = minor;
+                        put(kBefore, k, centres[before]);
+                        put(kCentre, k, centres[k]);
+                        put(kAfter, k, centres[after]);
                     }
                 }
             }
             for (size_t k = 0; k < nc; ++k) {
-                WidestRest& rest = widest[c * nc + k];
-                rest.ellipsoid = width_ellipsoid(tangents[k], rest.major, rest.minor, semi_axes[k]);
-                const float diameter = section_diameter(tangents[k], rest.major, rest.minor);
-                rest.thinnest_fraction = diameter > 0.0f ? thinnest_diameter(rest.ellipsoid) / diameter : 0.0f;
+                put(kMajor, k, majors[k]);
+                put(kMinor, k, minors[k]);
+                const WidthEllipsoid ellipsoid = width_ellipsoid(tangents[k], majors[k], minors[k], semi_axes[k]);
+                for (size_t axis = 0; axis < 3; ++axis) put(kAxes + 3 * axis, k, ellipsoid.axes[axis]);
+                const float diameter = section_diameter(tangents[k], majors[k], minors[k]);
+                lanes[kThinnestFraction * nc + k] = diameter > 0.0f ? thinnest_diameter(ellipsoid) / diameter : 0.0f;
             }
         });
     }
@@ -208,10 +339,10 @@ void FrameSkinning::update(std::span<const glm::vec3> deformed_guides) {
     const auto nc = static_cast<size_t>(asset_->control_points);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, asset_->cluster_count()), [&](const tbb::blocked_range<size_t>& range) {
         std::vector<ClusterMap> maps(nc);  // scratch per range of clusters (thread_local costs a call per access here)
-        std::vector<glm::vec3> centres(nc);
+        std::vector<float> scratch;
         for (size_t c = range.begin(); c != range.end(); ++c) {
             maps_of_cluster(*asset_, rest_, deformed_guides, c, maps);
-            set_cluster_maps(c, maps, centres);
+            set_cluster_maps(c, maps, scratch);
         }
     });
 }
@@ -219,12 +350,12 @@ void FrameSkinning::update(std::span<const glm::vec3> deformed_guides) {
 void FrameSkinning::set_maps(std::span<const ClusterMap> maps) {
     const auto nc = static_cast<size_t>(asset_->control_points);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, asset_->cluster_count()), [&](const tbb::blocked_range<size_t>& range) {
-        std::vector<glm::vec3> centres(nc);
-        for (size_t c = range.begin(); c != range.end(); ++c) set_cluster_maps(c, maps.subspan(c * nc, nc), centres);
+        std::vector<float> scratch;
+        for (size_t c = range.begin(); c != range.end(); ++c) set_cluster_maps(c, maps.subspan(c * nc, nc), scratch);
     });
 }
 
-void FrameSkinning::set_cluster_maps(size_t c, std::span<const ClusterMap> maps, std::vector<glm::vec3>& centres) {
+void FrameSkinning::set_cluster_maps(size_t c, std::span<const ClusterMap> maps, std::vector<float>& scratch) {
     // maps: the cluster's n_c maps, maps[k] for control point k (global index c n_c + k).
     const auto nc = static_cast<size_t>(asset_->control_points);
     const size_t first = c * nc;
@@ -251,24 +382,32 @@ void FrameSkinning::set_cluster_maps(size_t c, std::span<const ClusterMap> maps,
         upper = glm::max(upper, image + reach);
     }
     geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
-    // The widest hair's centres skinned once per control point: where the widest hair at k - 1 or
-    // k + 1 is the same hair (its rest centre there is this hair's `before` / `after`), its skinned
-    // centre is reused for the tangent, the same value computed once.
+    // Each level's widest hairs, control points in vector lanes: the maps at k, k - 1 and k + 1
+    // (clamped, for the tangent's neighbouring centres) laid out field by field, then the kernel.
+    scratch.resize(3 * kMapFields * nc + kSelectionFields * kLaneChunk);
+    float* at = scratch.data();
+    float* before = at + kMapFields * nc;
+    float* after = before + kMapFields * nc;
+    float* selected = after + kMapFields * nc;
+    for (size_t k = 0; k < nc; ++k) {
+        put_map_lanes(maps[k], k, nc, at);
+        put_map_lanes(maps[k == 0 ? k : k - 1], k, nc, before);
+        put_map_lanes(maps[k + 1 == nc ? k : k + 1], k, nc, after);
+    }
     for (size_t l = 0; l < widest_rest_.size(); ++l) {
-        const WidestRest* widest = widest_rest_[l].data() + first;
-        for (size_t k = 0; k < nc; ++k) centres[k] = skin_point(maps[k], widest[k].centre);
-        for (size_t k = 0; k < nc; ++k) {
-            const size_t before = k == 0 ? k : k - 1, after = k + 1 == nc ? k : k + 1;
-            const WidestRest& rest = widest[k];
-            const glm::vec3 at_after = rest.after == widest[after].centre ? centres[after] : skin_point(maps[after], rest.after);
-            const glm::vec3 at_before = rest.before == widest[before].centre ? centres[before] : skin_point(maps[before], rest.before);
-            const glm::vec3 tangent = unit_or_zero(at_after - at_before);
-            const glm::mat3 jacobian = map_jacobian(maps[k], rest.centre - maps[k].rest_origin);
-            const glm::vec3 major = jacobian * rest.major, minor = jacobian * rest.minor;
-            const float diameter = section_diameter(tangent, major, minor);
-            geometry_.levels[l].widest[first + k] = glm::vec4(centres[k], diameter);
-            geometry_.levels[l].width_ellipsoid[first + k] = symmetric_entries(mapped(rest.ellipsoid, jacobian));
-            geometry_.levels[l].thinnest[first + k] = rest.thinnest_fraction * diameter;
+        const float* rest = widest_rest_[l].data() + c * kWidestFields * nc;
+        ThickHairGeometry& level = geometry_.levels[l];
+        for (size_t chunk = 0; chunk < nc; chunk += kLaneChunk) {
+            const size_t count = std::min(kLaneChunk, nc - chunk);
+            widest_hair_lanes(at + chunk, before + chunk, after + chunk, rest + chunk, nc, count, selected);
+            for (size_t j = 0; j < count; ++j) {
+                const size_t k = chunk + j;
+                auto out = [&](size_t field) { return selected[field * kLaneChunk + j]; };
+                const float diameter = 2.0f * std::sqrt(out(kOutSquaredRadius));
+                level.widest[first + k] = glm::vec4(out(kOutCentre), out(kOutCentre + 1), out(kOutCentre + 2), diameter);
+                for (size_t e = 0; e < 6; ++e) level.width_ellipsoid[first + k][e] = out(kOutEntries + e);
+                level.thinnest[first + k] = rest[kThinnestFraction * nc + k] * diameter;
+            }
         }
     }
 }

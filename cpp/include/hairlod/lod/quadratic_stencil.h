@@ -41,7 +41,8 @@ inline constexpr int kStencilGuides = 8;
 // The field's monomials of the scaled offset x = (p - centroid) / scale:
 // 1, x, y, z, x^2, y^2, z^2, xy, yz, zx.
 inline constexpr int kFieldMonomials = 10;
-using FieldWeights = std::array<double, kFieldMonomials>;
+// float, as the terms' weights: the prior's sum joins theirs in the same vector lanes.
+using FieldWeights = std::array<float, kFieldMonomials>;
 
 struct StencilTerm {
     int32_t point = 0;  // index into the guides' control points [guides * n_c]

@@ -104,18 +104,17 @@ public:
 
 private:
     void set_maps(std::span<const ClusterMap> maps);
-    // Cluster c's texels and selection geometry from its n_c maps; `centres` is scratch of n_c points.
-    void set_cluster_maps(size_t c, std::span<const ClusterMap> maps, std::vector<glm::vec3>& centres);
-    struct WidestRest {
-        glm::vec3 before, centre, after;  // rest centres at control points k - 1, k, k + 1 (clamped)
-        glm::vec3 major, minor;           // rest semi-axis vectors at k
-        WidthEllipsoid ellipsoid;         // at rest, holding every hair's semi-axes at k
-        float thinnest_fraction;          // its thinnest diameter over the widest hair's diameter
-    };
+    // Cluster c's texels and selection geometry from its n_c maps; `scratch` is reused between calls.
+    void set_cluster_maps(size_t c, std::span<const ClusterMap> maps, std::vector<float>& scratch);
     const LodAsset* asset_;
     SkinningRest rest_;
-    std::vector<std::vector<WidestRest>> widest_rest_;  // per thick level [clusters * n_c]
-    std::vector<float> widest_strand_radius_;          // per cluster
+    // Per thick level, L0 cluster and control point, the rest pose of the cluster's widest hair there
+    // (its centres at k - 1, k, k + 1, its semi-axis vectors, the ellipsoid holding every hair's
+    // semi-axes and that ellipsoid's thinnest diameter over the widest hair's), stored field by
+    // field over the control points (skinning.cpp, WidestField): a frame's work on a cluster then
+    // runs across its control points in vector lanes.
+    std::vector<std::vector<float>> widest_rest_;  // per level [clusters * kWidestFields * n_c]
+    std::vector<float> widest_strand_radius_;      // per cluster
     std::vector<MapTexels> texels_;
     LodGeometry geometry_;
 };
