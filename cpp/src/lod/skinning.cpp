@@ -110,9 +110,9 @@ struct LaneVector {
 // first + k for k < count <= kLaneChunk: `at`, `before`, `after` point at lane `first` of the
 // cluster's maps at each control point, its previous and its next (clamped), `rest` at that of the
 // widest hairs (WidestField layout), all n_c lanes apart; `out` receives SelectionField x kLaneChunk
-// floats. The same sums as
-// map_point, map_jacobian, section_diameter (but its square root), mapped and symmetric_entries,
-// one lane per control point. No lambdas and no branches: GCC vectorises the loop only so.
+// floats. The same sums as map_point, map_jacobian, section_diameter (but its square root), mapped
+// and symmetric_entries, one lane per control point. No lambdas and no branches: GCC vectorises the
+// loop only so (a lambda's captures, a branch or a call each kept it scalar).
 HAIRLOD_VECTOR_CLONES void widest_hair_lanes(const float* __restrict at, const float* __restrict before,
                                              const float* __restrict after, const float* __restrict rest, size_t nc,
                                              size_t count, float* __restrict out) {
