@@ -55,12 +55,19 @@ enum WidestField : size_t {
 enum SelectionField : size_t { kOutCentre = 0, kOutSquaredRadius = 3, kOutEntries = 4, kSelectionFields = 10 };
 constexpr size_t kLaneChunk = 16;
 
-void put_map_lanes(const ClusterMap& map, size_t k, size_t nc, float* lanes) {
-    for (int r = 0; r < 3; ++r) {
-        lanes[(kRestOrigin + r) * nc + k] = map.rest_origin[r];
-        lanes[(kOrigin + r) * nc + k] = map.origin[r];
-        for (int col = 0; col < 3; ++col) lanes[(kLinear + 3 * col + r) * nc + k] = map.linear[col][r];
-        for (int m = 0; m < 6; ++m) lanes[(kQuadratic + 3 * m + r) * nc + k] = map.quadratic[m][r];
+// A cluster's n_c maps in MapField layout over n_c + 2 lanes: lane k + 1 holds the map at control
+// point k, and lanes 0 and n_c + 1 repeat the first and last maps, so that lanes k, k + 1, k + 2 are
+// the maps before, at and after k, clamped at the ends as the tangent's neighbouring centres are.
+void put_padded_maps(std::span<const ClusterMap> maps, float* lanes) {
+    const size_t stride = maps.size() + 2;
+    for (size_t lane_index = 0; lane_index < stride; ++lane_index) {
+        const ClusterMap& map = maps[std::clamp(lane_index, size_t{1}, maps.size()) - 1];
+        for (int r = 0; r < 3; ++r) {
+            lanes[(kRestOrigin + r) * stride + lane_index] = map.rest_origin[r];
+            lanes[(kOrigin + r) * stride + lane_index] = map.origin[r];
+            for (int col = 0; col < 3; ++col) lanes[(kLinear + 3 * col + r) * stride + lane_index] = map.linear[col][r];
+            for (int m = 0; m < 6; ++m) lanes[(kQuadratic + 3 * m + r) * stride + lane_index] = map.quadratic[m][r];
+        }
     }
 }
 
@@ -107,22 +114,21 @@ struct LaneVector {
 }
 
 // The selection geometry of one level's widest hairs of a cluster, lane k being control point
-// first + k for k < count <= kLaneChunk: `at`, `before`, `after` point at lane `first` of the
-// cluster's maps at each control point, its previous and its next (clamped), `rest` at that of the
-// widest hairs (WidestField layout), all n_c lanes apart; `out` receives SelectionField x kLaneChunk
-// floats. The same sums as map_point, map_jacobian, section_diameter (but its square root), mapped
+// first + k for k < count <= kLaneChunk: `maps` points at the map of control point first - 1 in a
+// MapField layout of map_stride lanes whose lanes k - 1, k, k + 1 hold the maps at the control
+// points before, at and after k (put_padded_maps); `rest` at lane `first` of the widest hairs
+// (WidestField layout, n_c lanes); `out` receives SelectionField x kLaneChunk floats. The same sums as map_point, map_jacobian, section_diameter (but its square root), mapped
 // and symmetric_entries, one lane per control point. No lambdas and no branches: GCC vectorises the
 // loop only so (a lambda's captures, a branch or a call each kept it scalar).
-HAIRLOD_VECTOR_CLONES void widest_hair_lanes(const float* __restrict at, const float* __restrict before,
-                                             const float* __restrict after, const float* __restrict rest, size_t nc,
-                                             size_t count, float* __restrict out) {
+HAIRLOD_VECTOR_CLONES void widest_hair_lanes(const float* __restrict maps, size_t map_stride, const float* __restrict rest,
+                                             size_t nc, size_t count, float* __restrict out) {
     for (size_t k = 0; k < count; ++k) {
         const float* r = rest + k;
-        const float* m = at + k;
+        const float* m = maps + k + 1;
         const float cx = lane(r, nc, kCentre), cy = lane(r, nc, kCentre + 1), cz = lane(r, nc, kCentre + 2);
-        const LaneVector centre = lane_map_point(m, nc, cx, cy, cz);
-        const LaneVector p_before = lane_map_point(before + k, nc, lane(r, nc, kBefore), lane(r, nc, kBefore + 1), lane(r, nc, kBefore + 2));
-        const LaneVector p_after = lane_map_point(after + k, nc, lane(r, nc, kAfter), lane(r, nc, kAfter + 1), lane(r, nc, kAfter + 2));
+        const LaneVector centre = lane_map_point(m, map_stride, cx, cy, cz);
+        const LaneVector p_before = lane_map_point(m - 1, map_stride, lane(r, nc, kBefore), lane(r, nc, kBefore + 1), lane(r, nc, kBefore + 2));
+        const LaneVector p_after = lane_map_point(m + 1, map_stride, lane(r, nc, kAfter), lane(r, nc, kAfter + 1), lane(r, nc, kAfter + 2));
         // The tangent's direction v, unnormalised (a square root keeps the loop scalar where errno is
         // kept): projections onto the plane normal to it divide by |v|^2, and by nothing when v = 0.
         const float vx = p_after.x - p_before.x, vy = p_after.y - p_before.y, vz = p_after.z - p_before.z;
@@ -130,9 +136,10 @@ HAIRLOD_VECTOR_CLONES void widest_hair_lanes(const float* __restrict at, const f
         const bool moved = squared > 0.0f;
         const float inverse = (moved ? 1.0f : 0.0f) / (moved ? squared : 1.0f);
         // The Jacobian at the centre (map_jacobian), by rows.
-        const float dx = cx - lane(m, nc, kRestOrigin), dy = cy - lane(m, nc, kRestOrigin + 1), dz = cz - lane(m, nc, kRestOrigin + 2);
-        const LaneVector jx = lane_jacobian_row(m, nc, 0, dx, dy, dz), jy = lane_jacobian_row(m, nc, 1, dx, dy, dz),
-                         jz = lane_jacobian_row(m, nc, 2, dx, dy, dz);
+        const float dx = cx - lane(m, map_stride, kRestOrigin), dy = cy - lane(m, map_stride, kRestOrigin + 1),
+                    dz = cz - lane(m, map_stride, kRestOrigin + 2);
+        const LaneVector jx = lane_jacobian_row(m, map_stride, 0, dx, dy, dz), jy = lane_jacobian_row(m, map_stride, 1, dx, dy, dz),
+                         jz = lane_jacobian_row(m, map_stride, 2, dx, dy, dz);
         // section_diameter of the skinned semi-axes, normal to the skinned tangent.
         const LaneVector major = lane_apply(jx, jy, jz, r, nc, kMajor), minor = lane_apply(jx, jy, jz, r, nc, kMinor);
         const float along_a = dot(major, vx, vy, vz) * inverse, along_b = dot(minor, vx, vy, vz) * inverse;
@@ -382,24 +389,19 @@ void FrameSkinning::set_cluster_maps(size_t c, std::span<const ClusterMap> maps,
         upper = glm::max(upper, image + reach);
     }
     geometry_.cluster_bounds[c] = glm::vec4(0.5f * (lower + upper), 0.5f * glm::distance(lower, upper) + widest_strand_radius_[c]);
-    // Each level's widest hairs, control points in vector lanes: the maps at k, k - 1 and k + 1
-    // (clamped, for the tangent's neighbouring centres) laid out field by field, then the kernel.
-    scratch.resize(3 * kMapFields * nc + kSelectionFields * kLaneChunk);
-    float* at = scratch.data();
-    float* before = at + kMapFields * nc;
-    float* after = before + kMapFields * nc;
-    float* selected = after + kMapFields * nc;
-    for (size_t k = 0; k < nc; ++k) {
-        put_map_lanes(maps[k], k, nc, at);
-        put_map_lanes(maps[k == 0 ? k : k - 1], k, nc, before);
-        put_map_lanes(maps[k + 1 == nc ? k : k + 1], k, nc, after);
-    }
+    // Each level's widest hairs, control points in vector lanes: the maps laid out field by field
+    // (with the clamped neighbours at either end), then the kernel.
+    const size_t map_stride = nc + 2;
+    scratch.resize(kMapFields * map_stride + kSelectionFields * kLaneChunk);
+    float* padded = scratch.data();
+    float* selected = padded + kMapFields * map_stride;
+    put_padded_maps(maps, padded);
     for (size_t l = 0; l < widest_rest_.size(); ++l) {
         const float* rest = widest_rest_[l].data() + c * kWidestFields * nc;
         ThickHairGeometry& level = geometry_.levels[l];
         for (size_t chunk = 0; chunk < nc; chunk += kLaneChunk) {
             const size_t count = std::min(kLaneChunk, nc - chunk);
-            widest_hair_lanes(at + chunk, before + chunk, after + chunk, rest + chunk, nc, count, selected);
+            widest_hair_lanes(padded + chunk, map_stride, rest + chunk, nc, count, selected);
             for (size_t j = 0; j < count; ++j) {
                 const size_t k = chunk + j;
                 auto out = [&](size_t field) { return selected[field * kLaneChunk + j]; };
