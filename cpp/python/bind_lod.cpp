@@ -437,6 +437,9 @@ void bind_lod(py::module_& m) {
         .def("set_geometry", [](ViewSelection& v, const FrameSkinning& s) { v.set_geometry(s.selection_geometry()); },
              py::arg("skinning"), "Selects on the skinned guides of `skinning` from now on (the next update runs Huang 2025 Eq. 16).")
         .def_property_readonly("level_count", &ViewSelection::level_count)
+        .def_property_readonly("level_versions", [](const ViewSelection& v) { return py::tuple(py::cast(v.level_versions())); },
+                               "Per level, a count that rises whenever the segments selected at it change (an index list "
+                               "from indices() built at one count stays right until it moves).")
         .def_property_readonly("selection", [](const ViewSelection& v) { return v.selection(); })
         .def("geometry", [](const ViewSelection& v, const LodAsset& a) { return geometry_dict(a, v.geometry()); },
              py::arg("asset"), "The geometry it selects on, as LodAsset.skin returns it.")
@@ -459,9 +462,10 @@ void bind_lod(py::module_& m) {
             std::vector<int8_t> whole;
             v.frame_levels(levels, present, whole);
             const auto clusters = as_size(v.selection().visible.size());
+            py::array_t<bool> present_array({clusters, static_cast<py::ssize_t>(v.level_count())});
+            std::copy(present.begin(), present.end(), present_array.mutable_data());  // 0 / 1 to bool
             return py::make_tuple(to_numpy<float>(levels, {clusters, static_cast<py::ssize_t>(v.selection().segments)}),
-                                  to_numpy<uint8_t>(present, {clusters, static_cast<py::ssize_t>(v.level_count())}).attr("astype")("bool"),
-                                  to_numpy<int8_t>(whole, {clusters}));
+                                  present_array, to_numpy<int8_t>(whole, {clusters}));
         }, "(levels float32 [clusters, segments], -1 where culled; present bool [clusters, level_count]; whole int8 "
            "[clusters], the level all of a visible cluster's segments are at, -1 where they differ or it is culled): "
            "the selection as a texture, which levels each visible cluster uses, and where no fragment needs the "

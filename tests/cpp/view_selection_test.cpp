@@ -64,6 +64,47 @@ TEST_F(ViewSelectionTest, StaticCameraConvergesToTheInitialSelection) {
     EXPECT_TRUE(view.update(near, 2.0f));
 }
 
+TEST_F(ViewSelectionTest, LevelVersionsMoveExactlyWhenTheirSegmentsChange) {
+    // Per level, the set of visible (cluster, segment) pairs at it: what an index list of the level draws.
+    const auto at_level = [](const Selection& selection, int level) {
+        std::vector<size_t> segments;
+        for (size_t at = 0; at < selection.level.size(); ++at)
+            if (selection.visible[at / static_cast<size_t>(selection.segments)] && selection.level[at] == level) segments.push_back(at);
+        return segments;
+    };
+    ViewSelection view(*asset_, asset_->rest_geometry());
+    const int levels = view.level_count();
+    ASSERT_EQ(view.level_versions().size(), static_cast<size_t>(levels));
+    view.update(camera_at(40.0f), 2.0f);
+    std::vector<uint64_t> versions = view.level_versions();
+    Selection before = view.selection();
+    int moved = 0, kept = 0;
+    // A dolly in, a turn that culls clusters, and a static frame.
+    std::vector<Camera> cameras;
+    for (float distance = 30.0f; distance > 1.0f; distance *= 0.8f) cameras.push_back(camera_at(distance));
+    cameras.push_back(camera_at(1.2f, {0.0f, 1.0f, 0.1f}));
+    cameras.push_back(cameras.back());
+    for (const Camera& camera : cameras) {
+        view.update(camera, 2.0f);
+        for (int level = 0; level < levels; ++level) {
+            const bool changed = at_level(before, level) != at_level(view.selection(), level);
+            const auto l = static_cast<size_t>(level);
+            EXPECT_EQ(view.level_versions()[l] != versions[l], changed) << "level " << level;
+            EXPECT_GE(view.level_versions()[l], versions[l]);
+            (changed ? moved : kept) += 1;
+        }
+        versions = view.level_versions();
+        before = view.selection();
+    }
+    EXPECT_GT(moved, 5);
+    EXPECT_GT(kept, 5);
+    // A reset selects from scratch: every list is built again.
+    view.reset();
+    view.update(cameras.back(), 2.0f);
+    for (int level = 0; level < levels; ++level)
+        EXPECT_GT(view.level_versions()[static_cast<size_t>(level)], versions[static_cast<size_t>(level)]);
+}
+
 TEST_F(ViewSelectionTest, IndicesCoverEveryVisibleSegmentOnce) {
     for (const float distance : {2.0f, 6.0f, 30.0f}) {
         ViewSelection view(*asset_, asset_->rest_geometry());

@@ -29,7 +29,8 @@ void append_draw_indices(const Selection& selection, int level, int control_poin
     }
 }
 
-ViewSelection::ViewSelection(const LodAsset& asset, LodGeometry geometry) : asset_(&asset) {
+ViewSelection::ViewSelection(const LodAsset& asset, LodGeometry geometry)
+    : asset_(&asset), level_versions_(static_cast<size_t>(level_count()), 0) {
     set_geometry(std::move(geometry));
 }
 
@@ -45,6 +46,7 @@ bool ViewSelection::update(const Camera& camera, float width_px) {
     if (!started_) {
         selection_ = select_initial(*asset_, geometry_, camera, width_px);
         started_ = true;
+        for (uint64_t& version : level_versions_) ++version;
         return true;
     }
     const std::vector<uint8_t> level = selection_.level, visible = selection_.visible;
@@ -52,7 +54,26 @@ bool ViewSelection::update(const Camera& camera, float width_px) {
     // would, and a view that jumped shows its levels on its first frame instead of coarse ones
     // refining over several.
     select_deferred_in_place(*asset_, geometry_, camera, width_px, selection_, DeferredSteps::until_stable);
-    return level != selection_.level || visible != selection_.visible;
+    const bool changed = level != selection_.level || visible != selection_.visible;
+    if (changed) count_changes(level, visible);
+    return changed;
+}
+
+void ViewSelection::count_changes(const std::vector<uint8_t>& level, const std::vector<uint8_t>& visible) {
+    const auto segments = static_cast<size_t>(selection_.segments);
+    std::vector<uint8_t> moved(level_versions_.size(), 0);
+    for (size_t c = 0; c < visible.size(); ++c) {
+        const bool was = visible[c] != 0, is = selection_.visible[c] != 0;
+        if (!was && !is) continue;
+        for (size_t at = c * segments; at < (c + 1) * segments; ++at) {
+            const uint8_t before = level[at], now = selection_.level[at];
+            if (was == is && before == now) continue;
+            // Levels stay below level_count(); the bound only guards the write.
+            if (was && before < moved.size()) moved[before] = 1;
+            if (is && now < moved.size()) moved[now] = 1;
+        }
+    }
+    for (size_t l = 0; l < moved.size(); ++l) level_versions_[l] += moved[l];
 }
 
 std::vector<uint32_t> ViewSelection::indices(int level, DrawPrimitive primitive) const {

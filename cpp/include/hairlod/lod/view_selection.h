@@ -39,6 +39,10 @@ public:
     void set_geometry(LodGeometry geometry);
 
     const Selection& selection() const { return selection_; }
+    // Per level, a count that rises whenever the segments selected at that level change (which
+    // visible clusters have which of their segments at it): an index list built from indices() at
+    // one count stays right until the count moves, without comparing the selections.
+    const std::vector<uint64_t>& level_versions() const { return level_versions_; }
     const LodGeometry& geometry() const { return geometry_; }
     int level_count() const { return static_cast<int>(asset_->thick_levels.size()) + 1; }  // the strands last
 
@@ -65,9 +69,14 @@ private:
     template <typename Chord>
     void visit_strided_chords(std::span<const int32_t> cluster_strides, Chord&& chord) const;
 
+    // Raises the versions of the levels whose selected segments differ between `level`, `visible`
+    // (the selection before an update) and selection_.
+    void count_changes(const std::vector<uint8_t>& level, const std::vector<uint8_t>& visible);
+
     const LodAsset* asset_;
     LodGeometry geometry_;
     Selection selection_;
+    std::vector<uint64_t> level_versions_;
     bool started_ = false;
 };
 
