@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -161,6 +162,41 @@ TEST_F(SelectionTest, Eq16ConvergesToTheInitialSelectionForAStaticCamera) {
                 ASSERT_EQ(from_coarsest.level[i], initial.level[i]) << distance;
             }
     }
+}
+
+TEST_F(SelectionTest, InitialSelectionIsTheCoarsestLevelWhosePointsFitPointByPoint) {
+    // The selection measures a cluster's points in vector lanes; here each point is measured on its
+    // own with ScreenWidthBound, by the rule the lanes restate: the widest hair fits, or the
+    // ellipsoid does where the thinnest diameter can. Cameras from inside the hair to far away.
+    const auto nc = static_cast<size_t>(asset_->control_points);
+    const int finest = static_cast<int>(asset_->thick_levels.size());
+    int cameras = 0, mixed = 0;
+    for (const glm::vec3 target : {glm::vec3(0, 0, -0.3f), glm::vec3(0.2f, 0.1f, -0.6f)})
+        for (float distance = 0.05f; distance < 400.0f; distance *= 1.3f, ++cameras) {
+            const Camera camera = camera_at(distance, target);
+            const ScreenWidthBound bound(camera);
+            const auto point_fits = [&](int level, size_t at) {
+                const ThickHairGeometry& g = rest_->levels[static_cast<size_t>(level)];
+                const glm::vec3 centre(g.widest[at]);
+                const float fitting = bound.widest_fitting(centre, 2.0f);
+                return g.widest[at].w <= fitting ||
+                       (!(g.thinnest[at] > fitting) && bound.ellipsoid_fits(centre, g.width_ellipsoid[at], 2.0f));
+            };
+            const Selection selection = select_initial(*asset_, *rest_, camera, 2.0f);
+            std::set<int> levels;
+            for (size_t c = 0; c < asset_->cluster_count(); ++c) {
+                if (!selection.visible[c]) continue;
+                for (size_t s = 0; s + 1 < nc; ++s) {
+                    int expected = 0;
+                    while (expected < finest && !(point_fits(expected, c * nc + s) && point_fits(expected, c * nc + s + 1))) ++expected;
+                    ASSERT_EQ(selection.level[c * (nc - 1) + s], expected) << "distance " << distance << " cluster " << c;
+                    levels.insert(expected);
+                }
+            }
+            mixed += levels.size() > 1;
+        }
+    EXPECT_GT(cameras, 40);
+    EXPECT_GT(mixed, 10);  // views where the levels differ between segments
 }
 
 TEST_F(SelectionTest, DrawsCoverEveryVisibleSegmentOnce) {

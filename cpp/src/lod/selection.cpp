@@ -1,8 +1,10 @@
 #include "hairlod/lod/selection.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -12,12 +14,53 @@
 #include <tbb/parallel_for.h>
 
 #include "hairlod/core/error.h"
+#include "hairlod/core/vector_clones.h"
 
 namespace hairlod {
 
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Float `i` of the 6 at `entries` (a width ellipsoid's SymmetricEntries), through a 64-bit load of
+// its pair: GCC vectorises loads in groups of 3 such pairs, and none in groups of 6 floats.
+inline float entry(const float* entries, int i) {
+    uint64_t pair;
+    std::memcpy(&pair, entries + (i & ~1), sizeof pair);
+    return std::bit_cast<float>(static_cast<uint32_t>(i & 1 ? pair >> 32 : pair));
+}
+
+// out[k] = 1 where control point k of `count` is at most width_px wide on screen (Context::measure
+// says how), from its widest hair (`widest`, 4 floats each: centre and corner diameter), its thinnest
+// diameter, its width ellipsoid (`ellipsoids`, 6 floats each) and the camera's terms
+// (ScreenWidthBound::Terms). The arithmetic of ScreenWidthBound::widest_fitting and ellipsoid_fits,
+// one lane per point, with no branches or calls (either kept GCC from vectorising the loop).
+HAIRLOD_VECTOR_CLONES void fits_lanes(const float* __restrict widest, const float* __restrict thinnest,
+                                      const float* __restrict ellipsoids, size_t count, const ScreenWidthBound::Terms& terms,
+                                      float width_px, uint8_t* __restrict out) {
+    const glm::vec4 depth = terms.depth_row;
+    const float pixels_per_unit = terms.pixels_per_unit;
+    for (size_t k = 0; k < count; ++k) {
+        const float* point = widest + 4 * k;
+        const float* e = ellipsoids + 6 * k;
+        const float w = depth.x * point[0] + depth.y * point[1] + depth.z * point[2] + depth.w;
+        const bool ahead = w > 0.0f;
+        const float fitting = ahead ? width_px * w / pixels_per_unit : -1.0f;
+        // B E B^T = [[x, z], [z, y]], summed in projected_form's order.
+        float x = 0.0f, y = 0.0f, z = 0.0f;
+        for (int i = 0; i < 6; ++i) {
+            const float entry_i = entry(e, i);
+            x += terms.form_rows[static_cast<size_t>(i)].x * entry_i;
+            y += terms.form_rows[static_cast<size_t>(i)].y * entry_i;
+            z += terms.form_rows[static_cast<size_t>(i)].z * entry_i;
+        }
+        const float half = 0.5f * width_px * w;
+        const float t = half * half;
+        const bool ellipsoid = ahead & (x <= t) & (y <= t) & ((t - x) * (t - y) >= z * z);
+        // The widest hair fits, or the ellipsoid does where its thinnest diameter can.
+        out[k] = static_cast<uint8_t>((point[3] <= fitting) | (!(thinnest[k] > fitting) & ellipsoid));
+    }
+}
 
 struct Frustum {
     glm::vec4 planes[6];  // inside: dot(plane.xyz, p) + plane.w >= 0, xyz unit
@@ -53,55 +96,54 @@ struct Context {
     float width_px;
     int segments;
     int finest;  // the strands' level
+    ScreenWidthBound::Terms terms = bound.terms();
 
-    // Whether control point `at` (cluster c n_c + k) of a thick level is at most width_px wide on
-    // screen. Its width is the smaller of two bounds of its hairs' Sec. 5.2 widths: the widest
-    // hair's diameter at the camera's largest stretch, and the view-dependent ellipsoid of
-    // width_ellipsoid.h. The first takes a few flops and settles most points well below eps_w; the
-    // ellipsoid's thinnest diameter at that stretch settles most of those well above it (near views,
-    // where the finest thick hairs are many pixels wide); the 2 x 2 eigenvalue decides the rest.
-    bool point_fits(int level, size_t at) const {
+    // out[k] = 1 where control point first + k (cluster c: c n_c + k) of a thick level is at most
+    // width_px wide on screen, for `count` points at once. A point's width is the smaller of two
+    // bounds of its hairs' Sec. 5.2 widths: the widest hair's diameter at the camera's largest
+    // stretch, and the view-dependent ellipsoid of width_ellipsoid.h (fits_lanes).
+    void measure(int level, size_t first, size_t count, uint8_t* out) const {
         const ThickHairGeometry& g = geometry.levels[static_cast<size_t>(level)];
-        const glm::vec3 centre(g.widest[at]);
-        const float widest_fitting = bound.widest_fitting(centre, width_px);
-        if (g.widest[at].w <= widest_fitting) return true;
-        if (g.thinnest[at] > widest_fitting) return false;
-        return bound.ellipsoid_fits(centre, g.width_ellipsoid[at], width_px);
+        fits_lanes(&g.widest[first].x, &g.thinnest[first], g.width_ellipsoid[first].data(), count, terms, width_px, out);
     }
 };
 
 // Whether the segments of one cluster fit at each level: the strands always do; a thick level's
-// segment where both its control points do. Segments are visited in order, so the last point
-// measured at each level is the next segment's first: it is kept, and each point is measured about
-// once per level read (a cache of every point and level cost more than it saved).
+// segment where both its control points do. The first segment read at a level measures all the
+// cluster's points there at once, in vector lanes (Context::measure); a cluster reads about two levels.
 class ClusterFits {
 public:
-    explicit ClusterFits(const Context& context) : context_(context), points_(static_cast<size_t>(context.segments + 1)) {}
+    explicit ClusterFits(const Context& context)
+        : context_(context), points_(static_cast<size_t>(context.segments + 1)),
+          fits_(static_cast<size_t>(context.finest) * points_) {}
 
     void start(size_t cluster) {
         cluster_ = cluster;
-        last_point_.fill(kNone);
+        measured_.fill(false);
     }
 
-    bool fits(int level, size_t s) { return level >= context_.finest || (point(level, s) && point(level, s + 1)); }
+    bool fits(int level, size_t s) {
+        if (level >= context_.finest) return true;
+        const uint8_t* points = level_fits(level);
+        return points[s] && points[s + 1];
+    }
 
 private:
-    static constexpr size_t kNone = std::numeric_limits<size_t>::max();
-
-    bool point(int level, size_t k) {
+    uint8_t* level_fits(int level) {
         const auto l = static_cast<size_t>(level);
-        if (last_point_[l] != k) {
-            last_point_[l] = k;
-            last_fits_[l] = context_.point_fits(level, cluster_ * points_ + k);
+        uint8_t* points = fits_.data() + l * points_;
+        if (!measured_[l]) {
+            measured_[l] = true;
+            context_.measure(level, cluster_ * points_, points_, points);
         }
-        return last_fits_[l];
+        return points;
     }
 
     const Context& context_;
     size_t points_;
     size_t cluster_ = 0;
-    std::array<size_t, kMaxLevels> last_point_{};  // per thick level: the point measured last, or kNone
-    std::array<bool, kMaxLevels> last_fits_{};
+    std::vector<uint8_t> fits_;               // [thick levels * n_c]: the current cluster's points
+    std::array<bool, kMaxLevels> measured_{};  // per thick level: whether fits_ holds the cluster's
 };
 
 Context make_context(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px) {

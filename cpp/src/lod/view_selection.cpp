@@ -1,6 +1,7 @@
 #include "hairlod/lod/view_selection.h"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include "hairlod/core/error.h"
@@ -64,7 +65,9 @@ void ViewSelection::count_changes(const std::vector<uint8_t>& level, const std::
     std::vector<uint8_t> moved(level_versions_.size(), 0);
     for (size_t c = 0; c < visible.size(); ++c) {
         const bool was = visible[c] != 0, is = selection_.visible[c] != 0;
-        if (!was && !is) continue;
+        // Most clusters keep their levels from one frame to the next: one comparison each.
+        if ((!was && !is) || (was == is && std::memcmp(&level[c * segments], &selection_.level[c * segments], segments) == 0))
+            continue;
         for (size_t at = c * segments; at < (c + 1) * segments; ++at) {
             const uint8_t before = level[at], now = selection_.level[at];
             if (was == is && before == now) continue;

@@ -82,6 +82,14 @@ public:
         return w > 0.0f ? diameter * pixels_per_unit_ / w : std::numeric_limits<float>::infinity();
     }
 
+    // The per-camera terms the bounds are made of, for code that measures many points at once.
+    struct Terms {
+        glm::vec4 depth_row;    // row 3 of projection * view: clip w
+        float pixels_per_unit;  // the largest stretch of the viewport-scaled xy rows
+        std::array<glm::vec3, 6> form_rows;  // row i: what entry i of E adds to B E B^T's (x, y, z)
+    };
+    Terms terms() const { return {depth_row_, pixels_per_unit_, form_rows_}; }
+
     // The view-dependent bound (width_ellipsoid.h): 2 sqrt(lambda_max(B E B^T)) / w for the
     // ellipsoid with entries `e`, B the viewport-scaled xy rows of projection * view and w the
     // centre's clip w; the largest projected corner distance of any hair whose semi-axes it holds.
