@@ -1,11 +1,16 @@
 // LoD build stages for 100k strands x 32 points, 256 guides, 6 levels (issue 5: at most 5 s in
-// total), and the per-frame selection (at most 0.2 ms for about 256 clusters).
+// total), the per-frame selection (at most 0.2 ms for about 256 clusters), and a viewport's update over
+// a dolly with warm and with evicted caches.
 #include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "hairlod/lod/lod_asset.h"
 #include "hairlod/lod/selection.h"
+#include "hairlod/lod/view_selection.h"
 #include "synthetic_strands.h"
 
 namespace hairlod {
@@ -76,6 +81,36 @@ void BM_SelectInitial(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(select_initial(asset, geometry, camera, 2.0f));
 }
 BENCHMARK(BM_SelectInitial)->Args({20'000, 64, 30})->Args({20'000, 64, 6})->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+// A viewport's per-frame update (ViewSelection::update: Eq. 16 until stable and the draw list) over a
+// dolly from 1.2 to 30 units, every frame changing the selection. Arguments: strands, guides, and
+// whether the caches are evicted between frames (1), as a viewport's drawing of the hair does in
+// Blender: there the update reads its geometry from memory, not from the cache.
+void BM_ViewSelectionDolly(benchmark::State& state) {
+    const StrandSet strands = bench::synthetic_strands(static_cast<size_t>(state.range(0)), 32);
+    const LodAsset asset = build_lod(strands, {.guides = static_cast<int>(state.range(1)), .levels = 6});
+    const bool cold = state.range(2) != 0;
+    constexpr int kFrames = 24;
+    std::vector<Camera> cameras;
+    for (int frame = 0; frame < kFrames; ++frame)
+        cameras.push_back(camera_at(1.2f * std::pow(25.0f, static_cast<float>(frame) / (kFrames - 1))));
+    ViewSelection view(asset, asset.rest_geometry());
+    std::vector<uint8_t> evict(cold ? size_t{64} << 20 : 0, 1);
+    size_t frame = 0;
+    for (auto _ : state) {
+        if (cold) {
+            state.PauseTiming();
+            for (size_t i = 0; i < evict.size(); i += 64) evict[i] = static_cast<uint8_t>(evict[i] + 1);
+            benchmark::DoNotOptimize(evict.data());
+            state.ResumeTiming();
+        }
+        if (frame % kFrames == 0) view.reset();  // each dolly starts from a new view
+        benchmark::DoNotOptimize(view.update(cameras[frame % kFrames], 2.0f));
+        ++frame;
+    }
+    state.counters["l0_clusters"] = static_cast<double>(asset.cluster_count());
+}
+BENCHMARK(BM_ViewSelectionDolly)->Args({100'000, 256, 0})->Args({100'000, 256, 1})->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace
 }  // namespace hairlod
