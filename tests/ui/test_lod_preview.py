@@ -130,7 +130,7 @@ def steps():
     # bound is lowered for the image: the choice is then the waste rule's.
     preview_buffers.THICK_WASTE_RATIO = default_waste_ratio
     default_exact, lod_preview.EXACT_SEGMENTS = lod_preview.EXACT_SEGMENTS, 64
-    state.texture = None  # the next draw uploads the selection again and chooses how to draw each level
+    state.upload_again()  # the next draw uploads the selection and chooses how to draw each level
     area.tag_redraw()
     yield REDRAW_DELAY
     chosen_image = screenshot(window, area, "lod_preview_mixed_chosen.png")
@@ -140,7 +140,7 @@ def steps():
           f"mixed view: a thick level with more than {lod_preview.EXACT_SEGMENTS} selected segments is drawn from "
           f"an exact list, its blocks being wasteful ({selected} selected)")
     lod_preview.EXACT_SEGMENTS = default_exact
-    state.texture = None
+    state.upload_again()
     settings.enabled = False
     settings.property_unset("vertex_tolerance_px")
     area.tag_redraw()

@@ -323,12 +323,19 @@ class ViewState:
         self.one_level = [None] * level_count  # per dense level: bool per block, every segment at the level
         self.exact = [None] * level_count    # per sparse level: GPUBatch of its selected segments, or None
         self.exact_keys = [None] * level_count  # the selected segments each exact batch was built for
+        self.level_versions = None  # ViewSelection.level_versions the texture and the levels' flags are of
         self.block_strides = None  # per block of the strand level: index into STRAND_STRIDES (vertex LoD)
         self.strides_key = None    # the view and pose block_strides were chosen for
         self.block_order = {}      # level drawn from blocks -> its blocks nearest first (blocks_near_to_far)
         self.order_key = None      # the view and pose block_order was made for
         self.segments = None       # segments drawn per level (LodPreview.segments_drawn), counted when read
         self.hair_layer = None     # hair_layer.HairLayer the hair is drawn into, made at the first draw
+
+    def upload_again(self):
+        """The next draw uploads the selection and chooses how to draw each level from scratch, as if
+        every level's selected segments had moved."""
+        self.texture = self.level_versions = None
+        self.exact_keys = [None] * len(self.exact_keys)
 
 
 class LodPreview:
@@ -546,26 +553,34 @@ class LodPreview:
 
     def upload_selection(self, state):
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
-        the flagged blocks of a dense level, or an exact index list for a sparse one, rebuilt only
-        when its selected segments change. A few tens of kB per frame and small index lists."""
-        values, present, whole = state.selection.frame_levels()
-        state.segments = None  # counted again when the statistics are read
-        clusters, segments = values.shape
-        state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
-                                             data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
-        selected = state.selection.segments_per_level()
+        the flagged blocks of a dense level, or an exact index list for a sparse one. Only what a
+        change needs: the texture and a level's flags when some level's selected segments moved
+        (ViewSelection.level_versions), the strands' list when their strides did. A few tens of kB
+        per frame and small index lists."""
         versions = state.selection.level_versions
+        present = whole = selected = None
+        state.segments = None  # counted again when the statistics are read
+        if state.texture is None or versions != state.level_versions:
+            values, present, whole = state.selection.frame_levels()
+            clusters, segments = values.shape
+            state.texture = gpu.types.GPUTexture((segments, clusters), format='R32F',
+                                                 data=gpu.types.Buffer('FLOAT', values.size, values.ravel()))
+            selected = state.selection.segments_per_level()
         for level, blocks in enumerate(self.blocks):
             thick = level < self.level_count - 1
-            if selected[level] > EXACT_SEGMENTS:
-                to_draw, one_level = preview_buffers.level_blocks(present, whole, level, blocks.bounds)
-                if not (thick and preview_buffers.blocks_wasteful(blocks.segments, to_draw, selected[level])):
-                    state.to_draw[level], state.one_level[level] = to_draw, one_level
-                    state.exact[level], state.exact_keys[level] = None, None
-                    continue
-            state.to_draw[level] = None
-            # The level's selected segments (their version) decide its list, and the strands' strides
-            # their chords.
+            if state.level_versions is None or versions[level] != state.level_versions[level]:
+                # The level's selected segments moved: dense or sparse again, and its flags.
+                if selected[level] > EXACT_SEGMENTS:
+                    to_draw, one_level = preview_buffers.level_blocks(present, whole, level, blocks.bounds)
+                    if not (thick and preview_buffers.blocks_wasteful(blocks.segments, to_draw, selected[level])):
+                        state.to_draw[level], state.one_level[level] = to_draw, one_level
+                        state.exact[level], state.exact_keys[level] = None, None
+                        continue
+                state.to_draw[level] = None
+            elif state.to_draw[level] is not None:
+                continue  # dense, the same blocks (the strands' strides are read as they are drawn)
+            # A sparse level's list: its selected segments (their version) decide it, and the strands'
+            # strides their chords.
             strides = None if thick else self.cluster_strides(state)
             key = (versions[level], None if strides is None else strides.tobytes())
             if key == state.exact_keys[level]:
@@ -575,6 +590,7 @@ class LodPreview:
                         state.selection.strided_strand_lines(strides))
             state.exact[level] = (_batch("thick" if thick else "strand", self.vertex_buffers[level], elements)
                                   if elements.size else None)
+        state.level_versions = versions
 
     def update_strides(self, state, model_view, projection, viewport_size, tolerance_px):
         """Per block of the strand level, the longest stride of the vertex LoD whose chords stay within
