@@ -82,7 +82,7 @@ void BM_SelectInitial(benchmark::State& state) {
 }
 BENCHMARK(BM_SelectInitial)->Args({20'000, 64, 30})->Args({20'000, 64, 6})->Unit(benchmark::kMicrosecond)->UseRealTime();
 
-// A viewport's per-frame update (ViewSelection::update: Eq. 16 until stable and the draw list) over a
+// A viewport's per-frame update (ViewSelection::update: Huang 2025 Eq. 16 until stable, the draw list) over a
 // dolly from 1.2 to 30 units, every frame changing the selection. Arguments: strands, guides, and
 // whether the caches are evicted between frames (1), as a viewport's drawing of the hair does in
 // Blender: there the update reads its geometry from memory, not from the cache.
