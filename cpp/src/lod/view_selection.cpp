@@ -55,12 +55,10 @@ bool ViewSelection::update(const Camera& camera, float width_px) {
     // would, and a view that jumped shows its levels on its first frame instead of coarse ones
     // refining over several.
     select_deferred_in_place(*asset_, geometry_, camera, width_px, selection_, DeferredSteps::until_stable);
-    const bool changed = level != selection_.level || visible != selection_.visible;
-    if (changed) count_changes(level, visible);
-    return changed;
+    return count_changes(level, visible);
 }
 
-void ViewSelection::count_changes(const std::vector<uint8_t>& level, const std::vector<uint8_t>& visible) {
+bool ViewSelection::count_changes(const std::vector<uint8_t>& level, const std::vector<uint8_t>& visible) {
     const auto segments = static_cast<size_t>(selection_.segments);
     std::vector<uint8_t> moved(level_versions_.size(), 0);
     for (size_t c = 0; c < visible.size(); ++c) {
@@ -76,7 +74,12 @@ void ViewSelection::count_changes(const std::vector<uint8_t>& level, const std::
             if (is && now < moved.size()) moved[now] = 1;
         }
     }
-    for (size_t l = 0; l < moved.size(); ++l) level_versions_[l] += moved[l];
+    bool changed = false;
+    for (size_t l = 0; l < moved.size(); ++l) {
+        level_versions_[l] += moved[l];
+        changed = changed || moved[l] != 0;
+    }
+    return changed;
 }
 
 std::vector<uint32_t> ViewSelection::indices(int level, DrawPrimitive primitive) const {

@@ -70,8 +70,9 @@ private:
     void visit_strided_chords(std::span<const int32_t> cluster_strides, Chord&& chord) const;
 
     // Raises the versions of the levels whose selected segments differ between `level`, `visible`
-    // (the selection before an update) and selection_.
-    void count_changes(const std::vector<uint8_t>& level, const std::vector<uint8_t>& visible);
+    // (the selection before an update) and selection_; whether any did (a culled cluster keeps its
+    // levels, so a change of the selection is a change of some level's segments).
+    bool count_changes(const std::vector<uint8_t>& level, const std::vector<uint8_t>& visible);
 
     const LodAsset* asset_;
     LodGeometry geometry_;
