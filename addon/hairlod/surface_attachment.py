@@ -26,12 +26,14 @@ class SurfaceFollow:
         """bool [N]: the curves that move with the surface."""
         return self._core.bound
 
-    def transforms(self, positions, corner_normals, surface_to_curves):
+    def transforms(self, positions, corner_normals, surface_to_curves, out=None):
         """float32 [N, 3, 4]: per curve the affine map [R | t] (rows) from the reference pose to the pose
         of the same mesh with these positions [V, 3] and corner normals [C, 3] (`apply` moves points by
-        them). Raises ValueError when their counts are not the reference pose's."""
+        them). With `out` (a float32, C-contiguous [N, 3, 4] array) they are written there and `out` is
+        returned: an array kept from pose to pose is memory already mapped. Raises ValueError when their
+        counts are not the reference pose's, or `out` is not such an array."""
         return self._core.transforms(np.asarray(positions, np.float32), np.asarray(corner_normals, np.float32),
-                                     np.asarray(surface_to_curves, np.float32))
+                                     np.asarray(surface_to_curves, np.float32), out)
 
 
 def apply(transforms, points):

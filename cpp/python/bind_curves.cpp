@@ -1,6 +1,8 @@
 // Curves attached to a surface (curves/surface_attachment.h): numpy arrays in, per-curve transforms out.
 #include <pybind11/numpy.h>
+#include <pybind11/stl.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,20 +59,30 @@ void bind_curves(py::module_& m) {
             return result;
         }, "bool [N]: the curves that move with the surface (a root triangle and a proper frame).")
         .def("transforms", [](const SurfaceFollow& f, const FloatArray& positions, const FloatArray& corner_normals,
-                              const FloatArray& surface_to_curves) {
+                              const FloatArray& surface_to_curves, std::optional<py::array> out) -> py::array {
             const auto points = rows_of<glm::vec3>(positions, 3, "positions");
             const auto normals = rows_of<glm::vec3>(corner_normals, 3, "corner_normals");
             const glm::mat4 matrix = matrix_from(surface_to_curves, "surface_to_curves");
-            std::vector<glm::vec4> rows;
+            const auto curves = static_cast<py::ssize_t>(f.curve_count());
+            if (!out) {
+                std::vector<glm::vec4> rows;
+                {
+                    py::gil_scoped_release release;
+                    rows = f.transforms(points, normals, matrix);
+                }
+                return moved_to_numpy<float>(std::move(rows), {curves, 3, 4});
+            }
+            float* data = output_data<float>(*out, {curves, 3, 4}, "out");
+            const std::span<glm::vec4> rows(reinterpret_cast<glm::vec4*>(data), static_cast<size_t>(3 * curves));
             {
                 py::gil_scoped_release release;
-                rows = f.transforms(points, normals, matrix);
+                f.transforms(points, normals, matrix, rows);
             }
-            return moved_to_numpy<float>(std::move(rows), {static_cast<py::ssize_t>(f.curve_count()), 3, 4});
-        }, py::arg("positions"), py::arg("corner_normals"), py::arg("surface_to_curves"),
+            return *out;
+        }, py::arg("positions"), py::arg("corner_normals"), py::arg("surface_to_curves"), py::arg("out") = py::none(),
            "float32 [N, 3, 4]: per curve the affine map [R | t] (rows) from its rest pose to the pose of the same "
            "mesh with these positions [V, 3] and corner normals [C, 3]; the identity for a curve that does not move "
-           "with it.");
+           "with it. With `out` (float32, C-contiguous, [N, 3, 4]) they are written there and `out` is returned.");
 }
 
 }  // namespace hairlod::python

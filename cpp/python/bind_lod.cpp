@@ -391,6 +391,17 @@ void bind_lod(py::module_& m) {
             const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);
             return to_numpy<float>(s.maps(), {clusters, nc, static_cast<py::ssize_t>(kMapTexels), 4});
         }, "float32 [clusters, n_c, SKIN_MAP_TEXELS, 4]: the maps as the preview's shader reads them (hairlod.lod.apply_maps).")
+        .def("maps_into", [](const FrameSkinning& s, py::array out) {
+            const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);
+            float* data = output_data<float>(out, {clusters, nc, static_cast<py::ssize_t>(kMapTexels), 4}, "out");
+            std::memcpy(data, s.maps().data(), s.maps().size() * sizeof(s.maps()[0]));
+            return out;
+        }, py::arg("out"), "The maps written into `out` (float32, C-contiguous [clusters, n_c, SKIN_MAP_TEXELS, 4]), "
+           "which is returned: an array kept from frame to frame is memory already mapped, where `maps` makes a new one.")
+        .def_property_readonly("cluster_bounds", [](const FrameSkinning& s) {
+            return to_numpy<float>(s.selection_geometry().cluster_bounds, {as_size(s.asset().cluster_count()), 4});
+        }, "float32 [clusters, 4]: each L0 cluster's bounding sphere (centre, radius) at this frame, alone (what "
+           "selection_geometry() holds among 3 MB more for 1000 clusters).")
         .def("selection_geometry", [](const FrameSkinning& s) {
             const LodGeometry& g = s.selection_geometry();
             const auto clusters = as_size(s.asset().cluster_count()), nc = static_cast<py::ssize_t>(s.asset().control_points);

@@ -62,6 +62,23 @@ pybind11::array_t<Scalar> to_numpy(const Scalar* data, std::vector<pybind11::ssi
     return result;
 }
 
+// The data of `out`, an array the caller keeps and C++ writes into, after checking that it is exactly
+// what the writes need: Scalar, C-contiguous, writeable, of `shape` (no conversion, which would write
+// into a copy the caller never sees). Throws hairlod::Error naming `name` and the shape expected.
+template <typename Scalar>
+Scalar* output_data(pybind11::array& out, const std::vector<pybind11::ssize_t>& shape, const char* name) {
+    bool fits = out.dtype().is(pybind11::dtype::of<Scalar>()) && (out.flags() & pybind11::array::c_style) && out.writeable() &&
+                out.ndim() == static_cast<pybind11::ssize_t>(shape.size());
+    for (size_t i = 0; fits && i < shape.size(); ++i) fits = out.shape(static_cast<pybind11::ssize_t>(i)) == shape[i];
+    if (!fits) {
+        std::string expected;
+        for (pybind11::ssize_t extent : shape) expected += (expected.empty() ? "" : ", ") + std::to_string(extent);
+        throw Error(std::string(name) + " must be a writeable, C-contiguous " +
+                    pybind11::str(pybind11::dtype::of<Scalar>()).cast<std::string>() + " array of shape [" + expected + "]");
+    }
+    return static_cast<Scalar*>(out.mutable_data());
+}
+
 // A numpy array with `shape` over the data of `values`, which it takes over (no copy: for arrays of
 // tens of MB made once, where the copy costs as much as computing them). Throws hairlod::Error when
 // the shape does not hold exactly that many Scalars.

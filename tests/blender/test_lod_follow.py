@@ -199,11 +199,27 @@ def test_the_preview_moves_strands_with_their_surface(rigid, subdivided, empty_s
     truth = curves_to_strands(hair, depsgraph=depsgraph).resampled(asset.control_points, lod.LOD_ARC_LENGTH_SUBDIVISIONS)
     truth = truth.points.reshape(asset.strand_count, asset.control_points, 3)[asset.strand_order]
     assert np.abs(truth - rest).max() > 0.1 * size  # the hair moved
-    moved = surface_attachment.apply(preview.pending_surface, rest)
+    # Laid out for the texture: whole rows of strands, the first strand_count of them the strands'.
+    assert len(preview.pending_surface) == lod_preview.surface_rows(asset.strand_count)
+    moved = surface_attachment.apply(preview.pending_surface[:asset.strand_count], rest)
     distance = np.linalg.norm(moved - truth, axis=-1)
     print(f"{'rigid' if rigid else 'sheared'}{', subdivided' if subdivided else ''}: surface following max {distance.max() / size:.2g} of the size, "
           f"p99 {np.percentile(distance, 99) / radius:.2g} strand radii")
     assert distance.max() <= 1e-5 * size
+
+    # The next pose is written beside the transforms drawn (what _apply_pending_guides hands the
+    # texture, done here without a GPU), never over them: a rebuild of the buffers uploads them again.
+    drawn = preview.surface_transforms = preview.pending_surface
+    drawn_values, preview.pending_surface = drawn.copy(), None
+    turn_head(rig, 0.3)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    assert preview.read_guides(hair, depsgraph)
+    assert preview.pending_surface is not None and not np.shares_memory(preview.pending_surface, drawn)
+    np.testing.assert_array_equal(drawn, drawn_values)
+    truth = curves_to_strands(hair, depsgraph=depsgraph).resampled(asset.control_points, lod.LOD_ARC_LENGTH_SUBDIVISIONS)
+    truth = truth.points.reshape(asset.strand_count, asset.control_points, 3)[asset.strand_order]
+    moved = surface_attachment.apply(preview.pending_surface[:asset.strand_count], rest)
+    assert np.linalg.norm(moved - truth, axis=-1).max() <= 1e-5 * size
 
     # Something else moves the hair too (a Geometry Nodes offset after the node): the strands go back
     # to following the guides, and the panel says why.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -218,6 +219,13 @@ TEST(SurfaceAttachment, DegenerateFramesKeepTheirCurvesAndBadIndicesAreErrors) {
     const std::vector<glm::vec4> rows = follow.transforms(posed.positions, posed.corner_normals, identity);
     EXPECT_EQ(apply(rows, 0, glm::vec3(0.5f)), glm::vec3(0.5f));
     EXPECT_LT(glm::length(apply(rows, 1, glm::vec3(0.5f)) - glm::vec3(1.5f, 2.5f, 3.5f)), 1e-5f);
+    // Written into rows the caller keeps (the preview's, from pose to pose): every entry, the unbound
+    // curve's identity too, whatever they held; rows of another length are an error.
+    std::vector<glm::vec4> kept(6, glm::vec4(std::numeric_limits<float>::quiet_NaN()));
+    follow.transforms(posed.positions, posed.corner_normals, identity, kept);
+    EXPECT_EQ(kept, rows);
+    std::vector<glm::vec4> short_rows(5);
+    EXPECT_THROW(follow.transforms(posed.positions, posed.corner_normals, identity, short_rows), Error);
     // A pose with another vertex or corner count, a rest mesh whose corner names a missing vertex, a
     // singular matrix.
     std::vector<glm::vec3> fewer(posed.positions.begin(), posed.positions.end() - 1);

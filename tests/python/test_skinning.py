@@ -78,12 +78,28 @@ def test_maps_applied_to_the_rest_pose_equal_the_cpu_skin(asset):
     assert not maps[..., 4:, :].any() and not maps[..., 0, 3].any()
     rest_points = rest["strands"].points.reshape(-1, 8, 3).astype(np.float64)
     cluster = asset.levels[0].membership
+    kept = np.full_like(maps, np.nan)
     for deform in (rigid, lambda p: bend(p, 0.5), lambda p: turn(bend(p, 0.3), 1.0)):
         guides = deform(asset.rest_guides)
         skinning.update(guides)
         gpu = lod.apply_maps(skinning.maps[cluster], rest_points)
+        np.testing.assert_array_equal(skinning.maps_into(kept), skinning.maps)  # into an array kept from frame to frame
         cpu = asset.skin(guides)["strands"].points.reshape(-1, 8, 3)
         assert np.abs(gpu - cpu).max() <= 2e-6 * np.abs(cpu).max()
+
+
+def test_maps_into_takes_only_an_array_it_can_write_as_it_is(asset):
+    skinning = asset.frame_skinning()
+    shape = skinning.maps.shape
+    for bad in (np.zeros(shape, np.float64), np.zeros(shape[:-1] + (3,), np.float32),
+                np.zeros(shape[:-1] + (8,), np.float32)[..., ::2]):
+        with pytest.raises(ValueError, match=r"out must be a writeable, C-contiguous float32 array of shape \[" +
+                           ", ".join(map(str, shape)) + r"\]"):
+            skinning.maps_into(bad)
+    read_only = np.zeros(shape, np.float32)
+    read_only.flags.writeable = False
+    with pytest.raises(ValueError, match="writeable"):
+        skinning.maps_into(read_only)
 
 
 def test_selection_follows_the_skinned_geometry(asset):
@@ -101,6 +117,7 @@ def test_selection_follows_the_skinned_geometry(asset):
     assert not selection.selection.visible.any()
     bounds = skinning.selection_geometry()["cluster_bounds"]
     assert bounds.shape == (asset.cluster_count, 4) and np.all(bounds[:, 1] > 45.0)
+    np.testing.assert_array_equal(skinning.cluster_bounds, bounds)  # the same spheres, alone
     # A translation keeps every width ellipsoid; at rest each holds its level's semi-axes there.
     nc = asset.control_points
     for level, (ellipsoids, hairs) in enumerate(zip(skinning.selection_geometry()["width_ellipsoid"],

@@ -37,6 +37,27 @@ def test_a_turned_and_moved_mesh_turns_and_moves_its_curves():
     np.testing.assert_array_equal(moved[2], curves[2])  # unbound: where it was
 
 
+def test_transforms_written_into_an_array_kept_from_pose_to_pose_are_the_new_arrays():
+    """The preview writes each pose's transforms into one of two arrays it keeps: every entry is written
+    (unbound curves' identity too), so whatever the array held before does not show through."""
+    positions, corner_verts, triangles, corner_uvs, normals = quad_mesh()
+    roots = np.array([[0.25, 0.1], [2.0, 2.0], [0.2, 0.7]], np.float32)  # the middle one unbound
+    follow = surface_attachment.SurfaceFollow(roots, corner_uvs, triangles, corner_verts, positions, normals, np.eye(4))
+    laid_out = np.full((8, 3, 4), np.nan, np.float32)  # padded past the curves, as the preview lays them out
+    for angle in (0.3, -1.1):
+        turn = rotation((0, 1, 1), angle)
+        expected = follow.transforms(positions @ turn.T, normals @ turn.T, np.eye(4))
+        written = follow.transforms(positions @ turn.T, normals @ turn.T, np.eye(4), out=laid_out[:3])
+        assert np.shares_memory(written, laid_out)
+        np.testing.assert_array_equal(laid_out[:3], expected)
+        np.testing.assert_array_equal(laid_out[1], np.eye(3, 4))
+        assert np.isnan(laid_out[3:]).all()  # past the curves: untouched
+    for bad in (np.zeros((3, 3, 4), np.float64), np.zeros((2, 3, 4), np.float32), np.zeros((3, 4, 3), np.float32),
+                np.zeros((3, 3, 8), np.float32)[:, :, ::2]):
+        with pytest.raises(ValueError, match=r"out must be a writeable, C-contiguous float32 array of shape \[3, 3, 4\]"):
+            follow.transforms(positions, normals, np.eye(4), out=bad)
+
+
 def test_a_changed_mesh_and_bad_shapes_are_clear_errors():
     positions, corner_verts, triangles, corner_uvs, normals = quad_mesh()
     follow = surface_attachment.SurfaceFollow(np.array([[0.5, 0.2]]), corner_uvs, triangles, corner_verts, positions,

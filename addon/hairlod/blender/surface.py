@@ -110,9 +110,9 @@ def follow(obj, depsgraph, order=None, evaluated=False):
                                             rest.positions, rest.corner_normals, rest.surface_to_curves)
 
 
-def posed_transforms(binding, obj, depsgraph):
+def posed_transforms(binding, obj, depsgraph, out=None):
     """float32 [N, 3, 4]: the curves' transforms from the reference pose of their surface to its pose
-    in `depsgraph` (SurfaceFollow.transforms). Raises ValueError when the hair is no longer attached or
+    in `depsgraph` (SurfaceFollow.transforms, written into `out` when given). Raises ValueError when the hair is no longer attached or
     the surface's mesh has other vertex or corner counts than when it was bound."""
     attached = attachment(obj)
     if attached is None:
@@ -122,4 +122,4 @@ def posed_transforms(binding, obj, depsgraph):
     if len(posed.positions) != binding.vertex_count or len(posed.corner_normals) != binding.corner_count:
         raise ValueError(f"the surface '{surface.name}' has {len(posed.positions)} vertices now, "
                          f"{binding.vertex_count} when the hair was bound to it")
-    return binding.transforms(posed.positions, posed.corner_normals, posed.surface_to_curves)
+    return binding.transforms(posed.positions, posed.corner_normals, posed.surface_to_curves, out)

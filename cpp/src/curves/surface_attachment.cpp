@@ -218,18 +218,30 @@ SurfaceFollow::SurfaceFollow(const SurfaceBinding& binding, const SurfaceMesh& r
 }
 
 std::vector<glm::vec4> SurfaceFollow::transforms(std::span<const glm::vec3> positions, std::span<const glm::vec3> corner_normals,
-                                                 const glm::mat4& surface_to_curves_f) const {
+                                                 const glm::mat4& surface_to_curves) const {
+    std::vector<glm::vec4> rows(3 * bound_.size());
+    transforms(positions, corner_normals, surface_to_curves, rows);
+    return rows;
+}
+
+void SurfaceFollow::transforms(std::span<const glm::vec3> positions, std::span<const glm::vec3> corner_normals,
+                               const glm::mat4& surface_to_curves_f, std::span<glm::vec4> rows) const {
     if (positions.size() != vertex_count_ || corner_normals.size() != corner_count_)
         throw Error("the surface has " + std::to_string(positions.size()) + " vertices and " + std::to_string(corner_normals.size()) +
                     " corner normals now, " + std::to_string(vertex_count_) + " and " + std::to_string(corner_count_) +
                     " when the curves were bound to it");
-    const Affine surface_to_curves = affine_of(surface_to_curves_f);
     const size_t n = bound_.size();
-    std::vector<glm::vec4> rows(3 * n);
-    // Only the curves that do not move get the identity here; the loop below writes every other row.
+    if (rows.size() != 3 * n)
+        throw Error("surface transforms: the output holds " + std::to_string(rows.size()) + " rows, expected " +
+                    std::to_string(3 * n) + " (3 per curve)");
+    const Affine surface_to_curves = affine_of(surface_to_curves_f);
+    auto write = [&](size_t curve, const Affine& map) {
+        for (int r = 0; r < 3; ++r)
+            rows[3 * curve + static_cast<size_t>(r)] = glm::vec4(map.linear[0][r], map.linear[1][r], map.linear[2][r], map.offset[r]);
+    };
+    // The curves that do not move get the identity here; the loop below writes every other curve.
     for (size_t i = 0; i < n; ++i)
-        if (!bound_[i])
-            for (int r = 0; r < 3; ++r) rows[3 * i + static_cast<size_t>(r)][r] = 1.0f;
+        if (!bound_[i]) write(i, Affine{});
     tbb::parallel_for(tbb::blocked_range<size_t>(0, roots_.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t j = range.begin(); j != range.end(); ++j) {
             const Root& root = roots_[j];
@@ -241,12 +253,9 @@ std::vector<glm::vec4> SurfaceFollow::transforms(std::span<const glm::vec3> posi
             Affine frame, map;
             if (root_frame(position, normal, root.weights, frame)) map = compose(compose(surface_to_curves, frame), root.rest_inverse);
             if (!finite(map)) map = Affine{};
-            for (int r = 0; r < 3; ++r)
-                rows[3 * size_t{root.curve} + static_cast<size_t>(r)] =
-                    glm::vec4(map.linear[0][r], map.linear[1][r], map.linear[2][r], map.offset[r]);
+            write(root.curve, map);
         }
     });
-    return rows;
 }
 
 }  // namespace hairlod

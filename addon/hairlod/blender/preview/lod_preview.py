@@ -269,16 +269,27 @@ def skin_texture(maps):
                                 data=gpu.types.Buffer('FLOAT', data.size, data))
 
 
+def surface_rows(strands):
+    """The strands' transforms are laid out for surface_texture in an array of this many [3, 4] maps:
+    `strands` rounded up to whole rows of SURFACE_ROW (at least one)."""
+    return max(1, -(-strands // SURFACE_ROW)) * SURFACE_ROW
+
+
 def surface_texture(transforms):
     """The strands' surface transforms [S, 3, 4] (hierarchy order) as the RGBA32F texture strand.vert.glsl
     reads: SURFACE_ROW strands per row, the 3 rows of strand i's map at texels 3 (i mod SURFACE_ROW) + r
-    of row i / SURFACE_ROW."""
+    of row i / SURFACE_ROW. An array already laid out (float32, C-contiguous, surface_rows(S) maps, the
+    rows past the strands unread) is uploaded as it is: for 100k strands the padded copy of 4.8 MB into
+    new memory took 15 ms of a frame's draw."""
     strands = len(transforms)
-    rows = max(1, -(-strands // SURFACE_ROW))
-    data = np.zeros((rows * SURFACE_ROW, 3, 4), np.float32)
-    data[:strands] = transforms
-    data = data.ravel()
-    return gpu.types.GPUTexture((3 * SURFACE_ROW, rows), format='RGBA32F', data=gpu.types.Buffer('FLOAT', data.size, data))
+    data = transforms
+    if not (strands == surface_rows(strands) and isinstance(data, np.ndarray) and data.dtype == np.float32 and
+            data.flags.c_contiguous):
+        data = np.zeros((surface_rows(strands), 3, 4), np.float32)
+        data[:strands] = transforms
+    data = data.reshape(-1)
+    return gpu.types.GPUTexture((3 * SURFACE_ROW, len(data) // (12 * SURFACE_ROW)), format='RGBA32F',
+                                data=gpu.types.Buffer('FLOAT', data.size, data))
 
 
 class LevelBlocks:
@@ -357,6 +368,7 @@ class LodPreview:
         # by the maps of `skinning` (uploaded as `skin_texture`) for the guides last read.
         self.skinning = None
         self.skin_texture = None
+        self.maps_array = None  # the array the maps are written into for their texture (_skin_maps)
         self.guides = None          # the guides drawn [G, n_c, 3]; None: the rest pose
         self.pending_guides = None  # guides read by a handler, applied by the next draw
         self.pending_skinned = False  # the handler that read them has skinned to them (the maps are theirs)
@@ -371,6 +383,7 @@ class LodPreview:
         self.guide_items = None  # the guides' positions in hierarchy order
         self.guide_tolerance = None  # SURFACE_AGREEMENT of the hair's size (_agrees_with_guides)
         self.surface_transforms = None  # the transforms of the texture
+        self.surface_arrays = None  # the two arrays the transforms are written into (_surface_target)
         self.rest_volume = None     # (HairVolume of the rest strands, bounding box of the rest clusters)
         self.follow_status = ""     # why the preview does not follow the hair, when it does not
         self.follow_stats = {}
@@ -409,9 +422,9 @@ class LodPreview:
         self.stride_deviation = preview_buffers.stride_deviation(vertices["strands"]["position"], control_points, item_first)
         self.skinning = self.asset.frame_skinning()
         self.pending_skinned = False  # a new skinning: any pending guides are skinned again
-        self.cluster_bounds = self.skinning.selection_geometry()["cluster_bounds"]
+        self.cluster_bounds = self.skinning.cluster_bounds
         self.rest_volume = (self.hair_volume, _spheres_box(self.cluster_bounds))
-        self.skin_texture = skin_texture(self.skinning.maps)
+        self.skin_texture = skin_texture(self._skin_maps())
         if self.pending_guides is None and self.guides is not None:
             self.pending_guides, self.guides = self.guides, None  # buffers rebuilt: skin them again
             self.pending_surface = self.surface_transforms
@@ -492,18 +505,20 @@ class LodPreview:
             self.follow_stats["surface"] = f"Strands follow the guides ({error})"
 
     def read_surface(self, obj, depsgraph, guides):
-        """The strands' transforms [S, 3, 4] to the pose of the mesh `obj` is attached to, when the
+        """The strands' transforms to the pose of the mesh `obj` is attached to, when the
         guides moved by theirs are `guides` (the hair moves exactly with its surface), else None (the
         strands follow the maps): the hair is not attached or not bound (bind_surface), or something
         else deforms it too, or the LoD was built from hair its surface had already deformed (the
-        transforms start from the surface's original mesh, as Blender's node does)."""
+        transforms start from the surface's original mesh, as Blender's node does). The transforms are
+        [surface_rows(S), 3, 4], laid out for surface_texture: the first S are the strands'."""
         from .. import surface
         from ... import surface_attachment
 
         if not self.surface:  # not attached, not bound, or not yet bound
             return None
+        laid_out = self._surface_target()
         try:
-            transforms = surface.posed_transforms(self.surface, obj, depsgraph)
+            transforms = surface.posed_transforms(self.surface, obj, depsgraph, out=laid_out[:self.asset.strand_count])
         except ValueError as error:
             self.follow_stats["surface"] = f"Strands follow the guides ({error})"
             return None
@@ -516,7 +531,17 @@ class LodPreview:
                                             "LoD was built away from the surface's rest pose)")
             return None
         self.follow_stats["surface"] = f"Strands follow the surface '{surface.attachment(obj)[0].name}'"
-        return transforms
+        return laid_out
+
+    def _surface_target(self):
+        """The array the next pose's surface transforms are written into, laid out for surface_texture:
+        one of two kept from pose to pose (memory already mapped), not the one the current texture was
+        made from (surface_transforms, which a rebuild of the buffers uploads again)."""
+        if self.surface_arrays is None:
+            shape = (surface_rows(self.asset.strand_count), 3, 4)
+            self.surface_arrays = (np.zeros(shape, np.float32), np.zeros(shape, np.float32))
+        first, second = self.surface_arrays
+        return second if self.surface_transforms is first else first
 
     def _apply_pending_guides(self):
         """Skins to the guides a handler read: new maps, their texture, the views' selection
@@ -533,18 +558,25 @@ class LodPreview:
             self.follow_stats["skin_ms"] = 1e3 * (time.perf_counter() - start)
         self.pending_skinned = False
         skinned = time.perf_counter()
-        self.skin_texture = skin_texture(self.skinning.maps)
+        self.skin_texture = skin_texture(self._skin_maps())
         self.surface_transforms = transforms
         self.surface_texture = None if transforms is None else surface_texture(transforms)
         uploaded = time.perf_counter()
         for state in self.views.values():
             state.selection.set_geometry(self.skinning)
-        self.cluster_bounds = self.skinning.selection_geometry()["cluster_bounds"]
+        self.cluster_bounds = self.skinning.cluster_bounds
         rest_volume, rest_box = self.rest_volume
         self.hair_volume = self_shadow.moved_volume(rest_volume, rest_box, _spheres_box(self.cluster_bounds))
         self.guides = guides
         self.pose_version += 1
         self.follow_stats.update(upload_ms=1e3 * (uploaded - skinned))
+
+    def _skin_maps(self):
+        """The skinning's maps, written into one array kept from frame to frame: memory already mapped,
+        where a new 2.6 MB array per frame (1000 clusters) cost about 1.3 ms of page faults in the draw."""
+        if self.maps_array is None:
+            self.maps_array = self.skinning.maps
+        return self.skinning.maps_into(self.maps_array)
 
     def view_state(self, key):
         if key not in self.views:
