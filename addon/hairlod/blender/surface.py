@@ -112,8 +112,9 @@ def follow(obj, depsgraph, order=None, evaluated=False):
 
 def posed_transforms(binding, obj, depsgraph, out=None):
     """float32 [N, 3, 4]: the curves' transforms from the reference pose of their surface to its pose
-    in `depsgraph` (SurfaceFollow.transforms, written into `out` when given). Raises ValueError when the hair is no longer attached or
-    the surface's mesh has other vertex or corner counts than when it was bound."""
+    in `depsgraph` (SurfaceFollow.transforms, written into `out` when given). Raises ValueError when
+    the hair is no longer attached or the surface's mesh has other vertex or corner counts than when
+    it was bound."""
     attached = attachment(obj)
     if attached is None:
         raise ValueError(f"'{obj.name}' is no longer attached to a mesh")
