@@ -8,7 +8,9 @@ L0 clusters with static index buffers over all their segments (``cluster_blocks`
 ``block_indices``); each vertex carries its L0 cluster and control point (``select_key``); per
 frame the selection's level per cluster and segment goes to the GPU as a small texture
 (``ViewSelection.frame_levels``), the shader drops the fragments of segments selected at another
-level, and only blocks holding some segment selected at a level are drawn (``level_blocks``).
+level, and only blocks holding some segment selected at a level are drawn (``level_blocks``). A
+sparse level is drawn from its selected segments alone: the strands' as an index list, a thick level's
+fetched by the shader from textures (``hairlod.pulled_strips``).
 Blocks whose every segment is at the level drawn (the same function's second flags) go through a shader
 without that test: a fragment shader that may discard keeps the GPU from testing depth before
 shading, and a near view's hidden strands were then all shaded.
@@ -37,13 +39,14 @@ __all__ = ["BLOCK_SEGMENTS", "PREVIEW_VERTEX_TOLERANCE_PX", "cluster_items", "wh
 # segment, so blocks are small (one or two strand clusters, a few clusters of the finer thick
 # levels). About 1100 blocks for 100k strands of 32 points; a frame draws only the flagged ones.
 BLOCK_SEGMENTS = 1 << 12
-# A thick level is drawn from an exact index list instead of its blocks when the blocks hold more than
-# this many times its selected segments of segments selected at other levels (blocks_wasteful): a thick
+# A thick level is drawn from its selected segments alone instead of its blocks when the blocks hold
+# more than this many times its selected segments of segments selected at other levels
+# (blocks_wasteful): a thick
 # hair not selected is wider than the strands selected in its place, so those are many fragments shaded
 # or tested and dropped. At a mid view of 100k strands the finer thick level's blocks held 7.5x what it
 # selected, and drawing the thick levels took about 300 ms a redraw on llvmpipe against 30 ms from exact
-# lists. A thick level has a few times fewer segments than the strands (>= 4 strands a hair, Sec. 5.1),
-# so its list is cheap to rebuild.
+# lists. A sparse thick level is drawn from its selected segments by the shader (pulled_strips): a
+# change of them costs a texture of 8 bytes a segment, no index list.
 THICK_WASTE_RATIO = 3.0
 # Strides of the strand level's index buffers, finest first (1 draws every control point).
 STRAND_STRIDES = (1, 2, 4, 8, 16)

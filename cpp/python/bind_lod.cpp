@@ -482,12 +482,16 @@ void bind_lod(py::module_& m) {
            "the selection as a texture, which levels each visible cluster uses, and where no fragment needs the "
            "texture.")
         .def("indices", [](const ViewSelection& v, int level, const std::string& primitive) {
-            if (primitive != "lines" && primitive != "strips")
-                throw Error("primitive must be 'lines' or 'strips', got '" + primitive + "'");
-            const std::vector<uint32_t> indices =
-                v.indices(level, primitive == "lines" ? DrawPrimitive::lines : DrawPrimitive::strips);
+            DrawPrimitive kind = DrawPrimitive::lines;
+            if (primitive == "strips") kind = DrawPrimitive::strips;
+            else if (primitive == "segments") kind = DrawPrimitive::segments;
+            else if (primitive != "lines")
+                throw Error("primitive must be 'lines', 'strips' or 'segments', got '" + primitive + "'");
+            const std::vector<uint32_t> indices = v.indices(level, kind);
             return to_numpy<uint32_t>(indices, {as_size(indices.size())});
-        }, py::arg("level"), py::arg("primitive"), "Vertex indices of the selected ranges at `level`.");
+        }, py::arg("level"), py::arg("primitive"),
+           "Vertex indices of the selected ranges at `level`: 'lines' 2 and 'strips' 6 per segment, 'segments' "
+           "one, the segment's first control point (item * n_c + segment).");
 
     // Cancellation is not bad input: its own exception, derived from RuntimeError.
     py::register_exception<LodBuildCancelled>(m, "BuildCancelled", PyExc_RuntimeError);

@@ -135,6 +135,16 @@ TEST_F(ViewSelectionTest, IndicesCoverEveryVisibleSegmentOnce) {
                 EXPECT_EQ(lines[i] / nc, lines[i + 1] / nc);
                 EXPECT_EQ(lines[i + 1], lines[i] + 1);
             }
+            // One index per segment, its first point: the lines' first ends, and the strip's quad
+            // (2k, 2k + 1, 2k + 2, 2k + 1, 2k + 3, 2k + 2) of the same k.
+            const std::vector<uint32_t> starts = view.indices(level, DrawPrimitive::segments);
+            ASSERT_EQ(starts.size(), static_cast<size_t>(segments[static_cast<size_t>(level)]));
+            for (size_t i = 0; i < starts.size(); ++i) {
+                EXPECT_EQ(starts[i], lines[2 * i]);
+                EXPECT_EQ(2 * starts[i], strips[6 * i]);
+                EXPECT_EQ(2 * starts[i] + 3, strips[6 * i + 4]);
+                EXPECT_LT(starts[i] % nc, nc - 1);  // a segment starts before the item's last point
+            }
         }
     }
 }

@@ -1,10 +1,12 @@
-"""Shared fixtures: the package from addon/ and the shared hair files next to the repository."""
+"""Shared fixtures: the package from addon/, the shared hair files next to the repository and a small LoD
+asset."""
 
 import os
 import shutil
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
@@ -55,3 +57,19 @@ def blender_version(blender):
     match = re.match(r"Blender (\d+)\.(\d+)", first[0] if first else "")
     assert match, f"cannot read the version of {blender}: {first[:1]}"
     return int(match.group(1)), int(match.group(2))
+
+
+@pytest.fixture(scope="session")
+def sphere_hair_lod():
+    """(LodAsset, Strands): 600 short strands on a unit sphere, 4 levels at 6 control points."""
+    import hairlod
+    from hairlod import lod
+
+    rng = np.random.default_rng(5)
+    roots = rng.normal(size=(600, 3))
+    roots /= np.linalg.norm(roots, axis=1, keepdims=True)
+    steps = np.linspace(0.0, 1.0, 8)[None, :, None]
+    points = roots[:, None, :] * (1.0 + 0.05 * steps) - 0.4 * steps * np.array([0.0, 0.0, 1.0])
+    strands = hairlod.Strands.from_counts(points.reshape(-1, 3).astype(np.float32), np.full(600, 8),
+                                          np.full(600 * 8, 0.003, np.float32))
+    return lod.build_lod(strands, guides=10, levels=4, control_points=6, seed=2), strands

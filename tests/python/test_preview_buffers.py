@@ -8,18 +8,6 @@ from hairlod import lod, preview_buffers
 from hairlod.camera import look_at, perspective
 
 
-@pytest.fixture(scope="module")
-def asset_and_strands():
-    rng = np.random.default_rng(5)
-    roots = rng.normal(size=(600, 3))
-    roots /= np.linalg.norm(roots, axis=1, keepdims=True)
-    steps = np.linspace(0.0, 1.0, 8)[None, :, None]
-    points = roots[:, None, :] * (1.0 + 0.05 * steps) - 0.4 * steps * np.array([0.0, 0.0, 1.0])
-    strands = hairlod.Strands.from_counts(points.reshape(-1, 3).astype(np.float32), np.full(600, 8),
-                                          np.full(600 * 8, 0.003, np.float32))
-    return lod.build_lod(strands, guides=10, levels=4, control_points=6, seed=2), strands
-
-
 def _central_tangents(points):
     """Oracle: unit tangents of polylines [items, n, 3] by central differences, one-sided at the ends,
     (0, 0, 1) for a stretch without length."""
@@ -31,8 +19,8 @@ def _central_tangents(points):
     return np.where(length > 1e-30, steps / np.where(length > 1e-30, length, 1.0), np.array([0.0, 0.0, 1.0]))
 
 
-def test_thick_strip_vertices_duplicate_each_control_point(asset_and_strands):
-    asset, _ = asset_and_strands
+def test_thick_strip_vertices_duplicate_each_control_point(sphere_hair_lod):
+    asset, _ = sphere_hair_lod
     geometry = asset.skin(asset.rest_guides)
     vertices = asset.preview_vertices()
     n_c = asset.control_points
@@ -57,8 +45,8 @@ def test_thick_strip_vertices_duplicate_each_control_point(asset_and_strands):
         np.testing.assert_array_equal(key[..., 1], np.tile(np.arange(n_c), (hairs, 1)))
 
 
-def test_strand_lines_follow_the_hierarchy_order(asset_and_strands):
-    asset, _ = asset_and_strands
+def test_strand_lines_follow_the_hierarchy_order(sphere_hair_lod):
+    asset, _ = sphere_hair_lod
     vertices = asset.preview_vertices()
     rest = vertices["rest_strands"]  # the decoded rest pose
     order = asset.arrays()["strand_order"]
@@ -88,8 +76,8 @@ def test_strand_tangents_of_a_stretch_without_length_are_fixed_not_nan():
     np.testing.assert_array_equal(tangents, np.tile([0.0, 0.0, 1.0], (len(tangents), 1)))
 
 
-def test_view_selection_indices_address_the_vertex_buffers(asset_and_strands):
-    asset, strands = asset_and_strands
+def test_view_selection_indices_address_the_vertex_buffers(sphere_hair_lod):
+    asset, strands = sphere_hair_lod
     view_selection = asset.view_selection()
     lower, upper = strands.bounding_box()
     centre, size = (lower + upper) / 2, float(np.linalg.norm(upper - lower))
@@ -111,8 +99,8 @@ def test_view_selection_indices_address_the_vertex_buffers(asset_and_strands):
         view_selection.indices(0, "points")
 
 
-def test_cluster_items_are_ranges_of_each_level(asset_and_strands):
-    asset, _ = asset_and_strands
+def test_cluster_items_are_ranges_of_each_level(sphere_hair_lod):
+    asset, _ = sphere_hair_lod
     for level in range(len(asset.levels) + 1):
         first = preview_buffers.cluster_items(asset, level)
         items = len(asset.levels[level].n_total) if level < len(asset.levels) else asset.strand_count
@@ -124,8 +112,8 @@ def test_cluster_items_are_ranges_of_each_level(asset_and_strands):
                                   stored["member_first"][stored["cluster_first"]])
 
 
-def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and_strands):
-    asset, strands = asset_and_strands
+def test_blocks_cover_every_segment_once_in_the_selection_index_layout(sphere_hair_lod):
+    asset, strands = sphere_hair_lod
     n_c = asset.control_points
     view_selection = asset.view_selection()
     lower, upper = strands.bounding_box()
@@ -162,9 +150,9 @@ def test_blocks_cover_every_segment_once_in_the_selection_index_layout(asset_and
         preview_buffers.block_indices(first, 0, 1, n_c, "points")
 
 
-def test_blocks_are_runs_of_the_whole_levels_elements(asset_and_strands):
+def test_blocks_are_runs_of_the_whole_levels_elements(sphere_hair_lod):
     # The preview cuts one element array of a whole level into its blocks' rows (lod_preview.LevelBlocks).
-    asset, _ = asset_and_strands
+    asset, _ = sphere_hair_lod
     n_c = asset.control_points
     for level, primitive, rows_per_segment in ((0, "strips", 2), (len(asset.levels), "lines", 1)):
         first = preview_buffers.cluster_items(asset, level)

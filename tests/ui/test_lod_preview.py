@@ -71,7 +71,7 @@ def steps():
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
     import hairlod
     from hairlod import hairmesh, lod
-    from hairlod.blender.preview import lod_preview
+    from hairlod.blender.preview import lod_preview, pulled_strips
     from hair_fixtures import preview_on_an_empty  # tests/blender/hair_fixtures.py
 
     strands = hairlod.generate_strands(hairmesh.read(HAIR_MESH), count=STRANDS, vertices=17, seed=1)
@@ -117,10 +117,10 @@ def steps():
           "mixed view: some blocks are drawn with the per-fragment selection test")
     saved = list(state.to_draw), list(state.exact)
     for level in range(preview.level_count):
-        kind = "thick" if level < preview.level_count - 1 else "strand"
-        elements = state.selection.indices(level, "strips" if kind == "thick" else "lines").reshape(-1, 3 if kind == "thick" else 2)
+        # Each level's selected segments alone: the thick levels' pulled by the shader from textures
+        # (pulled_strips), the strands' (every control point here) as an index list.
         state.to_draw[level] = None
-        state.exact[level] = lod_preview._batch(kind, preview.vertex_buffers[level], elements) if elements.size else None
+        state.exact[level] = preview.sparse_draw(state, level, preview.cluster_strides(state))
     area.tag_redraw()
     yield REDRAW_DELAY
     exact_image = screenshot(window, area, "lod_preview_mixed_exact.png")
@@ -154,6 +154,45 @@ def steps():
     check(differ.sum() <= 0.002 * hair.sum(),
           f"mixed view: the preview's choice of blocks and lists matches the exact selection "
           f"({differ.sum()} of {hair.sum()} hair pixels differ)")
+
+    # Thick hairs filling the view (a wide pixel threshold at a mid view): every thick level drawn from
+    # its selected segments alone, pulled by the shader from textures (pulled_strips), gives the image of
+    # the same segments drawn from the levels' blocks, in the Levels overlay and shaded.
+    region_3d.view_distance = 2.5 * size
+    settings.width_px = 32.0
+    settings.enabled = False
+    area.tag_redraw()
+    yield REDRAW_DELAY
+    thick_background = screenshot(window, area, "lod_preview_thick_off.png")
+    settings.enabled = True
+    for overlay in ('LEVELS', 'SHADED'):
+        settings.overlay = overlay
+        default_exact, lod_preview.EXACT_SEGMENTS = lod_preview.EXACT_SEGMENTS, 0
+        preview_buffers.THICK_WASTE_RATIO = float("inf")
+        state.upload_again()
+        yield from settle(area, preview)
+        thick_segments = preview.stats["segments_per_level"][:-1]
+        check(sum(thick_segments) > 2 * preview.stats["segments_per_level"][-1],
+              f"thick view: the thick levels draw most segments {preview.stats['segments_per_level']}")
+        check(sum(count > 0 for count in thick_segments) >= 2 and
+              all(state.to_draw[level] is not None for level, count in enumerate(thick_segments) if count),
+              f"thick view: several thick levels are drawn, from their blocks first {thick_segments}")
+        blocks_image = screenshot(window, area, f"lod_preview_thick_blocks_{overlay.lower()}.png")
+        for level in range(preview.level_count - 1):
+            state.to_draw[level] = None
+            state.exact[level] = preview.sparse_draw(state, level)
+        check(any(isinstance(draw, pulled_strips.PulledDraw) for draw in state.exact), "thick view: levels drawn pulled")
+        area.tag_redraw()
+        yield REDRAW_DELAY
+        pulled_image = screenshot(window, area, f"lod_preview_thick_pulled_{overlay.lower()}.png")
+        lod_preview.EXACT_SEGMENTS, preview_buffers.THICK_WASTE_RATIO = default_exact, default_waste_ratio
+        state.upload_again()
+        hair = (np.abs(blocks_image - thick_background).max(axis=2) > 0.05)
+        differ = (np.abs(blocks_image - pulled_image).max(axis=2) > 0.05) & hair
+        check(hair.sum() > 2000 and differ.sum() <= 0.002 * hair.sum(),
+              f"thick view ({overlay}): the pulled segments match their blocks ({differ.sum()} of {hair.sum()} hair "
+              f"pixels differ)")
+    settings.property_unset("width_px")
     settings.overlay = 'SHADED'
 
     results = {}

@@ -18,7 +18,9 @@ void append_draw_indices(const Selection& selection, int level, int control_poin
         for (auto item = static_cast<uint32_t>(draw.first); item < static_cast<uint32_t>(draw.first + draw.count); ++item) {
             for (auto s = static_cast<uint32_t>(draw.first_segment); s < last_segment; ++s) {
                 const uint32_t k = item * nc + s;
-                if (primitive == DrawPrimitive::lines) {
+                if (primitive == DrawPrimitive::segments) {
+                    out.push_back(k);
+                } else if (primitive == DrawPrimitive::lines) {
                     out.insert(out.end(), {k, k + 1});
                 } else {
                     // Control points k and k + 1 span the quad (2k, 2k + 1, 2k + 2, 2k + 3).

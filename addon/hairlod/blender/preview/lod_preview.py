@@ -8,8 +8,9 @@ selected strands. Vertex and index buffers are built once per asset: each level 
 of whole L0 clusters whose index buffers hold all their segments (preview_buffers). A redraw uploads
 the selection (level per L0 cluster and segment) as a small texture; the fragment shader drops
 segments selected at another level, and a block is drawn only when one of its clusters has a segment
-at that level. A level with few selected segments (EXACT_SEGMENTS) is drawn from an exact index list
-instead, small enough to rebuild within the frame budget when its ranges change; so is a thick level
+at that level. A level with few selected segments (EXACT_SEGMENTS) is drawn from those segments
+alone instead (the strands' from an index list, a thick level's fetched by the shader from textures,
+pulled_strips, with no index list to make when they change); so is a thick level
 whose drawn blocks would mostly be dropped (preview_buffers.blocks_wasteful): a thick hair not
 selected is wider than the strands selected in its place, and the GPU rasterises it before the test
 drops it.
@@ -38,7 +39,7 @@ from mathutils import Vector
 from ... import depth_range, lod, opacity_map, preview_buffers, self_shadow
 from .shaders import glsl_source
 from ..principled_hair import material_params, object_hair_params
-from . import hair_layer, opacity_maps, view_transform, world_srbf
+from . import hair_layer, opacity_maps, pulled_strips, view_transform, world_srbf
 from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -47,14 +48,15 @@ LEVEL_COLOURS = ((0.90, 0.25, 0.20), (0.95, 0.60, 0.15), (0.90, 0.85, 0.20), (0.
 
 _previews = {}     # object name -> LodPreview
 _handle = None     # the draw handler
-_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity", test_level) or ("strand shading",) -> GPUShader, built on first draw
+_shaders = {}      # ("thick" / "strand", "shade" / "depth" / "opacity", test_level, pulled) or ("strand shading",) -> GPUShader, built on first draw
 _view_transforms = view_transform.ViewTransforms()  # the scenes' colour management tables
 # Custom property of an object whose drawing the preview replaces: its own display type, to restore.
 SOURCE_DISPLAY_PROPERTY = "hairlod_display_type"
 
-# A level with at most this many selected segments is drawn from an exact index list instead,
-# rebuilt when its selected segments change: at most 6 x 4096 indices (about 0.1 ms), and a sparse level
-# spread over many blocks (a far view's few finer clusters) draws no more than it selected.
+# A level with at most this many selected segments is drawn from them alone instead (sparse_draw),
+# made again when they change: for the strands an index list of at most 2 x 4096 indices, for a thick
+# level a texture of them; a sparse level spread over many blocks (a far view's few finer clusters)
+# draws no more than it selected.
 EXACT_SEGMENTS = 1 << 12
 SELECTION_SLOT = 6  # sampler slot of the selection texture (the BCSDF tables take 0-2)
 SKIN_SLOT = 8       # sampler slot of the skinning maps (skinning.glsl; view_transform takes 7)
@@ -145,18 +147,21 @@ def _declare_shading(info):
                         "view_transform.glsl", "hair_shading.glsl"))
 
 
-def _create_shader(kind, purpose="shade", test_level=True):
+def _create_shader(kind, purpose="shade", test_level=True, pulled=False):
     """The program drawing a level of `kind` ("thick" or "strand") for `purpose`: "shade" (the
     viewport), or a light's pass of the opacity maps, "depth" or "opacity". A shading program without
-    `test_level` draws segments all selected at its level (no selection test, no discard). Strands'
-    shading is deferred to the hair layer's pass (strand_shading_shader): their shading program only
-    leaves what it needs in the layer."""
+    `test_level` draws segments all selected at its level (no selection test, no discard); a `pulled`
+    one (thick, shading, without the test) draws a sparse level's selected segments from textures
+    (pulled_strips) instead of vertex attributes. Strands' shading is deferred to the hair layer's pass
+    (strand_shading_shader): their shading program only leaves what it needs in the layer."""
+    if pulled and (kind != "thick" or purpose != "shade" or test_level):
+        raise ValueError("only the thick hairs' shading without the selection test is drawn pulled")
 
     # Strands pass on only what varies along them (a strand is one hair: STRAND_CONSTANTS), and the
     # selection's key only where the fragment tests it: every varying is set up per primitive and
     # interpolated per fragment, which on a software GPU costs as much as the shading.
     selection_varyings = purpose != "shade" or test_level
-    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_{int(selection_varyings)}_interface")
+    interface = gpu.types.GPUStageInterfaceInfo(f"hairlod_{kind}_{purpose}_{int(selection_varyings)}_{int(pulled)}_interface")
     interface.smooth('VEC3', "v_position")
     interface.smooth('VEC3', "v_tangent")
     if kind == "thick":
@@ -184,15 +189,17 @@ def _create_shader(kind, purpose="shade", test_level=True):
     else:
         info.push_constant('INT', "shadow_light")
         opacity_maps.declare(info, depth=purpose == "opacity", opacity=False)
-    for slot, (name, length) in enumerate(_attributes(kind)):
-        info.vertex_in(slot, f'VEC{length}', name)
+    pulled_defines = pulled_strips.declare(info) if pulled else ""
+    if not pulled:
+        for slot, (name, length) in enumerate(_attributes(kind)):
+            info.vertex_in(slot, f'VEC{length}', name)
     info.vertex_out(interface)
     info.fragment_out(0, 'VEC4', "fragColor")
     if purpose == "shade":
         info.fragment_out(1, 'VEC4', "strandPosition")  # the hair layer's second buffer
     defines = ("" if selection_varyings else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") + \
         ("" if kind == "thick" else STRAND_CONSTANTS)
-    info.vertex_source(defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n#define SURFACE_ROW {SURFACE_ROW}\n" +
+    info.vertex_source(defines + pulled_defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n#define SURFACE_ROW {SURFACE_ROW}\n" +
                        glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
         info.fragment_source(defines + glsl_source("selection.glsl") + shading + glsl_source("hair.frag.glsl"))
@@ -202,10 +209,10 @@ def _create_shader(kind, purpose="shade", test_level=True):
     return gpu.shader.create_from_info(info)
 
 
-def shader(kind, purpose="shade", test_level=True):
-    key = (kind, purpose, bool(test_level))
+def shader(kind, purpose="shade", test_level=True, pulled=False):
+    key = (kind, purpose, bool(test_level), bool(pulled))
     if key not in _shaders:
-        _shaders[key] = _create_shader(kind, purpose, test_level)
+        _shaders[key] = _create_shader(kind, purpose, test_level, pulled)
     return _shaders[key]
 
 
@@ -229,6 +236,7 @@ def compile_shaders():
         for purpose in ("shade", "depth", "opacity"):
             shader(kind, purpose)
         shader(kind, "shade", test_level=False)
+    shader("thick", "shade", test_level=False, pulled=True)
     strand_shading_shader()
 
 
@@ -332,7 +340,8 @@ class ViewState:
         self.texture = None                  # GPUTexture [segments x clusters] of selected levels, -1 when culled
         self.to_draw = [None] * level_count  # per dense level: bool per block; None for a sparse level
         self.one_level = [None] * level_count  # per dense level: bool per block, every segment at the level
-        self.exact = [None] * level_count    # per sparse level: GPUBatch of its selected segments, or None
+        self.exact = [None] * level_count    # per sparse level: its selected segments (strands: a GPUBatch,
+                                             # thick hairs: a pulled_strips.PulledDraw), or None
         self.exact_keys = [None] * level_count  # the selected segments each exact batch was built for
         self.level_versions = None  # ViewSelection.level_versions the texture and the levels' flags are of
         self.block_strides = None  # per block of the strand level: index into STRAND_STRIDES (vertex LoD)
@@ -357,6 +366,8 @@ class LodPreview:
         self.views = {}  # RegionView3D pointer -> ViewState
         self.vertex_buffers = None
         self.blocks = None       # per level: LevelBlocks
+        self.pulled_points = None  # per thick level: its control points' texture (pulled_strips)
+        self.slot_batches = pulled_strips.SlotBatches()
         self.hair_volume = None  # self_shadow.HairVolume of the rest strands, with the vertex buffers
         self.last_draw = None    # (ViewState, its timings) of the last draw, what `stats` reports
         self.max_hair_count = None
@@ -411,6 +422,7 @@ class LodPreview:
             item_first = preview_buffers.cluster_items(self.asset, index)
             buffers.append(_vertex_buffers("thick", arrays))
             self.blocks.append(LevelBlocks("thick", buffers[-1], item_first, control_points))
+        self.pulled_points = [pulled_strips.points_texture(arrays) for arrays in vertices["levels"]]
         strands = vertices["rest_strands"]
         item_first = preview_buffers.cluster_items(self.asset, len(self.asset.levels))
         buffers.append(_vertex_buffers("strand", vertices["strands"]))
@@ -585,10 +597,10 @@ class LodPreview:
 
     def upload_selection(self, state):
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
-        the flagged blocks of a dense level, or an exact index list for a sparse one. Only what a
-        change needs: the texture and a level's flags when some level's selected segments moved
-        (ViewSelection.level_versions), the strands' list when their strides did. A few tens of kB
-        per frame and small index lists."""
+        the flagged blocks of a dense level, or its selected segments alone for a sparse one
+        (sparse_draw). Only what a change needs: the texture and a level's flags when some level's
+        selected segments moved (ViewSelection.level_versions), the strands' list when their strides
+        did. A few tens of kB per frame and a small index list."""
         versions = state.selection.level_versions
         present = whole = selected = None
         state.segments = None  # counted again when the statistics are read
@@ -618,11 +630,18 @@ class LodPreview:
             if key == state.exact_keys[level]:
                 continue
             state.exact_keys[level] = key
-            elements = (state.selection.indices(level, "strips").reshape(-1, 3) if thick else
-                        state.selection.strided_strand_lines(strides))
-            state.exact[level] = (_batch("thick" if thick else "strand", self.vertex_buffers[level], elements)
-                                  if elements.size else None)
+            state.exact[level] = self.sparse_draw(state, level, strides)
         state.level_versions = versions
+
+    def sparse_draw(self, state, level, strides=None):
+        """What draws a sparse level's selected segments (ViewState.exact), None when it has none: a
+        thick level's selected segments pulled by the shader from textures (pulled_strips: no index list
+        to make), the strands' chords at `strides` per L0 cluster (vertex LoD) as an index list."""
+        if level < self.level_count - 1:
+            starts = state.selection.indices(level, "segments")
+            return self.slot_batches.draw_of(starts, self.pulled_points[level]) if starts.size else None
+        lines = state.selection.strided_strand_lines(strides)
+        return _batch("strand", self.vertex_buffers[level], lines) if lines.size else None
 
     def update_strides(self, state, model_view, projection, viewport_size, tolerance_px):
         """Per block of the strand level, the longest stride of the vertex LoD whose chords stay within
@@ -666,15 +685,16 @@ class LodPreview:
         return segments
 
     def _draw_level(self, state, level, program_for):
-        """Draws `level` with program_for(test_level), which binds the level's program with or without
-        the per-fragment test of the selection: the blocks whose every segment is at this level go
-        without it (no discard, so the GPU can test depth before shading), the others with it."""
+        """Draws `level` with program_for(test_level, pulled=False), which binds the level's program with
+        or without the per-fragment test of the selection: the blocks whose every segment is at this
+        level go without it (no discard, so the GPU can test depth before shading), the others with it;
+        a sparse thick level's pulled segments with the pulled program."""
         thick = level < self.level_count - 1
         if state.to_draw[level] is None:
             if state.exact[level] is not None:
-                # A thick level's exact list holds only its selected segments; the strands' chords may
-                # span segments selected at other levels (vertex LoD), which the test drops.
-                state.exact[level].draw(program_for(not thick))
+                # A thick level's pulled segments are all selected at it; the strands' chords may span
+                # segments selected at other levels (vertex LoD), which the test drops.
+                state.exact[level].draw(program_for(False, pulled=True) if thick else program_for(True))
             return
         blocks = self.blocks[level]
         strides = None if thick else state.block_strides
@@ -893,8 +913,8 @@ class LodPreview:
         for level in [self.level_count - 1, *range(self.level_count - 1)]:
             if state.exact[level] is None and (state.to_draw[level] is None or not state.to_draw[level].any()):
                 continue
-            def program_for(test_level, level=level):
-                program = shader("thick" if level < self.level_count - 1 else "strand", test_level=test_level)
+            def program_for(test_level, level=level, pulled=False):
+                program = shader("thick" if level < self.level_count - 1 else "strand", test_level=test_level, pulled=pulled)
                 program.bind()
                 program.uniform_block("frame", frame)
                 program.uniform_float("level_colour", (*level_colour(level, self.level_count), 1.0))

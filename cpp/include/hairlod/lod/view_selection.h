@@ -17,7 +17,9 @@ namespace hairlod {
 
 // LINES: one vertex per control point, 2 indices per segment. STRIPS: camera-facing strips with
 // vertices 2k and 2k + 1 on either side of control point k, 6 indices (2 triangles) per segment.
-enum class DrawPrimitive { lines, strips };
+// SEGMENTS: one index per segment, its first control point k (item * n_c + segment), for a shader
+// that fetches the segment's points itself: a sixth of the strips' indices.
+enum class DrawPrimitive { lines, strips, segments };
 
 // Appends the indices of every range of `selection` at `level` to `out`.
 void append_draw_indices(const Selection& selection, int level, int control_points, DrawPrimitive primitive,

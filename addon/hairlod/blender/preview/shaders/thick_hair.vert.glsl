@@ -1,17 +1,18 @@
 /* Camera-facing strip of a thick elliptical hair (hair-lod-aggregated-bcsdf.txt Sec. 5): vertices
- * 2k and 2k + 1 sit on either side of control point k. The strip spans the ellipse's silhouette seen
+ * 2k and 2k + 1 sit on either side of control point k (`across` -1 and +1). The strip spans the ellipse's silhouette seen
  * from the camera, so a switch between levels keeps the drawn width; at least half a pixel either
  * side so that thin hairs do not fall between pixels. Inputs are the rest pose in object space,
  * skinned to the current frame (skinning.glsl); outputs in world space (frame.model is the
  * object's matrix). */
-void main()
+void thick_vertex(vec3 rest_position, vec3 rest_tangent, vec3 rest_major, vec3 rest_minor, vec2 hair_cluster,
+                  vec2 key, float across)
 {
-  ivec2 cluster_point = ivec2(select_key + 0.5);
+  ivec2 cluster_point = ivec2(key + 0.5);
   mat3 skin;
-  vec3 world = (frame.model * vec4(skin_point(cluster_point, position, skin), 1.0)).xyz;
+  vec3 world = (frame.model * vec4(skin_point(cluster_point, rest_position, skin), 1.0)).xyz;
   mat3 linear = mat3(frame.model);
-  vec3 t = normalize(linear * (skin * tangent));
-  vec3 major_w = linear * (skin * major), minor_w = linear * (skin * minor);
+  vec3 t = normalize(linear * (skin * rest_tangent));
+  vec3 major_w = linear * (skin * rest_major), minor_w = linear * (skin * rest_minor);
   vec3 to_camera = frame.camera.xyz - world * frame.camera.w;
   vec3 side = cross(t, to_camera);
   float side_length = length(side);
@@ -24,7 +25,6 @@ void main()
   float pixels_per_unit = length(clip_side.xy * 0.5 * frame.viewport.xy) / max(abs(clip_centre.w), 1e-20);
   float drawn_half_width = max(half_width, 0.5 / max(pixels_per_unit, 1e-20));
 
-  float across = (gl_VertexID & 1) == 0 ? -1.0 : 1.0;
   gl_Position = clip_centre + across * drawn_half_width * clip_side;
 
   v_position = world + across * drawn_half_width * side;
@@ -34,9 +34,45 @@ void main()
   v_across = across * drawn_half_width / max(half_width, 1e-20);
   v_ellipse = vec3(length(major_w), length(minor_w), half_width);
   v_widen = drawn_half_width / max(half_width, 1e-20);
-  v_cluster = cluster;
+  v_cluster = hair_cluster;
 #ifndef HAIRLOD_ALL_AT_DRAW_LEVEL
-  v_select_cluster = int(select_key.x + 0.5);
-  v_select_point = select_key.y;
+  v_select_cluster = int(key.x + 0.5);
+  v_select_point = key.y;
 #endif
 }
+
+#ifdef HAIRLOD_PULLED
+/* A sparse level's selected segments without an index list (hairlod/pulled_strips.py): vertex
+ * 4s + 2c + side of slot s is control point c of the slot's segment, whose first point is texel s of
+ * pulled_segments (its low and high 16 bits); each point's attributes are POINT_TEXELS texels of pulled_points. Slots past
+ * pulled_count collapse beyond the far plane, where their triangles are clipped. */
+vec4 point_texel(int point, int texel)
+{
+  return texelFetch(pulled_points, ivec2(POINT_TEXELS * (point % POINT_ROW) + texel, point / POINT_ROW), 0);
+}
+
+void main()
+{
+  int slot = slot_vertex >> 2;
+  if (slot >= pulled_count) {
+    gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    v_position = vec3(0.0);
+    v_tangent = vec3(0.0);
+    v_to_camera = vec3(0.0);
+    v_ellipse = vec3(0.0);
+    v_across = 0.0;
+    v_widen = 0.0;
+    v_cluster = vec2(0.0);
+    return;
+  }
+  ivec2 start = ivec2(texelFetch(pulled_segments, ivec2(slot % SEGMENT_ROW, slot / SEGMENT_ROW), 0).rg + 0.5);
+  int point = start.x + (start.y << 16) + ((slot_vertex >> 1) & 1);
+  vec4 t0 = point_texel(point, 0), t1 = point_texel(point, 1), t2 = point_texel(point, 2), t3 = point_texel(point, 3);
+  thick_vertex(t0.xyz, vec3(t0.w, t1.xy), vec3(t1.zw, t2.x), t2.yzw, t3.xy, t3.zw, (slot_vertex & 1) == 0 ? -1.0 : 1.0);
+}
+#else
+void main()
+{
+  thick_vertex(position, tangent, major, minor, cluster, select_key, (gl_VertexID & 1) == 0 ? -1.0 : 1.0);
+}
+#endif
