@@ -164,6 +164,32 @@ TEST_F(SelectionTest, Eq16ConvergesToTheInitialSelectionForAStaticCamera) {
     }
 }
 
+// The calling thread alone (a viewport's update) selects what the pool does, levels and draws alike,
+// initially and step by step.
+TEST_F(SelectionTest, TheCallerThreadSelectsWhatThePoolSelects) {
+    auto same = [](const Selection& a, const Selection& b, float distance) {
+        EXPECT_EQ(a.level, b.level) << distance;
+        EXPECT_EQ(a.visible, b.visible) << distance;
+        ASSERT_EQ(a.draws.size(), b.draws.size()) << distance;
+        for (size_t i = 0; i < a.draws.size(); ++i) {
+            EXPECT_EQ(a.draws[i].level, b.draws[i].level);
+            EXPECT_EQ(a.draws[i].cluster, b.draws[i].cluster);
+            EXPECT_EQ(a.draws[i].first_segment, b.draws[i].first_segment);
+            EXPECT_EQ(a.draws[i].segment_count, b.draws[i].segment_count);
+        }
+    };
+    Selection pool = select_initial(*asset_, *rest_, camera_at(2.0f), 2.0f);
+    Selection caller = select_initial(*asset_, *rest_, camera_at(2.0f), 2.0f, SelectionThreads::caller);
+    same(pool, caller, 2.0f);
+    for (float distance : {3.0f, 6.0f, 12.0f, 40.0f}) {
+        select_deferred_in_place(*asset_, *rest_, camera_at(distance), 2.0f, pool, DeferredSteps::one);
+        select_deferred_in_place(*asset_, *rest_, camera_at(distance), 2.0f, caller, DeferredSteps::one,
+                                 SelectionThreads::caller);
+        same(pool, caller, distance);
+        EXPECT_FALSE(pool.draws.empty());
+    }
+}
+
 TEST_F(SelectionTest, InitialSelectionIsTheCoarsestLevelWhosePointsFitPointByPoint) {
     // The selection measures a cluster's points in vector lanes; here each point is measured on its
     // own with ScreenWidthBound, by the rule the lanes restate: the widest hair fits, or the

@@ -156,21 +156,26 @@ Context make_context(const LodAsset& asset, const LodGeometry& geometry, const C
 }
 
 // Marks each cluster visible or culled in `selection`, and calls body(c, fits) for each visible one
-// with `fits` started on it. Clusters are selected independently, in parallel over ranges that hold
-// enough of them (tens of microseconds of work) that starting one costs little.
+// with `fits` started on it. Clusters are selected independently: in the pool, in parallel over
+// ranges that hold enough of them (tens of microseconds of work) that starting one costs little.
 template <typename Body>
-void for_visible_clusters(const Context& context, Selection& selection, const Body& body) {
+void for_visible_clusters(const Context& context, Selection& selection, SelectionThreads threads, const Body& body) {
+    auto select_range = [&](size_t begin, size_t end) {
+        ClusterFits fits(context);
+        for (size_t c = begin; c != end; ++c) {
+            selection.visible[c] = context.frustum.intersects(context.geometry.cluster_bounds[c]);
+            if (!selection.visible[c]) continue;
+            fits.start(c);
+            body(c, fits);
+        }
+    };
+    if (threads == SelectionThreads::caller) {
+        select_range(0, context.asset.cluster_count());
+        return;
+    }
     constexpr size_t kClustersPerRange = 128;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, context.asset.cluster_count(), kClustersPerRange),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                          ClusterFits fits(context);
-                          for (size_t c = range.begin(); c != range.end(); ++c) {
-                              selection.visible[c] = context.frustum.intersects(context.geometry.cluster_bounds[c]);
-                              if (!selection.visible[c]) continue;
-                              fits.start(c);
-                              body(c, fits);
-                          }
-                      });
+                      [&](const tbb::blocked_range<size_t>& range) { select_range(range.begin(), range.end()); });
 }
 
 // Runs of equal level within each visible cluster become draw ranges.
@@ -272,14 +277,15 @@ float projected_width(const glm::mat4& view_projection, const glm::vec2& viewpor
     return widest;
 }
 
-Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px) {
+Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
+                         SelectionThreads threads) {
     const Context context = make_context(asset, geometry, camera, width_px);
     const auto segments = static_cast<size_t>(context.segments);
     Selection selection;
     selection.segments = context.segments;
     selection.level.assign(asset.cluster_count() * segments, 0);
     selection.visible.assign(asset.cluster_count(), 0);
-    for_visible_clusters(context, selection, [&](size_t c, ClusterFits& fits) {
+    for_visible_clusters(context, selection, threads, [&](size_t c, ClusterFits& fits) {
         // Coarsest to finest; a segment takes the first level that is narrow enough.
         for (size_t s = 0; s < segments; ++s) {
             int level = 0;
@@ -292,13 +298,13 @@ Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, con
 }
 
 void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
-                              Selection& selection, DeferredSteps steps) {
+                              Selection& selection, DeferredSteps steps, SelectionThreads threads) {
     const Context context = make_context(asset, geometry, camera, width_px);
     const auto segments = static_cast<size_t>(context.segments);
     if (selection.segments != context.segments || selection.level.size() != asset.cluster_count() * segments ||
         selection.visible.size() != asset.cluster_count())
         throw Error("select: the previous selection does not belong to this asset");
-    for_visible_clusters(context, selection, [&](size_t c, ClusterFits& fits) {
+    for_visible_clusters(context, selection, threads, [&](size_t c, ClusterFits& fits) {
         uint8_t* levels = selection.level.data() + c * segments;
         for (size_t s = 0; s < segments; ++s) {
             int level = std::min<int>(levels[s], context.finest);

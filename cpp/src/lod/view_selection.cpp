@@ -47,7 +47,7 @@ void ViewSelection::set_geometry(LodGeometry geometry) {
 
 bool ViewSelection::update(const Camera& camera, float width_px) {
     if (!started_) {
-        selection_ = select_initial(*asset_, geometry_, camera, width_px);
+        selection_ = select_initial(*asset_, geometry_, camera, width_px, SelectionThreads::caller);
         started_ = true;
         for (uint64_t& version : level_versions_) ++version;
         return true;
@@ -56,7 +56,8 @@ bool ViewSelection::update(const Camera& camera, float width_px) {
     // Huang 2025 Eq. 16 run until it changes nothing: continuous motion moves a segment one level, as one step
     // would, and a view that jumped shows its levels on its first frame instead of coarse ones
     // refining over several.
-    select_deferred_in_place(*asset_, geometry_, camera, width_px, selection_, DeferredSteps::until_stable);
+    select_deferred_in_place(*asset_, geometry_, camera, width_px, selection_, DeferredSteps::until_stable,
+                             SelectionThreads::caller);
     return count_changes(level, visible);
 }
 

@@ -107,22 +107,33 @@ private:
     std::array<glm::vec3, 6> form_rows_{};
 };
 
+// Where a selection's clusters are measured. In the pool (TBB), over ranges of clusters: fastest in a
+// process of its own. In the calling thread alone: a viewport's per-frame update (ViewSelection) is a
+// few hundred microseconds of work run inside the draw, where the GPU driver (llvmpipe rasterises
+// on the same cores) and Blender's threads hold the cores; a pool thread descheduled there holds the
+// whole update until it runs again. Inside Blender's draw (100k strands, 1347 L0 clusters, the dolly
+// of scripts/bench_lod_preview.py) the update took a median of 0.24 ms in the calling thread against
+// 0.32-0.36 ms in the pool, and 0.44-1.04 ms against 3.3-3.5 ms at the 90th percentile.
+enum class SelectionThreads { pool, caller };
+
 // Sec. 5.1 step 5: per visible cluster and segment, the coarsest level whose largest thick-hair
 // width is at most width_px (the strands when none is). A control point's width is the smaller of
 // ScreenWidthBound's two bounds (ThickHairGeometry::widest and width_ellipsoid), a segment's the
 // larger of its two control points'.
-Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px);
+Selection select_initial(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
+                         SelectionThreads threads = SelectionThreads::pool);
 
 // How far select_deferred_in_place moves a segment: one Huang 2025 Eq. 16 step (one level), or steps until
 // Huang 2025 Eq. 16 changes nothing (the level a view that jumped needs, on its first frame).
 enum class DeferredSteps { one, until_stable };
 
 // Huang 2025 Eq. 16 per cluster and segment from the current levels in `selection`, updated in place (no
-// array allocated once its draw list has grown to size; clusters in parallel): finer when the
+// array allocated once its draw list has grown to size; clusters measured where `threads` says): finer when the
 // current level is too wide, coarser when one coarser level fits, else unchanged. Culled clusters
 // keep their level.
 void select_deferred_in_place(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,
-                              Selection& selection, DeferredSteps steps = DeferredSteps::one);
+                              Selection& selection, DeferredSteps steps = DeferredSteps::one,
+                              SelectionThreads threads = SelectionThreads::pool);
 
 // Huang 2025 Eq. 16 from `previous`, returning the next selection.
 Selection select_deferred(const LodAsset& asset, const LodGeometry& geometry, const Camera& camera, float width_px,

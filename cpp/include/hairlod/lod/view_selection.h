@@ -32,7 +32,7 @@ public:
 
     // Selects for `camera`: the initial selection on the first call (or after reset), else Huang 2025 Eq. 16
     // from the current levels until stable. Returns whether any level, visibility or the draw list
-    // changed.
+    // changed. Runs in the calling thread (SelectionThreads::caller: it runs inside a viewport's draw).
     bool update(const Camera& camera, float width_px);
     void reset() { started_ = false; }
     // Replaces the geometry when the guides move (FrameSkinning::selection_geometry, or
