@@ -20,6 +20,8 @@ vertex shader fetches what it draws instead:
   empty, and each capacity's batch is made once.
 """
 
+import bisect
+import math
 import sys
 
 import numpy as np
@@ -80,17 +82,25 @@ def segment_texels(starts):
     return data.reshape(rows, SEGMENT_ROW, 2)
 
 
+def _capacities():
+    """MIN_SLOTS x sqrt(2)^j rounded up to an even number, ascending, up to the first past 2^32."""
+    capacities, j = [], 0
+    while not capacities or capacities[-1] <= 1 << 32:
+        capacities.append(2 * -(-math.ceil(MIN_SLOTS * 2.0 ** (j / 2)) // 2))
+        j += 1
+    return tuple(capacities)
+
+
+# Made once: the capacity is looked up on every change of a sparse level, inside the draw.
+_CAPACITIES = _capacities()
+
+
 def slot_capacity(segments):
     """The slots of the batch that draws ``segments`` (>= 0) segments: the smallest of MIN_SLOTS x
     sqrt(2)^j (rounded up to an even number) that holds them."""
-    if segments < 0:
-        raise ValueError(f"segments must be >= 0, got {segments}")
-    j = 0
-    while True:
-        capacity = 2 * -(-int(np.ceil(MIN_SLOTS * 2.0 ** (j / 2))) // 2)
-        if capacity >= segments:
-            return capacity
-        j += 1
+    if not 0 <= segments <= _CAPACITIES[-1]:
+        raise ValueError(f"segments must be >= 0 and at most {_CAPACITIES[-1]}, got {segments}")
+    return _CAPACITIES[bisect.bisect_left(_CAPACITIES, segments)]
 
 
 def slot_elements(capacity):
