@@ -26,7 +26,7 @@ import sys
 
 import numpy as np
 
-__all__ = ["POINT_TEXELS", "POINT_ROW", "SEGMENT_ROW", "MIN_SLOTS", "point_texels", "segment_texels",
+__all__ = ["POINT_TEXELS", "POINT_ROW", "SEGMENT_ROW", "MIN_SLOTS", "point_texels", "segment_texels", "texel_rows",
            "slot_capacity", "slot_elements"]
 
 POINT_TEXELS = 4       # RGBA texels per control point: 16 floats
@@ -62,12 +62,15 @@ def point_texels(arrays):
     return data.reshape(rows, POINT_ROW * POINT_TEXELS, 4)
 
 
-def segment_texels(starts):
+def segment_texels(starts, out=None):
     """float32 [rows, SEGMENT_ROW, 2]: the segments' first control points (uint32, from
     ``ViewSelection.indices(level, "segments")``) in rows of SEGMENT_ROW, each as its low and high 16
-    bits, integers a float holds exactly (Blender 3.4 uploads float textures only); the last row padded
-    with zeros (at least one row). One cast of the starts' halves: it runs in the draw, where every
-    numpy call runs cold (tens of microseconds each)."""
+    bits, integers a float holds exactly (Blender 3.4 uploads float textures only); at least one row.
+    Without `out` the last row is padded with zeros. With `out` (float32 [n, 2], C-contiguous, n at
+    least rows x SEGMENT_ROW: see texel_rows) the texels are written into its first entries and a view
+    of them returned; entries past the starts keep what they held (the shader reads none past the
+    count). It runs in the draw, where every numpy call runs cold (tens of microseconds each) and a new
+    array's pages fault in: one cast of the starts' halves into memory kept from frame to frame."""
     starts = np.asarray(starts)
     if starts.ndim != 1:
         raise ValueError(f"segment starts must be one-dimensional, got shape {starts.shape}")
@@ -75,11 +78,23 @@ def segment_texels(starts):
         if starts.size and (int(starts.min()) < 0 or int(starts.max()) > np.iinfo(np.uint32).max):
             raise ValueError("segment starts must be unsigned 32-bit integers")
         starts = starts.astype(np.uint32)
-    rows = max(1, -(-len(starts) // SEGMENT_ROW))
-    data = np.zeros((rows * SEGMENT_ROW, 2), np.float32)
+    rows = texel_rows(len(starts))
+    if out is None:
+        data = np.zeros((rows * SEGMENT_ROW, 2), np.float32)
+    else:
+        if out.dtype != np.float32 or out.ndim != 2 or out.shape[1] != 2 or not out.flags.c_contiguous:
+            raise ValueError(f"out must be a C-contiguous float32 array [n, 2], got {out.dtype} {out.shape}")
+        if out.shape[0] < rows * SEGMENT_ROW:
+            raise ValueError(f"out holds {out.shape[0]} texels, {len(starts)} segments need {rows * SEGMENT_ROW}")
+        data = out[:rows * SEGMENT_ROW]
     halves = starts.view(np.uint16).reshape(-1, 2)
     data[:len(starts)] = halves if _LITTLE_ENDIAN else halves[:, ::-1]
     return data.reshape(rows, SEGMENT_ROW, 2)
+
+
+def texel_rows(segments):
+    """The rows of SEGMENT_ROW texels that ``segments`` segments take (at least one)."""
+    return max(1, -(-segments // SEGMENT_ROW))
 
 
 def _capacities():

@@ -43,6 +43,14 @@ def test_pulled_slots_draw_the_strips_of_the_selected_segments(sphere_hair_lod):
             pairs = texels.reshape(-1, 2).astype(np.int64)
             np.testing.assert_array_equal(pairs[:starts.size, 0] + (pairs[:starts.size, 1] << 16), starts)
             assert not pairs[starts.size:].any()
+            # Written into memory kept from frame to frame (as the viewport does): the same texels where
+            # the starts are, that memory's own past them.
+            rows = pulled_strips.texel_rows(starts.size)
+            kept = np.full(((rows + 1) * pulled_strips.SEGMENT_ROW, 2), -7.0, np.float32)
+            into = pulled_strips.segment_texels(starts, out=kept)
+            assert np.shares_memory(into, kept) and into.shape == texels.shape
+            np.testing.assert_array_equal(into.reshape(-1, 2)[:starts.size], texels.reshape(-1, 2)[:starts.size])
+            assert (kept[starts.size:] == -7.0).all()
             checked += 1
     assert checked >= 3  # several views select some thick level
 
@@ -91,6 +99,14 @@ def test_bad_layouts_are_clear_errors(sphere_hair_lod):
     for starts in (np.array([0, 65535, 65536, 2**24 + 1, 2**32 - 1], np.uint32), np.array([2**31 + 3], np.int64)):
         low, high = pulled_strips.segment_texels(starts).reshape(-1, 2)[:len(starts)].astype(np.int64).T
         np.testing.assert_array_equal(low + (high << 16), starts)
+    assert [pulled_strips.texel_rows(n) for n in (0, 1, pulled_strips.SEGMENT_ROW, pulled_strips.SEGMENT_ROW + 1)] == [1, 1, 1, 2]
+    too_small = np.zeros((pulled_strips.SEGMENT_ROW - 1, 2), np.float32)
+    with pytest.raises(ValueError, match="need 4096"):
+        pulled_strips.segment_texels(np.arange(3, dtype=np.uint32), out=too_small)
+    for wrong in (np.zeros((pulled_strips.SEGMENT_ROW, 2), np.float64), np.zeros((2, pulled_strips.SEGMENT_ROW), np.float32).T,
+                  np.zeros(2 * pulled_strips.SEGMENT_ROW, np.float32)):
+        with pytest.raises(ValueError, match="C-contiguous float32"):
+            pulled_strips.segment_texels(np.arange(3, dtype=np.uint32), out=wrong)
     odd = {name: values[:-1] for name, values in arrays.items()}
     with pytest.raises(ValueError, match="two vertices per control point"):
         pulled_strips.point_texels(odd)

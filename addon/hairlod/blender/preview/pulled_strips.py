@@ -52,6 +52,7 @@ class SlotBatches:
 
     def __init__(self):
         self._batches = {}
+        self._texels = None  # the segment texels' memory, kept from frame to frame (segment_texels)
 
     def batch(self, segments):
         """The batch whose capacity (pulled_strips.slot_capacity) holds `segments` segments."""
@@ -68,7 +69,11 @@ class SlotBatches:
     def draw_of(self, starts, points):
         """The PulledDraw of the segments whose first control points are `starts`
         (ViewSelection.indices(level, "segments"), not empty) over a level's points texture."""
-        data = pulled_strips.segment_texels(starts)
+        if self._texels is None or len(self._texels) < pulled_strips.texel_rows(len(starts)) * pulled_strips.SEGMENT_ROW:
+            # As many as the slot batch that draws them holds, so it grows as seldom as the batches.
+            capacity = pulled_strips.slot_capacity(len(starts))
+            self._texels = np.empty((pulled_strips.texel_rows(capacity) * pulled_strips.SEGMENT_ROW, 2), np.float32)
+        data = pulled_strips.segment_texels(starts, out=self._texels)
         rows, width = data.shape[:2]
         data = data.ravel()
         segments = gpu.types.GPUTexture((width, rows), format='RG32F', data=gpu.types.Buffer('FLOAT', data.size, data))
