@@ -9,7 +9,9 @@ box averages in linear radiance, render.blurred_psnr: noise averages out, bias s
 the signed relative error of the mean linear radiance per channel (R, G, B) over the hair's pixels
 (those the strands cover with alpha > HAIR_ALPHA), and the coverage error of the method's geometry
 against the strands' (render.coverage: relative error of the total alpha, and mean |alpha difference|
-over all pixels). Every coverage render of a view uses the methods' seed and `spp`, so geometry equal
+over all pixels), and the radiance error of the hair alone (render.hair_radiance_error: each image
+unmixed from the sky its uncovered share shows, so that a coverage error does not read as a shading
+error). Every coverage render of a view uses the methods' seed and `spp`, so geometry equal
 to the strands reads exactly 0. The 'pt' row is an independent path-traced render at `spp` (the
 methods' seed): the noise floor the other rows are read against. A view whose hair covers fewer pixels
 renders more samples per pixel (view_spp_scales): the mean hair radiance of a far view, averaged over
@@ -164,13 +166,17 @@ def bench_quality(strands, asset=None, views=tuple(render.VIEWS), methods=render
         if view not in views:
             continue
         rows, equal_rows, view_images = {}, {}, {"reference": reference["image"]}
+        # What the camera rays that miss the hair show: the default lights' uniform sky.
+        background = render.default_lights(reference["camera"])["environment"]
         for method in methods:
             say(f"{view}: {method} at {view_spp} spp, its coverage, and at {equal_time_spp} spp")
             out = render_method(method, view, view_spp)
             alpha = render.coverage(strands, method, view, width, spp, asset=asset, width_px=width_px, seed=seed,
                                     vertex_tolerance_px=vertex_tolerance_px)
             rows[method] = dict(_row(out), **_errors(out["image"], reference["image"], hair),
-                                **_coverage_errors(alpha, reference_alpha))
+                                **_coverage_errors(alpha, reference_alpha),
+                                hair_radiance_error=[_finite(v) for v in render.hair_radiance_error(
+                                    out["image"], alpha, reference["image"], reference_alpha, hair, background)])
             view_images[method] = out["image"]
             quick = render_method(method, view, equal_time_spp)
             equal_rows[method] = dict(_row(quick), **_errors(quick["image"], reference["image"], hair))
@@ -371,18 +377,21 @@ def format_tables(result):
     lines = [f"Converged: spp of the pt reference / each method per view {samples} (more where the hair covers fewer "
              f"pixels), {result['width']} x {result['width']} px{limit}. Blurred PSNR: of {box} x {box} box averages (linear). Radiance: signed error of "
              f"the mean linear radiance over the hair's pixels (strands' alpha > {result['hair_alpha']:g}). Coverage: "
-             "the method's geometry against the strands (total alpha; mean |alpha difference| per pixel). The pt row, "
-             "an independent path-traced render, is the noise floor.", "",
-             f"| view | method | segments | seconds | {error_columns} | coverage % | mean abs alpha % |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "the method's geometry against the strands (total alpha; mean |alpha difference| per pixel). Hair alone: "
+             "the radiance error of the hair itself, each image unmixed from the sky its uncovered share shows (its own "
+             "alpha). The pt row, an independent path-traced render, is the noise floor.", "",
+             f"| view | method | segments | seconds | {error_columns} | coverage % | mean abs alpha % | hair alone R / G / B % |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for view, entry in result["views"].items():
         ref = entry["reference"]
         spp, reference_spp = scaled[view]
         lines.append(f"| {view} | pt reference ({reference_spp} spp) | {ref['segments']} | {ref['seconds']:.3f} "
-                     "| | | | | | |")
+                     "| | | | | | | |")
         for method, r in entry["rows"].items():
+            hair_alone = _rgb(r["hair_radiance_error"]) if "hair_radiance_error" in r else ""
             lines.append(f"| {view} | {label(method, spp)} | {r['segments']} | {r['seconds']:.3f} | {errors(r)} | "
-                         f"{_percent(r['coverage_error'])} | {_percent(r['coverage_abs_error'], signed=False)} |")
+                         f"{_percent(r['coverage_error'])} | {_percent(r['coverage_abs_error'], signed=False)} | "
+                         f"{hair_alone} |")
     equal_time = result["equal_time"]
     lines += ["", f"Equal time: each method at {equal_time['spp']} spp against the same reference (noise included).",
               "", f"| view | method | segments | seconds | {error_columns} |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]

@@ -300,6 +300,33 @@ def mean_radiance_error(image, reference, hair):
     return error
 
 
+def hair_radiance_error(image, alpha, reference, reference_alpha, hair, background):
+    """Signed relative error per channel (R, G, B) of the hair's own mean radiance: each image unmixed
+    from the `background` radiance [3] that its camera rays show where its geometry leaves a pixel
+    uncovered (its own `alpha` [H, W]), L_hair = (sum L - sum (1 - alpha) background) / sum alpha over
+    the pixels where `hair` [H, W] is true. mean_radiance_error mixes the hair with that background in
+    proportion to each image's coverage, so a coverage error shows there as a radiance error (most
+    where the background is much brighter than the hair); this one leaves it out, so the two together
+    tell the geometry's part from the shading's. NaN in a channel where the reference's hair radiance
+    is 0, or where either image covers none of those pixels."""
+    hair = np.asarray(hair, bool)
+    background = np.asarray(background, np.float64).reshape(3)
+
+    def unmixed(img, a):
+        a = np.asarray(a, np.float64)[hair]
+        covered = a.sum()
+        if not covered > 0.0:
+            return np.full(3, np.nan)
+        return (np.asarray(img, np.float64)[hair].sum(axis=0) - (len(a) - covered) * background) / covered
+
+    if not hair.any():
+        return np.full(3, np.nan)
+    test, truth = unmixed(image, alpha), unmixed(reference, reference_alpha)
+    error = np.full(3, np.nan)
+    np.divide(test - truth, truth, out=error, where=np.isfinite(test) & (truth > 0.0))
+    return error
+
+
 def coverage_error(alpha, reference_alpha):
     """(signed relative error of the total alpha, NaN when the reference covers nothing; mean absolute
     alpha difference over all pixels) of `alpha` against `reference_alpha` (both [H, W])."""

@@ -121,6 +121,40 @@ def test_same_pixels_spread_compares_the_same_pixels():
     assert render.same_pixels_spread(image, hair, reference, little, 2) is None
 
 
+def test_hair_radiance_error_leaves_coverage_out():
+    # Hair of radiance L over a sky of radiance S: a pixel covered by alpha shows alpha L + (1 - alpha) S.
+    rng = np.random.default_rng(5)
+    sky = np.array([0.15, 0.2, 0.3])
+    hair_radiance = rng.uniform(0.01, 0.05, (16, 16, 3))
+    reference_alpha = rng.uniform(0.3, 1.0, (16, 16))
+    hair = reference_alpha > 0.5
+
+    def shown(radiance, alpha):
+        return alpha[..., None] * radiance + (1.0 - alpha[..., None]) * sky
+
+    reference = shown(hair_radiance, reference_alpha)
+    # The same hair with 10 % less coverage: the mixed mean moves towards the bright sky, the hair does not.
+    thinner = 0.9 * reference_alpha
+    assert np.all(render.mean_radiance_error(shown(hair_radiance, thinner), reference, hair) > 0.05)
+    assert np.allclose(render.hair_radiance_error(shown(hair_radiance, thinner), thinner, reference, reference_alpha,
+                                                  hair, sky), 0.0, rtol=0, atol=1e-12)
+    # Hair 20 % redder and 10 % darker in blue under the reference's coverage: exactly that, per channel,
+    # whatever the coverage (the error of the coverage-weighted mean hair radiance).
+    tinted = hair_radiance * np.array([1.2, 1.0, 0.9])
+    for alpha in (reference_alpha, thinner):
+        error = render.hair_radiance_error(shown(tinted, alpha), alpha, reference, reference_alpha, hair, sky)
+        truth = (alpha[hair][:, None] * tinted[hair]).sum(0) / alpha[hair].sum()
+        expected = truth / ((reference_alpha[hair][:, None] * hair_radiance[hair]).sum(0) / reference_alpha[hair].sum()) - 1
+        assert np.allclose(error, expected, rtol=0, atol=1e-12)
+    assert np.allclose(render.hair_radiance_error(shown(tinted, reference_alpha), reference_alpha, reference,
+                                                  reference_alpha, hair, sky), [0.2, 0.0, -0.1], rtol=0, atol=1e-12)
+    # Nothing covered, or no hair pixels: NaN.
+    assert np.isnan(render.hair_radiance_error(reference, np.zeros_like(thinner), reference, reference_alpha, hair,
+                                               sky)).all()
+    assert np.isnan(render.hair_radiance_error(reference, thinner, reference, reference_alpha, np.zeros_like(hair),
+                                               sky)).all()
+
+
 def test_coverage_error():
     alpha = np.random.default_rng(3).uniform(0.0, 1.0, (8, 8))
     assert render.coverage_error(alpha, alpha) == (0.0, 0.0)
@@ -243,6 +277,8 @@ def test_bench_quality_tables(tiny_strands):
     tables = quality.format_tables(result)
     assert "| far | pt (noise floor, 2 spp) |" in tables and "| far | pt (noise floor, 1 spp) |" in tables
     assert "blurred PSNR dB" in tables and "radiance R / G / B %" in tables and "coverage %" in tables
+    assert "hair alone R / G / B %" in tables
+    assert all(len(row["hair_radiance_error"]) == 3 for row in result["views"]["far"]["rows"].values())
     blocks = [block.splitlines() for block in tables.split("\n\n") if block.startswith("|")]
     assert len(blocks) == 3  # converged, equal time, eps_w sweep
     for block in blocks:
