@@ -21,7 +21,7 @@ from . import _core
 from .bcsdf_bake import DEFAULT_TABLE_SAMPLES
 from .hair_params import as_params, params_to_dict
 
-__all__ = ["ShaderTables", "SrbfTables", "shader_tables", "srbf_tables", "theta_nodes"]
+__all__ = ["ShaderTables", "SrbfTables", "shader_tables", "srbf_tables", "theta_nodes", "uniform_world_response"]
 
 _ROWS = {
     "fiber_attenuation": ("A_R", "A_TT", "A_D"),
@@ -131,12 +131,15 @@ def theta_nodes(samples):
 
 
 def srbf_tables(params, lam, samples=20, lobes=True):
-    """Tabulates hairlod.bcsdf.srbf_single_scattering (the Marschner fibre of `params` under one unit
-    SRBF light of bandwidth `lam`) over the light's and the view's angles in the fibre frame: the
-    response depends only on theta_o, theta_j and |phi_o - phi_j| (the fibre is symmetric about its
-    normal plane's azimuth), so any lobe direction is a lookup. About 1 s at 20 samples, where trilinear
-    interpolation stays within about 3% of the peak response (tests/ui/test_bcsdf_shader.py).
-    Without `lobes` (a world of its uniform term alone) only the last row is computed, in about 0.05 s,
+    """Tabulates the hair's response to one unit SRBF light of bandwidth `lam` over the light's and the
+    view's angles in the fibre frame: hairlod.bcsdf.srbf_single_scattering (the Marschner fibre of
+    `params`, Xu et al. 2011 Eq. 11-14); the response depends only on theta_o, theta_j and
+    |phi_o - phi_j| (the fibre is symmetric about its normal plane's azimuth), so any lobe direction is a
+    lookup. About 1 s at 20 samples, where trilinear interpolation stays within about 3% of the peak
+    response (tests/ui/test_bcsdf_shader.py). The last row, the response to a uniform unit world, is the
+    material's own fibre's directional albedo (uniform_world_response): exact, where Xu's closed form on
+    the Marschner fibre read 0.94-0.96 of it at normal incidence and down to 0.4 at grazing views.
+    Without `lobes` (a world of its uniform term alone) only the last row is computed, in about 0.02 s,
     and the lobes' rows hold zeros, which a world with no lobes never reads. Cached: see CACHED_TABLES."""
     params = as_params(params)
     lam = float(lam)
@@ -151,7 +154,6 @@ def srbf_tables(params, lam, samples=20, lobes=True):
 
 def _tabulate_srbf(params, lam, samples, lobes):
     from .bcsdf import srbf_single_scattering
-    from .world_lighting import UNIFORM_BANDWIDTH
 
     theta = theta_nodes(samples)
     phi = np.linspace(0.0, np.pi, samples)
@@ -166,7 +168,26 @@ def _tabulate_srbf(params, lam, samples, lobes):
                  "coefficients": [[1.0, 1.0, 1.0]]}
         values = srbf_single_scattering(params, light, wo)
         response[j * samples:(j + 1) * samples, :, :3] = values.reshape(samples, samples, 3)
-    uniform = {"directions": [[0.0, 1.0, 0.0]], "lambdas": [UNIFORM_BANDWIDTH], "coefficients": [[1.0, 1.0, 1.0]]}
-    wo_uniform = np.stack([np.sin(theta), np.cos(theta), np.zeros_like(theta)], axis=1)
-    response[-1, :, :3] = srbf_single_scattering(params, uniform, wo_uniform)
+    response[-1, :, :3] = uniform_world_response(params, theta)
     return SrbfTables(response=_read_only(np.ascontiguousarray(response)), lam=lam)
+
+
+# theta_o samples of the fibre's attenuation table: those of FiberRtdBcsdf's own table
+# (cpp/src/bcsdf/fiber_rtd.cpp), so that interpolating this one reads its values.
+_ALBEDO_SAMPLES = 257
+
+
+def uniform_world_response(params, theta_o):
+    """The radiance a hair sends towards theta_o (radians, any shape) under a uniform unit world,
+    float64 [..., 3]: the integral of S(wi, wo) cos(theta_i) over the sphere, the directional albedo of
+    the material's fibre (the white furnace; the path tracer's Chiang fibre, and for a Huang material
+    the Chiang fibre fitted to it). It is the fibre's A_R + A_TT + A_D at theta_o (the R / TT / D fibre
+    of Huang et al. 2025 Eq. 1, with the Chiang fibre's h-averaged attenuations: bake's
+    fiber_attenuation), even in theta_o."""
+    baked = {table["name"]: table for table in _core.bcsdf_bake(
+        as_params(params), theta_samples=_ALBEDO_SAMPLES, hair_count_samples=2, max_hair_count=1.0, table_samples=3,
+        tables=["aggregated"])}
+    albedo = _rows(baked["fiber_attenuation"], _ROWS["fiber_attenuation"])[:, :, :3].sum(axis=0, dtype=np.float64)
+    nodes = np.linspace(0.0, 0.5 * np.pi, _ALBEDO_SAMPLES)
+    at = np.minimum(np.abs(np.asarray(theta_o, np.float64)), 0.5 * np.pi)
+    return np.stack([np.interp(at, nodes, albedo[:, channel]) for channel in range(3)], axis=-1)

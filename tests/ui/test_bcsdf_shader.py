@@ -273,8 +273,10 @@ void main()
 
 
 def check_srbf_world():
-    """The world as SRBF lights: srbf_world.glsl against hairlod.bcsdf.srbf_single_scattering (C++,
-    Xu et al. 2011 Eq. 11-14) with the same lights in each pixel's fibre frame. A synthetic world (a
+    """The world as SRBF lights: srbf_world.glsl against its lobes' hairlod.bcsdf.srbf_single_scattering
+    (C++, Xu et al. 2011 Eq. 11-14) with the same lights in each pixel's fibre frame, plus its uniform
+    part times the material's directional albedo (hairlod.preview_luts.uniform_world_response, the
+    table's last row). A synthetic world (a
     uniform sky, a warm bright patch, a darker ground; 11% fit error, plus a
     uniform part) fitted by hairlod.world_lighting; 64 random
     tangents x 64 random views, a light and a dark hair. Tolerance: the response table's trilinear
@@ -313,8 +315,10 @@ def check_srbf_world():
             u /= np.linalg.norm(u)
             frame = np.stack([t, u, np.cross(t, u)])
             rows = slice(k * SIZE, (k + 1) * SIZE)
-            local = dict(srbf, directions=srbf["directions"] @ frame.T)
-            reference[rows] = bcsdf.srbf_single_scattering(params, local, wo[rows] @ frame.T)
+            local = {key: srbf[key][:-1] for key in ("lambdas", "coefficients")}  # the last: the uniform part
+            local["directions"] = srbf["directions"][:-1] @ frame.T
+            uniform = preview_luts.uniform_world_response(params, np.arcsin(np.clip(wo[rows] @ t, -1.0, 1.0)))
+            reference[rows] = bcsdf.srbf_single_scattering(params, local, wo[rows] @ frame.T) + lights.constant * uniform
         error = np.abs(shader_values - reference)
         peak = reference.max()
         print(f"srbf world, {name} hair: max |L_glsl - L_cpp| = {error.max():.4f} = {error.max() / peak:.2%} of the "

@@ -13,7 +13,8 @@
  * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
  * as the lights (hair_world_transmittance, averaged over 14 directions): as SRBF lights
  * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
- * hair's directional albedo approximated by the fibre's A_R + A_TT + A_D at theta_o; either attenuated
+ * hair's directional albedo, the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row
+ * holds too: a uniform world reads the same either way); either attenuated
  * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7). */
 vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, vec2 cluster)
 {

@@ -3,7 +3,8 @@
  * space. Each lobe's single scattering (Xu 2011 Eq. 11-14, the Marschner fibre, as hairlod.bcsdf.srbf_single_scattering
  * computes it) is read from srbf_lut (hairlod.preview_luts.srbf_tables): it depends only on theta_o,
  * theta_j and |phi_o - phi_j|, trilinear over the table's nodes (theta nodes pi/2 sin(pi s / 2), s
- * uniform in [-1, 1]; phi nodes uniform in [0, pi]); the last row is the response to a uniform world.
+ * uniform in [-1, 1]; phi nodes uniform in [0, pi]); the last row is the response to a uniform world,
+ * the material's own directional albedo (hairlod.preview_luts.uniform_world_response).
  * Needs: sampler2D srbf_lut; the HairWorld block `hair_world` (world_srbf.py): hair_world.constant.rgb = c_0,
  * hair_world.counts.x = the lobe count, hair_world.lobe_directions[j].xyz = w_j, hair_world.lobe_colours[j].rgb = L_j;
  * lut_row from aggregated_bcsdf.glsl. */
