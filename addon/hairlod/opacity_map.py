@@ -129,6 +129,13 @@ def optical_depth(layers, below, spacing):
     return lower + t * (upper - lower)
 
 
+def optical_depth_behind(layers, below, spacing):
+    """tau of the hair deeper than `below` along the light: the last layer's less optical_depth at
+    `below`, at least 0 (all of it above the first hair, none past the last layer)."""
+    layers = np.asarray(layers, np.float64)
+    return np.maximum(layers[..., -1] - optical_depth(layers, below, spacing), 0.0)
+
+
 def strand_coverage(radius, pixel):
     """Optical depth a strand of `radius` adds to the pixel (world size `pixel`) its line crosses."""
     return np.minimum(2.0 * np.asarray(radius, np.float64) / pixel, MAX_PIXEL_DEPTH)

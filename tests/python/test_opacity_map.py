@@ -66,6 +66,20 @@ def test_optical_depth_is_piecewise_linear_through_the_layers():
     assert opacity_map.layer_spacing(2.0) * opacity_map.LAYER_STEPS[-1] == pytest.approx(2.0)
 
 
+def test_the_optical_depth_behind_runs_from_the_whole_hair_to_none():
+    spacing = 0.5
+    layers = np.array([1.0, 2.0, 3.5, 5.0])
+    knots = np.asarray(opacity_map.LAYER_STEPS) * spacing
+    # Above the first hair all of it lies behind; past the last layer none; between, what the layers
+    # hold below the depth, never increasing.
+    assert opacity_map.optical_depth_behind(layers, -1.0, spacing) == 5.0
+    assert opacity_map.optical_depth_behind(layers, 0.0, spacing) == 5.0
+    assert opacity_map.optical_depth_behind(layers, knots[-1] * 1.5, spacing) == 0.0
+    np.testing.assert_allclose(opacity_map.optical_depth_behind(layers, knots, spacing), [4.0, 3.0, 1.5, 0.0])
+    depths = np.linspace(0.0, knots[-1], 50)
+    assert np.all(np.diff(opacity_map.optical_depth_behind(layers, depths, spacing)) <= 0.0)
+
+
 def test_a_thick_hair_adds_the_optical_depth_of_its_strands():
     """Across its silhouette a thick hair holds 2 r N, its strands' projected width (Beer-Lambert sums
     coverage), whatever its width; a strand's line adds 2 r over the pixel's width, capped."""

@@ -79,9 +79,10 @@ def full_screen_shader_info():
     return info
 
 
-def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False):
+def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False, behind=None):
     """aggregated_bcsdf per pixel; with `single_hair`, as the strands' shader builds it
-    (HAIRLOD_SINGLE_HAIR: n = 1 and rho = 1 whatever hair_count and density say)."""
+    (HAIRLOD_SINGLE_HAIR: n = 1 and rho = 1 whatever hair_count and density say); with `behind`,
+    aggregated_bcsdf_behind with that share of hair behind."""
     import gpu
 
     from hairlod.blender.preview import bcsdf_textures
@@ -91,15 +92,17 @@ def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False):
     info.sampler(3, 'FLOAT_2D', "incoming")
     info.sampler(4, 'FLOAT_2D', "outgoing")
     bcsdf_textures.declare(info)
+    call = ("aggregated_bcsdf(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w)" if behind is None else
+            f"aggregated_bcsdf_behind(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w, {float(behind)!r})")
     info.fragment_source(("#define HAIRLOD_SINGLE_HAIR\n" if single_hair else "") + glsl_source("aggregated_bcsdf.glsl") + """
 void main()
 {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec4 i = texelFetch(incoming, pixel, 0);
   vec4 o = texelFetch(outgoing, pixel, 0);
-  fragColor = vec4(aggregated_bcsdf(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w), 1.0);
+  fragColor = vec4(%s, 1.0);
 }
-""")
+""" % call)
     shader = gpu.shader.create_from_info(info)
     textures = bcsdf_textures.BcsdfTextures(tables)
     # Kept referenced until drawn: a freed GPUTexture reads as zeros.
@@ -215,7 +218,9 @@ def check_layered_optical_depth():
 void main()
 {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  fragColor = vec4(layered_optical_depth(texelFetch(layer_data, pixel, 0), texelFetch(below_data, pixel, 0).w, spacing), 0.0, 0.0, 1.0);
+  vec4 layers = texelFetch(layer_data, pixel, 0);
+  float below = texelFetch(below_data, pixel, 0).w;
+  fragColor = vec4(layered_optical_depth(layers, below, spacing), optical_depth_behind(layers, below, spacing), 0.0, 1.0);
 }
 """)
     shader = gpu.shader.create_from_info(info)
@@ -227,11 +232,16 @@ void main()
         program.uniform_sampler("below_data", below_texture)
         program.uniform_float("spacing", spacing)
 
-    values = draw_full_screen(shader, bind)[:, 0]
+    drawn = draw_full_screen(shader, bind)
+    values = drawn[:, 0]
     reference = opacity_map.optical_depth(layers, below, spacing)
     error = np.abs(values - reference) / np.maximum(reference, 1.0)
     print(f"layered optical depth: max |tau_glsl - tau_ref| / max(tau_ref, 1) = {error.max():.2e} over {count} depths")
     check((error <= 1e-5).all(), "layered optical depth: GLSL agrees with hairlod.opacity_map.optical_depth within 1e-5")
+    behind = opacity_map.optical_depth_behind(layers, below, spacing)
+    error = np.abs(drawn[:, 1] - behind) / np.maximum(layers[:, 3], 1.0)
+    print(f"optical depth behind: max |tau_glsl - tau_ref| / max(tau_total, 1) = {error.max():.2e}")
+    check((error <= 1e-5).all(), "optical depth behind: GLSL agrees with hairlod.opacity_map.optical_depth_behind within 1e-5")
 
 
 def srbf_world_on_gpu(tables, lights, tangents, wo):
@@ -377,6 +387,26 @@ def run():
               f"{name}: the strands' single-hair shader reads the general shader's values at n = 1, rho = 1")
         check((np.abs(single - single_reference) <= 0.05 * single_reference + 0.01 * single_scale).all(),
               f"{name}: the strands' single-hair shader agrees with C++ within 5% + 1% of peak")
+
+        # The hair behind: all of it is aggregated_bcsdf; less of it takes only B^'s A_1 + A_3 away,
+        # towards the front (phi < pi / 2) alone, never adding light, concave (B^ is capped by its budget).
+        shares = {b: evaluate_on_gpu(tables, wi, wo, hair_count, density, behind=b) for b in (0.0, 0.5, 1.0)}
+        tolerance = 1e-6 * scale
+        # cos(phi) between the directions' projections onto the fibre's normal plane (t = x), away from 0,
+        # where float32 rounding may put a configuration on either side.
+        cos_phi = np.einsum("ij,ij->i", wi[:, 1:], wo[:, 1:]) / (np.linalg.norm(wi[:, 1:], axis=1) *
+                                                                 np.linalg.norm(wo[:, 1:], axis=1))
+        front, back = cos_phi > 1e-3, cos_phi < -1e-3
+        check(bool(np.all(np.abs(shares[1.0] - shader_values) <= tolerance)), f"{name}: all hair behind is aggregated_bcsdf")
+        check(bool(np.all(shares[0.0] <= shares[0.5] + tolerance) and np.all(shares[0.5] <= shares[1.0] + tolerance)),
+              f"{name}: less hair behind never adds light")
+        check(bool(np.all(shares[0.5] >= 0.5 * (shares[0.0] + shares[1.0]) - tolerance)), f"{name}: B^ concave in the hair behind")
+        check(bool(np.all(np.abs(shares[0.0] - shares[1.0])[back] <= tolerance)),
+              f"{name}: the hair behind changes nothing towards the back")
+        taken = (shares[1.0] - shares[0.0]).sum(axis=1)[front]
+        print(f"{name}: the hair behind's back-scatter, up to {taken.max() / scale:.2%} of the peak, in "
+              f"{np.mean(taken > tolerance):.0%} of the front configurations")
+        check(bool(taken.max() > 100.0 * tolerance), f"{name}: the hair behind's back-scatter is there towards the front")
 
 
 def steps():

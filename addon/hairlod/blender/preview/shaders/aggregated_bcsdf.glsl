@@ -128,8 +128,11 @@ float wrapped_gaussian(float x, float variance)
 }
 
 /* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15; n = 1 and rho = 1 is the
- * single fibre of Huang 2025 Eq. 1 with every hair behind it). Returns RGB. */
-vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
+ * single fibre of Huang 2025 Eq. 1 with hair behind it). `behind` in [0, 1] is the share of the light that
+ * meets hair beyond the hair along wi: the back-scatter of the hair behind, A_1 + A_3 of B^ (dual
+ * scattering's backscattering attenuation, Zinke et al. 2008 Sec. 4.2, for hair that fills the half-space
+ * behind), scales with it; A_1+, the hair's own side scattering (Huang 2025 Eq. 10), does not. Returns RGB. */
+vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float behind)
 {
   float sin_i = clamp(dot(wi, t), -1.0, 1.0), sin_o = clamp(dot(wo, t), -1.0, 1.0);
   float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0)), cos_o = sqrt(max(1.0 - sin_o * sin_o, 0.0));
@@ -175,14 +178,15 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
 
   vec3 shadowing = vec3(1.0);
   if (phi < 0.5 * HAIRLOD_PI) {
-    /* Huang 2025 Eq. 10-11: B^ = A_1+ + A_1 + A_3, capped by the budget 1 - a_F^(n-1) (a_f + a_b) at theta_o. */
+    /* Huang 2025 Eq. 10-11: B^ = A_1+ + A_1 + A_3 (the latter two for the hair behind), capped by the budget
+     * 1 - a_F^(n-1) (a_f + a_b) at theta_o. */
     vec3 a_1_plus = aggregated_lookup(1, theta_d, n);
     vec3 budget = aggregated_lookup(2, theta_o, n);
     vec3 a_1 = lut_row(dual_lut, 2, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
     vec3 a_3 = lut_row(dual_lut, 3, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
     vec3 delta_b = lut_row(dual_lut, 4, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
     vec3 sigma_b = lut_row(dual_lut, 5, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
-    vec3 a_b = min(a_1_plus + a_1 + a_3, budget);
+    vec3 a_b = min(a_1_plus + behind * (a_1 + a_3), budget);
     vec3 m_b;
     for (int c = 0; c < 3; ++c) {
       m_b[c] = hairlod_gaussian(theta_i + theta_o - 2.0 * delta_b[c], max(4.0 * sigma_b[c] * sigma_b[c], 1e-12));
@@ -195,6 +199,12 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
     shadowing = p_s * a_f + vec3(1.0 - p_m - p_s);
   }
   return value * shadowing;
+}
+
+/* The same with hair everywhere behind (the model of cpp/src/bcsdf/aggregated.cpp). */
+vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
+{
+  return aggregated_bcsdf_behind(wi, wo, t, n, rho, 1.0);
 }
 
 /* Hairs crossed by a ray of length `ray_length` through a thick hair (Sec. 4): n = rho l sqrt(n_total /

@@ -63,7 +63,12 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
      * 2008 Sec. 4.2; a_f at the light's inclination). */
     vec3 a_f = clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 1e-4, 1.0);
     vec3 shadow;
+    /* The back-scatter of the hair behind (B^'s A_1 + A_3) needs hair there: the chance that the light
+     * passing the hair meets a strand beyond it, 1 - exp(-tau) over the map's optical depth past the
+     * hair; a sparse wisp has little behind it. Lights without a map keep it whole. */
+    float behind = 1.0;
     if (k < OPACITY_MAX_LIGHTS && frame.light_shadow[k].w > 0.5) {
+      behind = 1.0 - exp(-hair_behind_optical_depth(k, seen));
       /* The light's deep opacity map (opacity_map.glsl), over the depths where the camera's first strand
        * lies, read a pixel nearer the light than each (past the hair's own sample). The map counts the
        * strands themselves: the light that crossed tau of them keeps Zinke's forward transmittance
@@ -79,7 +84,7 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
       shadow = exp(-(vec3(1.0) - a_f) * hair_optical_depth(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
                                                             frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w));
     }
-    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf(wi, wo, t, n, rho) * cos_i;
+    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf_behind(wi, wo, t, n, rho, behind) * cos_i;
   }
   if (hair_world.constant.w > 0.5) {
     radiance += srbf_world(wo, t) * forward_attenuation(0.0, n) * world_shadow;

@@ -31,6 +31,12 @@ float layered_optical_depth(vec4 layers, float below, float spacing)
   return dot(slopes, clamp(vec4(below / spacing) - starts, vec4(0.0), lengths));
 }
 
+/* tau of the hair deeper than `below` (hairlod.opacity_map.optical_depth_behind). */
+float optical_depth_behind(vec4 layers, float below, float spacing)
+{
+  return max(layers.w - layered_optical_depth(layers, below, spacing), 0.0);
+}
+
 /* The map's texel under clip-space position `clip` of light k, moved by `offset` texels; (-1, -1) outside
  * the map. */
 ivec2 opacity_texel(int k, vec4 clip, vec2 offset)
@@ -55,6 +61,18 @@ float light_side_density(int k, vec3 p)
     return 0.0;
   }
   return texelFetch(opacity_map, texel, 0).y / (OPACITY_LAYER_STEPS.y * frame.light_shadow[k].z);
+}
+
+/* The optical depth of the hair beyond p along light k's direction (the map's last layer less the depth
+ * at p), 0 outside the map. */
+float hair_behind_optical_depth(int k, vec3 p)
+{
+  ivec2 texel = opacity_texel(k, frame.light_view_projection[k] * vec4(p, 1.0), vec2(0.0));
+  float first = texel.x < 0 ? 1e30 : texelFetch(depth_map, texel, 0).r;
+  if (first >= 1e29) {
+    return 0.0;
+  }
+  return optical_depth_behind(texelFetch(opacity_map, texel, 0), light_depth(k, p) - first, frame.light_shadow[k].z);
 }
 
 /* The light of light k reaching the hair a camera sees at p, per channel: exp(-tau keep), keep = -ln a_f
