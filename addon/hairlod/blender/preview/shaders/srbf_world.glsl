@@ -1,7 +1,8 @@
 /* The world as SRBF lights (Xu et al. 2011, circular-gaussian-hair-env-lighting.txt, Sec. 3, Eq. 2):
  * radiance towards wo from a hair of unit tangent t under c_0 + sum_j L_j G(w; w_j, lambda), world
- * space. Each lobe's single scattering (Xu 2011 Eq. 11-14, the Marschner fibre, as hairlod.bcsdf.srbf_single_scattering
- * computes it) is read from srbf_lut (hairlod.preview_luts.srbf_tables): it depends only on theta_o,
+ * space. Each lobe's single scattering (Xu 2011 Eq. 2, the integral of G S cos(theta_i) over the sphere for the
+ * R / TT / D fibre, hairlod.preview_luts.lobe_responses) is read from srbf_lut (hairlod.preview_luts.srbf_tables,
+ * read the same way by preview_luts.srbf_lookup): it depends only on theta_o,
  * theta_j and |phi_o - phi_j|, trilinear over the table's nodes (theta nodes pi/2 sin(pi s / 2), s
  * uniform in [-1, 1]; phi nodes uniform in [0, pi]); the last row is the response to a uniform world,
  * the material's own directional albedo (hairlod.preview_luts.uniform_world_response).
