@@ -157,8 +157,8 @@ def srbf_lookup(tables, sin_o, sin_j=None, phi=None):
 
 def theta_nodes(samples):
     """The theta nodes of SrbfTables: theta = pi/2 sin(pi s / 2) for s uniform in [-1, 1], denser
-    towards the grazing angles, where the response changes fastest (the Marschner energy
-    normalisation and the lobes' cos(theta) factors). srbf_world.glsl inverts the map."""
+    towards the grazing angles, where the response changes fastest (the fibre's attenuations near
+    grazing and the lobes' cos(theta) factors). srbf_world.glsl inverts the map."""
     return 0.5 * np.pi * np.sin(0.5 * np.pi * np.linspace(-1.0, 1.0, samples))
 
 
