@@ -20,6 +20,13 @@ path-traced image's own pixels (spread_same_pixels, hairlod.render.same_pixels_s
 averaged onto them, the pixels both images cover, weighted by coverage), where the whole-image
 spreads compare different pixels. --strand-coverage off draws every strand a pixel wide (the panel's
 Strand Coverage).
+
+--hdri NAME lights both with an equirectangular image instead of the uniform world: one of Blender's
+own studio-light worlds (datafiles/studiolights/world: city, courtyard, forest, interior, night,
+studio, sunrise, sunset) or the path of an .exr / .hdr, times --hdri-strength. The preview fits it with
+its SRBF lights (the panel's World: SRBF, the default); the path tracer looks the image up per ray
+(Blender's equirectangular mapping), and the sky behind each path-traced pixel, which the unmixing takes
+away, is the image along that pixel's camera ray.
 """
 
 import argparse
@@ -57,6 +64,9 @@ def parse_args():
                         help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--cycles-samples", type=int, default=0,
                         help="also render the view with Cycles at this many samples (tests/blender/cycles_scene.py)")
+    parser.add_argument("--hdri", help="light with this equirectangular image instead of the uniform world: a "
+                        "studio-light world of Blender's (forest, city, ...) or a path")
+    parser.add_argument("--hdri-strength", type=float, default=1.0, help="the image's strength (default 1)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -102,8 +112,66 @@ def spread_on_same_pixels(preview, mask, hair_radiance, alpha, scale):
 
 
 def unmixed(image, alpha, background):
-    """The hair's own radiance in pixels it covers partly: image = alpha hair + (1 - alpha) background."""
+    """The hair's own radiance in pixels it covers partly: image = alpha hair + (1 - alpha) background
+    (background: an RGB, or per pixel [H, W, 3])."""
     return (image - (1.0 - alpha[..., None]) * background) / np.maximum(alpha[..., None], 1e-6)
+
+
+def hdri_path(name):
+    """The file of --hdri: a path, or the name of one of Blender's studio-light worlds."""
+    if os.path.isfile(name):
+        return name
+    folder = bpy.utils.system_resource('DATAFILES', path=os.path.join("studiolights", "world"))
+    path = os.path.join(folder, name if name.endswith(".exr") else name + ".exr")
+    if not os.path.isfile(path):
+        known = sorted(f[:-4] for f in os.listdir(folder) if f.endswith(".exr")) if os.path.isdir(folder) else []
+        raise SystemExit(f"--hdri: no file {name!r} and no studio-light world of that name (Blender has: "
+                         f"{', '.join(known) or 'none'})")
+    return path
+
+
+def hdri_world(scene, path, strength):
+    """Makes the scene's world the image at `path` (Environment Texture -> Background x strength) and
+    returns its radiance as hairlod.render takes an environment: [H, W, 3] float32, top row up."""
+    image = bpy.data.images.load(path, check_existing=True)
+    world = scene.world
+    world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    texture = nodes.get("hairlod HDRI") or nodes.new("ShaderNodeTexEnvironment")
+    texture.name = "hairlod HDRI"
+    texture.image = image
+    background = nodes["Background"]
+    links.new(texture.outputs["Color"], background.inputs["Color"])
+    background.inputs["Strength"].default_value = strength
+    width, height = image.size
+    pixels = np.empty(width * height * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    # Blender's pixels run bottom-up; the renderer's rows top-down. Real images hold texels a little
+    # below 0 (compression; -0.003 in courtyard.exr), which the renderer refuses and the preview's fit
+    # clamps (world_srbf.py): clamped here too.
+    return np.ascontiguousarray(np.maximum(pixels.reshape(height, width, 4)[::-1, :, :3], 0.0) * strength)
+
+
+def sky_behind(camera, environment):
+    """The environment's radiance along each pixel's central camera ray ([H, W, 3], rows top-down), as
+    hairlod.render's pinhole camera and Blender's equirectangular mapping give them."""
+    eye, target, up = (np.asarray(camera[key], np.float64) for key in ("eye", "target", "up"))
+    width, height = camera["width"], camera["height"]
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    upward = np.cross(right, forward)
+    tan_half = np.tan(0.5 * camera["fov_y"])
+    sx = (2.0 * (np.arange(width) + 0.5) / width - 1.0) * tan_half * width / height
+    sy = (1.0 - 2.0 * (np.arange(height) + 0.5) / height) * tan_half
+    rays = forward + sx[None, :, None] * right + sy[:, None, None] * upward
+    rays /= np.linalg.norm(rays, axis=2, keepdims=True)
+    rows, columns = environment.shape[:2]
+    u = -np.arctan2(rays[..., 1], rays[..., 0]) / (2.0 * np.pi) + 0.5
+    v = np.arctan2(rays[..., 2], np.hypot(rays[..., 0], rays[..., 1])) / np.pi + 0.5
+    column = np.clip((u * columns).astype(int), 0, columns - 1)
+    row = np.clip(((1.0 - v) * rows).astype(int), 0, rows - 1)
+    return environment[row, column].astype(np.float64)
 
 
 def cycles_image(strands, camera, sun_direction, samples, world, sun=SUN_IRRADIANCE):
@@ -141,12 +209,12 @@ def steps(args):
     yield from measure(results, views=args.views.split(","), spp=args.spp, scale=args.scale, world=args.world,
                        sun_irradiance=args.sun,
                        strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
-                       cycles_samples=args.cycles_samples)
+                       cycles_samples=args.cycles_samples, hdri=args.hdri, hdri_strength=args.hdri_strength)
     window_steps.report(results, args.out)
 
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
-            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE):
+            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
     and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
@@ -176,6 +244,11 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
     if scene.world.use_nodes:
         scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (world, world, world, 1.0)
         scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    environment = np.full(3, world, np.float32)
+    if hdri is not None:
+        if cycles_samples:
+            raise SystemExit("--hdri: the Cycles comparison takes the uniform world only")
+        environment = hdri_world(scene, hdri_path(hdri), hdri_strength)
 
     # The screen's response to written values (the framebuffer's encoding, as measured).
     program = ramp_shader()
@@ -247,7 +320,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             # The viewport's projection, so that the path-traced camera sees what the viewport shows.
             traced_camera = render_camera(region, region_3d, target, scale)
             lights = {"directional": [(tuple(sun_direction), (sun_irradiance,) * 3)], "points": [],
-                      "environment": np.full(3, world, np.float32)}
+                      "environment": environment}
             start = time.perf_counter()
             params = object_hair_params(holder)  # the hair the preview shades
             traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
@@ -259,7 +332,8 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage. The
             # preview draws its strands at least a pixel wide, so its hair pixels are the hair's alone.
             covered = alpha > 0.05
-            hair_radiance = unmixed(traced, alpha, world)
+            background = world if hdri is None else sky_behind(traced_camera, environment)[::-1]
+            hair_radiance = unmixed(traced, alpha, background)
             entry = {"preview": summary(preview_linear, mask),
                      "path_traced": summary(hair_radiance, covered, weights=alpha),
                      "render_seconds": time.perf_counter() - start, "spp": spp,

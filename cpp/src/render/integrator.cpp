@@ -330,15 +330,19 @@ struct Tracer {
                 sum += f * glm::dvec3(light.intensity) / double(distance * distance);
         }
         if (environment_lit) {
-            const glm::dvec3 wi_world = uniform_sphere(rng.uniform(), rng.uniform());
+            // The environment drawn by its luminance (uniformly when constant), MIS against the BCSDF.
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const EnvironmentSample light = lights.environment.sample(u1, u2);
+            const glm::dvec3 wi_world = glm::normalize(glm::dvec3(light.towards));
             const glm::dvec3 wi = v.frame.local(wi_world);
-            const glm::dvec3 f = shader.eval(v, wi, shader.light_crossings(v, scene, hit, wi_world));
+            const glm::dvec3 f = light.pdf > 0.0 ? shader.eval(v, wi, shader.light_crossings(v, scene, hit, wi_world))
+                                                 : glm::dvec3(0.0);
             if (channel_max(f) > 0.0) {
                 const glm::vec3 w(wi_world);
                 ++rays;
                 if (!scene.occluded(p, w, kInfinity, scene.leaving(hit, w))) {
-                    const double weight = power_heuristic(kUniformSpherePdf, shader.pdf(v, wi));
-                    sum += f * glm::dvec3(lights.environment.radiance(w)) * (weight / kUniformSpherePdf);
+                    const double weight = power_heuristic(light.pdf, shader.pdf(v, wi));
+                    sum += f * glm::dvec3(lights.environment.radiance(w)) * (weight / light.pdf);
                 }
             }
         }
@@ -365,7 +369,7 @@ struct Tracer {
             meets_own_strand = false;
             if (!found) {
                 const glm::dvec3 env(lights.environment.radiance(direction));
-                const double weight = bounce == 0 ? 1.0 : power_heuristic(previous_pdf, kUniformSpherePdf);
+                const double weight = bounce == 0 ? 1.0 : power_heuristic(previous_pdf, lights.environment.pdf(direction));
                 radiance += throughput * env * (environment_lit ? weight : 1.0);
                 break;
             }
@@ -436,8 +440,10 @@ struct Tracer {
                 gather(to_light / distance, distance * (1.0f - 1e-5f), glm::dvec3(light.intensity) / double(distance * distance));
         }
         if (environment_lit) {
-            const glm::vec3 wi(uniform_sphere(rng.uniform(), rng.uniform()));
-            gather(wi, kInfinity, glm::dvec3(lights.environment.radiance(wi)) / kUniformSpherePdf);
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            const EnvironmentSample light = lights.environment.sample(u1, u2);
+            if (light.pdf > 0.0)
+                gather(glm::normalize(light.towards), kInfinity, glm::dvec3(lights.environment.radiance(light.towards)) / light.pdf);
         }
         return sum;
     }
