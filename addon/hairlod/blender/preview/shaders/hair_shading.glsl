@@ -11,10 +11,11 @@
  * hair: through the light's deep opacity map (opacity_map.glsl) for the first lights, for the others
  * through the hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the
  * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
- * as the lights (hair_world_transmittance, averaged over 14 directions): as SRBF lights
- * (srbf_world.glsl) when hair_world.constant.w = 1, else an ambient term, the world colour times the
- * hair's directional albedo, the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row
- * holds too: a uniform world reads the same either way); either attenuated
+ * as the lights: as SRBF lights (srbf_world.glsl) when hair_world.constant.w = 1, its uniform part
+ * through the mean over 14 directions (hair_world_transmittance) and each lobe through the hair on its
+ * own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional albedo,
+ * the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform world
+ * reads the same either way) through the mean over 14 directions; either attenuated
  * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7). */
 vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, vec2 cluster)
 {
@@ -47,10 +48,10 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
   float reach = frame.light_shadow[0].w > 0.5 ? OPACITY_LAYER_STEPS.w * frame.light_shadow[0].z
                                               : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
   float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
-  vec3 seen_object = (frame.model_inverse * vec4(seen, 1.0)).xyz;
-  vec3 world_shadow = hair_world_transmittance(
-      seen_object + world_depth * into_object, frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w,
-      vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0));
+  vec3 world_point = (frame.model_inverse * vec4(seen, 1.0)).xyz + world_depth * into_object;
+  vec3 world_keep = vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0);
+  vec3 world_shadow = hair_world_transmittance(world_point, frame.hair_centre.xyz, frame.hair_axes.xyz,
+                                               frame.hair_centre.w, world_keep);
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - position * frame.light_vectors[k].w;
     /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */
@@ -87,7 +88,22 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf_behind(wi, wo, t, n, rho, behind) * cos_i;
   }
   if (hair_world.constant.w > 0.5) {
-    radiance += srbf_world(wo, t) * forward_attenuation(0.0, n) * world_shadow;
+    /* Each SRBF light reaches the hair through the hair on its own way (Xu 2011 Eq. 2, the effective
+     * transmittance T~(w_j) of light j): a lobe behind the hair lights it through all of it, a lobe on
+     * the camera's side through the little in front. Through the hair volume as the suns without a
+     * map, the strands on the way passing a_f of it on forwards (T^(1 - a_f)); the uniform part through
+     * the 14 directions above. */
+    float sin_o = clamp(dot(wo, t), -1.0, 1.0);
+    float node_o = srbf_theta_node(sin_o);
+    vec3 po = wo - sin_o * t;
+    vec3 world = srbf_uniform(wo, t) * world_shadow;
+    for (int k = 0; k < int(hair_world.counts.x); ++k) {
+      vec3 towards_object = (frame.model_inverse * vec4(hair_world.lobe_directions[k].xyz, 0.0)).xyz;
+      vec3 through = exp(-world_keep * hair_optical_depth(world_point, towards_object, 1e30, frame.hair_centre.xyz,
+                                                          frame.hair_axes.xyz, frame.hair_centre.w));
+      world += hair_world.lobe_colours[k].rgb * srbf_lobe_response(k, t, node_o, po) * through;
+    }
+    radiance += world * forward_attenuation(0.0, n);
   }
   else {
     float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));

@@ -30,21 +30,35 @@ vec3 srbf_response(float node_o, float node_j, float phi)
   return mix(low, high, v);
 }
 
-vec3 srbf_world(vec3 wo, vec3 t)
+/* The response to lobe k of the world towards wo of a fibre of tangent t, without its colour: sin_o =
+ * dot(wo, t), node_o = srbf_theta_node(sin_o), po = wo - sin_o t. */
+vec3 srbf_lobe_response(int k, vec3 t, float node_o, vec3 po)
+{
+  vec3 wj = hair_world.lobe_directions[k].xyz;
+  float sin_j = clamp(dot(wj, t), -1.0, 1.0);
+  vec3 pj = wj - sin_j * t;
+  /* Along the tangent the azimuth is undefined and the response does not depend on it. */
+  float projections = length(po) * length(pj);
+  float cos_phi = projections > 1e-12 ? clamp(dot(po, pj) / projections, -1.0, 1.0) : 1.0;
+  return srbf_response(node_o, srbf_theta_node(sin_j), acos(cos_phi));
+}
+
+/* The uniform part c_0 alone. */
+vec3 srbf_uniform(vec3 wo, vec3 t)
 {
   int samples = textureSize(srbf_lut, 0).x;
+  float node_o = srbf_theta_node(clamp(dot(wo, t), -1.0, 1.0));
+  return hair_world.constant.rgb * lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1));
+}
+
+vec3 srbf_world(vec3 wo, vec3 t)
+{
   float sin_o = clamp(dot(wo, t), -1.0, 1.0);
   float node_o = srbf_theta_node(sin_o);
   vec3 po = wo - sin_o * t;
-  vec3 radiance = hair_world.constant.rgb * lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1));
+  vec3 radiance = srbf_uniform(wo, t);
   for (int k = 0; k < int(hair_world.counts.x); ++k) {
-    vec3 wj = hair_world.lobe_directions[k].xyz;
-    float sin_j = clamp(dot(wj, t), -1.0, 1.0);
-    vec3 pj = wj - sin_j * t;
-    /* Along the tangent the azimuth is undefined and the response does not depend on it. */
-    float projections = length(po) * length(pj);
-    float cos_phi = projections > 1e-12 ? clamp(dot(po, pj) / projections, -1.0, 1.0) : 1.0;
-    radiance += hair_world.lobe_colours[k].rgb * srbf_response(node_o, srbf_theta_node(sin_j), acos(cos_phi));
+    radiance += hair_world.lobe_colours[k].rgb * srbf_lobe_response(k, t, node_o, po);
   }
   return radiance;
 }
