@@ -260,3 +260,56 @@ def test_srbf_lookup_between_the_nodes_stays_near_the_materials_response():
     angles = np.array([-1.2, -0.5, 0.1, 0.9, 1.45])
     np.testing.assert_allclose(preview_luts.srbf_lookup(tables, np.sin(angles)),
                                preview_luts.uniform_world_response(params, angles), rtol=0.025)
+
+
+def sky_with_sun(height=256, width=512, sun_towards=(0.3, -0.5, 0.6), sun_radius=0.02, sun_radiance=(3.0e4, 2.7e4, 2.4e4)):
+    """A smooth blue sky over a brown ground, and a disc sun; Blender's pixel layout."""
+    directions, solid_angles = world_lighting.blender_equirectangular_directions(height, width)
+    up = directions[..., 2:3]
+    image = np.where(up > 0.0, np.array([0.2, 0.35, 0.7]) * (0.5 + 0.5 * up), np.array([0.08, 0.06, 0.04]))
+    towards = np.asarray(sun_towards, np.float64) / np.linalg.norm(sun_towards)
+    disc = directions @ towards >= np.cos(sun_radius)
+    image = np.where(disc[..., None], np.asarray(sun_radiance, np.float64), image)
+    return image, directions, solid_angles, towards, disc
+
+
+def test_a_sun_is_taken_out_whole_with_its_direction():
+    image, directions, solid_angles, towards, disc = sky_with_sun()
+    without, direction, irradiance = world_lighting.extract_sun(image, directions, solid_angles)
+    assert direction is not None
+    # The disc's light, radiance x solid angle, less the sky's that fills it in (1e-5 of it).
+    light = np.sum(image[disc] * solid_angles[disc][:, None], axis=0)
+    np.testing.assert_allclose(irradiance, light, rtol=0.01)
+    assert np.degrees(np.arccos(np.clip(direction @ towards, -1.0, 1.0))) < 0.2
+    # Nothing is lost: the image and the sun hold the world's light, per channel.
+    np.testing.assert_allclose(np.sum(without * solid_angles[..., None], axis=(0, 1)) + irradiance,
+                               np.sum(image * solid_angles[..., None], axis=(0, 1)), rtol=1e-9)
+    luminance = without @ np.array([0.2126, 0.7152, 0.0722])
+    mean = np.sum((image @ np.array([0.2126, 0.7152, 0.0722])) * solid_angles) / solid_angles.sum()
+    assert luminance.max() <= world_lighting.SUN_CONTRAST * mean * (1.0 + 1e-9)
+    np.testing.assert_array_equal(without[~disc], image[~disc])
+
+
+def test_no_sun_in_a_smooth_or_uniform_sky_or_a_faint_spot():
+    image, directions, solid_angles, _, _ = sky_with_sun(sun_radiance=(0.0, 0.0, 0.0))
+    assert world_lighting.extract_sun(image, directions, solid_angles)[1] is None
+    grey = np.full_like(image, 0.4)
+    assert world_lighting.extract_sun(grey, directions, solid_angles)[1] is None
+    assert world_lighting.extract_sun(np.zeros_like(image), directions, solid_angles)[1] is None
+    # Bright enough to pass the contrast, too small a share of the world's light to matter.
+    faint, *_ = sky_with_sun(sun_radius=0.004, sun_radiance=(300.0, 300.0, 300.0))
+    assert world_lighting.extract_sun(faint, directions, solid_angles)[1] is None
+
+
+def test_an_equirectangular_world_gives_its_sun_and_fits_the_rest():
+    image, _, _, towards, _ = sky_with_sun()
+    lights = world_lighting.blender_equirectangular_world(image)
+    assert np.degrees(np.arccos(np.clip(lights.sun_direction @ towards, -1.0, 1.0))) < 0.2
+    assert lights.sun_irradiance.min() > 0.0
+    sky_only = world_lighting.blender_equirectangular_world(sky_with_sun(sun_radiance=(0.0, 0.0, 0.0))[0])
+    assert sky_only.sun_direction is None
+    # The lobes fit the sky without the sun as they fit the sky alone (the sun's texels
+    # keep the sky around it), where with the sun in them the nearest lobes would take its light.
+    kept = world_lighting.blender_equirectangular_world(image, sun=False)
+    assert np.abs(lights.coefficients - sky_only.coefficients).max() < 0.05 * sky_only.coefficients.max()
+    assert np.abs(kept.coefficients - sky_only.coefficients).max() > 10.0 * sky_only.coefficients.max()

@@ -65,8 +65,8 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                                   default=1.0, min=0.0, soft_max=2.0, update=_redraw)
     world_lighting: EnumProperty(name="World", description="How the scene's world lights the shaded preview",
                                  items=(('SRBF', "SRBF", "The world fitted by SRBF lights (Xu et al. 2011) where "
-                                         "it can be read (a colour or an equirectangular Environment Texture), "
-                                         "else ambient"),
+                                         "it can be read (a colour or an equirectangular Environment Texture, whose "
+                                         "sun becomes a light of its own), else ambient"),
                                         ('AMBIENT', "Ambient", "The world colour times the hair's albedo")),
                                  default='SRBF', update=_redraw)
     show_statistics: BoolProperty(name="Statistics", description="Show segments drawn per level and the draw "

@@ -822,9 +822,10 @@ class LodPreview:
         if lights is None:
             return f"World: ambient ({reason})"
         lobes = world_srbf.lit_lobes(lights)
+        sun = "" if lights.sun_direction is None else " and its sun"
         if not lobes.any():
-            return f"World: uniform (no SRBF lobes), {100.0 * lights.relative_error:.1f}% error"
-        return f"World: {int(lobes.sum())} SRBF lights, {100.0 * lights.relative_error:.1f}% error"
+            return f"World: uniform (no SRBF lobes){sun}, {100.0 * lights.relative_error:.1f}% error"
+        return f"World: {int(lobes.sum())} SRBF lights{sun}, {100.0 * lights.relative_error:.1f}% error"
 
     def draw(self, obj, region, region_3d, settings):
         # With Statistics on, the GPU's queue is drained before and after the preview's commands, so the
@@ -860,7 +861,7 @@ class LodPreview:
             camera = (*view_to_world.translation, 1.0)
         else:  # orthographic: the direction towards the viewer
             camera = (*(view_to_world.to_3x3() @ Vector((0.0, 0.0, 1.0))).normalized(), 0.0)
-        light_count, light_vectors, light_colours = scene_lights(bpy.context.scene, camera)
+        light_count, light_vectors, light_colours = scene_lights(bpy.context.scene, camera, self.world[1])
         world = bpy.context.scene.world
         ambient = (*(world.color if world is not None else (0.05, 0.05, 0.05)), 0.0)
         shaded = settings.overlay == 'SHADED'
@@ -975,12 +976,14 @@ def uses_material(obj, settings):
     return settings.use_material and material_params(obj) is not None
 
 
-def scene_lights(scene, camera):
+def scene_lights(scene, camera, world_sun=None):
     """World-space lights for the shader: (count, vectors [MAX_LIGHTS, 4], colours [MAX_LIGHTS, 4]).
     Suns give (direction towards the sun, 0) and their irradiance (strength x colour); point lights
     give (position, 1) and their intensity, power / (4 pi) x colour, which the shader divides by the
-    squared distance. Other light types and hidden lights are skipped. With no light, a headlight at
-    the viewer (irradiance 3) keeps the hair visible."""
+    squared distance. Other light types and hidden lights are skipped. The world's own sun
+    (`world_sun`: WorldLights with a sun taken out of its image, hairlod.world_lighting.extract_sun)
+    comes after them, where there is room. With no light, a headlight at the viewer (irradiance 3)
+    keeps the hair visible."""
     vectors = np.zeros((MAX_LIGHTS, 4), np.float32)
     colours = np.zeros((MAX_LIGHTS, 4), np.float32)
     count = 0
@@ -997,6 +1000,10 @@ def scene_lights(scene, camera):
         else:
             vectors[count] = (*obj.matrix_world.translation, 1.0)
             colours[count, :3] = colour / (4.0 * np.pi)
+        count += 1
+    if world_sun is not None and world_sun.sun_direction is not None and count < MAX_LIGHTS:
+        vectors[count] = (*world_sun.sun_direction, 0.0)
+        colours[count, :3] = world_sun.sun_irradiance
         count += 1
     if count == 0:
         vectors[0] = camera
