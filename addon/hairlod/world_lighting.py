@@ -135,24 +135,26 @@ def fit_world(directions, solid_angles, radiance, count=DEFAULT_LOBE_COUNT):
                        relative_error=relative)
 
 
-def blender_equirectangular_directions(height, width):
+def blender_equirectangular_directions(height, width, rows=slice(None)):
     """Pixel-centre directions [H, W, 3] and solid angles [H, W] of an equirectangular image as
     Blender's Environment Texture maps it (Cycles' direction_to_equirectangular): row 0 at the bottom
     (elevation -pi/2 to pi/2 upwards), u = 0.5 - atan2(y, x) / (2 pi), so the image's middle column
-    looks along +x."""
-    elevation = ((np.arange(height) + 0.5) / height - 0.5) * np.pi
+    looks along +x. `rows` (a slice) gives only those rows."""
+    elevation = ((np.arange(height)[rows] + 0.5) / height - 0.5) * np.pi
     azimuth = np.pi - 2.0 * np.pi * (np.arange(width) + 0.5) / width
     cos_e = np.cos(elevation)[:, None]
     directions = np.stack(np.broadcast_arrays(cos_e * np.cos(azimuth)[None, :], cos_e * np.sin(azimuth)[None, :],
                                               np.sin(elevation)[:, None]), axis=-1)
-    solid_angle = np.broadcast_to(cos_e * (np.pi / height) * (2.0 * np.pi / width), (height, width))
+    solid_angle = np.broadcast_to(cos_e * (np.pi / height) * (2.0 * np.pi / width), (len(elevation), width))
     return directions, solid_angle
 
 
-def extract_sun(image, directions, solid_angles):
+def extract_sun(image, directions, solid_angles, world=None):
     """(image without its sun, unit direction towards the sun [3], its irradiance [3]) for radiance
     texels ``image`` [..., 3] >= 0 seen along unit ``directions`` [..., 3] over ``solid_angles`` [...],
-    or (image, None, None) where the world has no sun. The sun is every texel within SUN_RADIUS of the
+    or (image, None, None) where the world has no sun. ``world``: (its light, sum of luminance x solid
+    angle, and its solid angle) when the texels are only a part of it holding its brightest texel and
+    every texel within 2 SUN_RADIUS of it; default, the texels' own. The sun is every texel within SUN_RADIUS of the
     brightest one whose luminance exceeds SUN_CONTRAST times the world's mean (by solid angle), if what
     they hold over the sky around them is SUN_MIN_SHARE of the world's light or more. Those texels
     take the sky's radiance instead: the mean (by solid angle) of the others within 2 SUN_RADIUS of
@@ -164,10 +166,10 @@ def extract_sun(image, directions, solid_angles):
     directions = np.asarray(directions, np.float64)
     solid_angles = np.asarray(solid_angles, np.float64)
     luminance = image @ _LUMINANCE
-    total = float(np.sum(luminance * solid_angles))
+    total, sphere = world if world is not None else (float(np.sum(luminance * solid_angles)), float(np.sum(solid_angles)))
     if not total > 0.0:
         return image, None, None
-    threshold = SUN_CONTRAST * total / float(np.sum(solid_angles))
+    threshold = SUN_CONTRAST * total / sphere
     closeness = directions @ directions[np.unravel_index(np.argmax(luminance), luminance.shape)]
     sun = (closeness >= np.cos(SUN_RADIUS)) & (luminance > threshold)
     around = (closeness >= np.cos(2.0 * SUN_RADIUS)) & ~sun
@@ -194,7 +196,7 @@ def blender_equirectangular_world(image, count=DEFAULT_LOBE_COUNT, max_height=32
         raise ValueError("image must be finite and >= 0")
     sun_direction = sun_irradiance = None
     if sun:
-        image, sun_direction, sun_irradiance = extract_sun(image, *blender_equirectangular_directions(*image.shape[:2]))
+        image, sun_direction, sun_irradiance = _extract_equirectangular_sun(image)
     factor = max(1, int(np.ceil(image.shape[0] / max_height)))
     height, width = image.shape[0] // factor, image.shape[1] // factor
     if width < 1:
@@ -207,6 +209,25 @@ def blender_equirectangular_world(image, count=DEFAULT_LOBE_COUNT, max_height=32
     return WorldLights(constant=lights.constant, directions=lights.directions, lam=lights.lam,
                        coefficients=lights.coefficients, relative_error=lights.relative_error,
                        sun_direction=sun_direction, sun_irradiance=sun_irradiance)
+
+
+def _extract_equirectangular_sun(image):
+    """extract_sun on a Blender-layout equirectangular image, the directions made only for the rows
+    within 2 SUN_RADIUS of the brightest texel's (an 8k image's would take 0.8 GB)."""
+    height, width = image.shape[:2]
+    luminance = image @ _LUMINANCE
+    row_solid_angle = np.cos(((np.arange(height) + 0.5) / height - 0.5) * np.pi) * (np.pi / height) * (2.0 * np.pi / width)
+    total = float(np.sum(luminance.sum(axis=1) * row_solid_angle))
+    brightest_row = int(np.unravel_index(np.argmax(luminance), luminance.shape)[0])
+    reach = int(np.ceil(2.0 * SUN_RADIUS / (np.pi / height))) + 1
+    rows = slice(max(0, brightest_row - reach), min(height, brightest_row + reach + 1))
+    band, sun_direction, sun_irradiance = extract_sun(image[rows], *blender_equirectangular_directions(height, width, rows),
+                                                      world=(total, float(row_solid_angle.sum()) * width))
+    if sun_direction is None:
+        return image, None, None
+    image = image.copy()
+    image[rows] = band
+    return image, sun_direction, sun_irradiance
 
 
 def _lobe_count(count):
