@@ -27,6 +27,9 @@ studio, sunrise, sunset) or the path of an .exr / .hdr, times --hdri-strength. T
 its SRBF lights (the panel's World: SRBF, the default); the path tracer looks the image up per ray
 (Blender's equirectangular mapping), and the sky behind each path-traced pixel, which the unmixing takes
 away, is the image along that pixel's camera ray.
+
+--max-bounces N limits the path tracer to N bounces after the first hit (0: direct light alone), to see
+which orders of scattering between the strands the preview holds.
 """
 
 import argparse
@@ -67,6 +70,10 @@ def parse_args():
     parser.add_argument("--hdri", help="light with this equirectangular image instead of the uniform world: a "
                         "studio-light world of Blender's (forest, city, ...) or a path")
     parser.add_argument("--hdri-strength", type=float, default=1.0, help="the image's strength (default 1)")
+    parser.add_argument("--max-bounces", type=int, default=None,
+                        help="the path tracer's bounces after the first hit (default: the renderer's, "
+                        "every order that matters; 0 is direct light alone): which orders of scattering the "
+                        "preview holds")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
@@ -209,12 +216,13 @@ def steps(args):
     yield from measure(results, views=args.views.split(","), spp=args.spp, scale=args.scale, world=args.world,
                        sun_irradiance=args.sun,
                        strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
-                       cycles_samples=args.cycles_samples, hdri=args.hdri, hdri_strength=args.hdri_strength)
+                       cycles_samples=args.cycles_samples, hdri=args.hdri, hdri_strength=args.hdri_strength,
+                       max_bounces=args.max_bounces)
     window_steps.report(results, args.out)
 
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
-            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0):
+            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0, max_bounces=None):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
     and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
@@ -323,8 +331,9 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                       "environment": environment}
             start = time.perf_counter()
             params = object_hair_params(holder)  # the hair the preview shades
+            bounces = render.MAX_BOUNCES if max_bounces is None else max_bounces
             traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
-                                   seed=5)["image"]
+                                   seed=5, max_bounces=bounces)["image"]
             alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
             # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
             traced, alpha = traced[::-1], alpha[::-1]
@@ -336,7 +345,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             hair_radiance = unmixed(traced, alpha, background)
             entry = {"preview": summary(preview_linear, mask),
                      "path_traced": summary(hair_radiance, covered, weights=alpha),
-                     "render_seconds": time.perf_counter() - start, "spp": spp,
+                     "render_seconds": time.perf_counter() - start, "spp": spp, "max_bounces": bounces,
                      "segments": lod_preview.preview_of(holder).stats.get("segments")}
             entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
             entry["spread_same_pixels"] = spread_on_same_pixels(preview_linear, mask, hair_radiance, alpha, scale)
