@@ -140,9 +140,11 @@ def hdri_path(name):
 def hdri_world(scene, path, strength):
     """Makes the scene's world the image at `path` (Environment Texture -> Background x strength) and
     returns its radiance as hairlod.render takes an environment: [H, W, 3] float32, top row up."""
+    from hairlod.blender.versions import enable_nodes
+
     image = bpy.data.images.load(path, check_existing=True)
     world = scene.world
-    world.use_nodes = True
+    enable_nodes(world)
     nodes, links = world.node_tree.nodes, world.node_tree.links
     texture = nodes.get("hairlod HDRI") or nodes.new("ShaderNodeTexEnvironment")
     texture.name = "hairlod HDRI"
@@ -233,6 +235,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
     addon_utils.enable("hairlod", default_set=True)
     import hairlod
     from hairlod import hairmesh, io, lod, render
+    from hairlod.blender.versions import uses_nodes
     from hairlod.blender.preview import lod_preview
     from hairlod.blender.principled_hair import object_hair_params
 
@@ -249,7 +252,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     scene.world.color = (world, world, world)
-    if scene.world.use_nodes:
+    if uses_nodes(scene.world):
         scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (world, world, world, 1.0)
         scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
     environment = np.full(3, world, np.float32)

@@ -55,7 +55,8 @@ def main():
     scene.collection.objects.link(sun_object)
 
     world = bpy.data.worlds.new("World")
-    world.use_nodes = True
+    if bpy.app.version < (5, 0, 0):  # Blender 5 always uses the node tree (use_nodes is deprecated)
+        world.use_nodes = True
     background = world.node_tree.nodes["Background"]
     background.inputs["Color"].default_value = (*[float(spec["world"])] * 3, 1.0)
     background.inputs["Strength"].default_value = 1.0

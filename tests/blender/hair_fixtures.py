@@ -39,6 +39,21 @@ def preview_on_an_empty(asset):
     return holder, holder.hairlod_lod_preview, lod_preview.preview_of(holder)
 
 
+def action_fcurves(action):
+    """The F-curves of an action: on the action itself up to Blender 4.x, in its layers' strips'
+    channel bags (one per slot) since Blender 5 took the action's own list away."""
+    if hasattr(action, "fcurves"):
+        return list(action.fcurves)
+    return [curve for layer in action.layers for strip in layer.strips for bag in strip.channelbags
+            for curve in bag.fcurves]
+
+
+def node_input(node, name):
+    """The input socket `name` that `node` uses for its current type: Blender 4.x and older keep one
+    socket per data type under the same name (the others disabled), Blender 5 only the current one."""
+    return next(socket for socket in node.inputs if socket.name == name and getattr(socket, "enabled", True))
+
+
 def add_keyframed_rotation(obj, keys, name="Turn"):
     """A Geometry Nodes modifier on `obj` whose Transform node rotates the geometry by Euler angles
     keyed at frames: keys ((frame, (x, y, z)), ...), interpolated linearly between them."""
@@ -51,7 +66,7 @@ def add_keyframed_rotation(obj, keys, name="Turn"):
     for frame, angles in keys:
         rotation.default_value = angles
         rotation.keyframe_insert("default_value", frame=frame)
-    for curve in tree.animation_data.action.fcurves:
+    for curve in action_fcurves(tree.animation_data.action):
         for key in curve.keyframe_points:
             key.interpolation = 'LINEAR'
     obj.modifiers.new(name, 'NODES').node_group = tree
@@ -73,9 +88,14 @@ def _mesh_arrays(mesh):
 
 
 def _triangles(mesh):
-    """(centroids [T, 3], normals [T, 3], uv centroids [T, 2]) of the mesh's loop triangles."""
+    """(centroids [T, 3], normals [T, 3], uv centroids [T, 2], bool [T]: the triangle is a polygon of
+    its own, not part of a quad) of the mesh's loop triangles."""
     loops, vertex_of_loop, positions, uv = _mesh_arrays(mesh)
     count = len(loops)
+    polygon_sizes = np.empty(len(mesh.polygons), np.int32)
+    mesh.polygons.foreach_get("loop_total", polygon_sizes)
+    polygon_of_triangle = np.empty(count, np.int32)
+    mesh.loop_triangles.foreach_get("polygon_index", polygon_of_triangle)
     # Blender 3.4 numbers a new UV sphere's loops in a different order from run to run (the same
     # triangles, reordered): order them by their vertices so the hair grown on them is the same.
     vertices = np.sort(vertex_of_loop[loops].reshape(count, 3), axis=1)
@@ -84,15 +104,18 @@ def _triangles(mesh):
     corners = positions[vertex_of_loop[loops]].reshape(count, 3, 3)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    return corners.mean(axis=1), normals, uv[loops].reshape(count, 3, 2).mean(axis=1)
+    return (corners.mean(axis=1), normals, uv[loops].reshape(count, 3, 2).mean(axis=1),
+            polygon_sizes[polygon_of_triangle[order]] == 3)
 
 
 def surface_strands(head_mesh, points=12, length=0.9, seed=4):
-    """Strands rooted at the centroids of the head's upper triangles (one per triangle, away from
-    the UV seam), growing out along the normal and falling: (Strands, uv [C, 2])."""
-    centroids, normals, uv = _triangles(head_mesh)
-    # Away from the poles and the seam (u near 0 or 1), where a UV coordinate names one triangle.
-    keep = (centroids[:, 2] > 0.15) & (uv[:, 0] > 0.02) & (uv[:, 0] < 0.98)
+    """Strands rooted at the centroids of the head's upper triangles (one per triangle of its quads,
+    away from the UV seam), growing out along the normal and falling: (Strands, uv [C, 2])."""
+    centroids, normals, uv, pole_fan = _triangles(head_mesh)
+    # Where a UV coordinate names one triangle: away from the seam (u near 0 or 1) and the pole's fan
+    # of triangles, whose centroids a Subdivision Surface makes vertices of its mesh (Blender 5 then
+    # turns such a root with another of the triangles meeting there than Blender 4 did).
+    keep = (centroids[:, 2] > 0.15) & (uv[:, 0] > 0.02) & (uv[:, 0] < 0.98) & ~pole_fan
     roots, out, uv = centroids[keep], normals[keep], uv[keep]
     rng = np.random.default_rng(seed)
     t = np.linspace(0.0, 1.0, points)[None, :, None]

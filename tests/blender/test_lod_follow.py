@@ -11,7 +11,7 @@ from hairlod.blender.curves import curves_to_strands, evaluated_curve_subset, ne
 from hairlod.blender.lod_build_job import COLLECTION_NAME
 from hairlod.blender.packed_asset import packed_asset
 from hairlod.blender.preview import lod_preview
-from hair_fixtures import add_keyframed_rotation, build_scene, hanging_hair, turn_head
+from hair_fixtures import add_keyframed_rotation, build_scene, hanging_hair, node_input, turn_head
 
 pytestmark = pytest.mark.usefixtures("addon")
 
@@ -104,8 +104,8 @@ def test_a_changed_topology_stops_following_and_says_why(built_hair):
     delete.domain = 'CURVE'
     index, compare = tree.nodes.new('GeometryNodeInputIndex'), tree.nodes.new('FunctionNodeCompare')
     compare.data_type, compare.operation = 'INT', 'LESS_THAN'
-    compare.inputs[3].default_value = 10  # B (int): curves 0-9 go
-    tree.links.new(index.outputs[0], compare.inputs[2])
+    node_input(compare, "B").default_value = 10  # curves 0-9 go
+    tree.links.new(index.outputs[0], node_input(compare, "A"))
     tree.links.new(group_in.outputs[0], delete.inputs["Geometry"])
     tree.links.new(compare.outputs[0], delete.inputs["Selection"])
     tree.links.new(delete.outputs["Geometry"], group_out.inputs[0])

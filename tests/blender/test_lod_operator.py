@@ -328,3 +328,19 @@ def test_build_settings_default_to_the_cores_options(hair_object):
         assert properties[name].default == lod.LOD_DEFAULTS[name], name
     assert (properties["levels"].hard_min, properties["levels"].hard_max) == (lod.MIN_LEVELS, lod.MAX_LEVELS)
     assert properties["control_points"].hard_min == lod.MIN_CONTROL_POINTS
+
+
+def test_the_preview_replaces_a_hair_objects_drawing_and_leaves_an_empty_its_own(hair_object):
+    """A hair object draws as its bounds while its preview is on and gets its own display back after;
+    an empty that holds a preview keeps its display (Blender 5 would draw it as a cube)."""
+    from hairlod.blender.preview import lod_preview
+
+    hair_object.display_type = 'WIRE'
+    lod_preview.replace_source_display(hair_object, True)
+    assert hair_object.display_type == 'BOUNDS'
+    lod_preview.replace_source_display(hair_object, False)
+    assert hair_object.display_type == 'WIRE' and lod_preview.SOURCE_DISPLAY_PROPERTY not in hair_object
+    empty = bpy.data.objects.new("holder", None)
+    lod_preview.replace_source_display(empty, True)
+    assert empty.display_type == 'TEXTURED' and lod_preview.SOURCE_DISPLAY_PROPERTY not in empty
+    bpy.data.objects.remove(empty)

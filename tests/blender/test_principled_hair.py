@@ -7,12 +7,13 @@ import pytest
 
 from hairlod import hair_params
 from hairlod.blender.principled_hair import params_from_material, principled_hair_inputs
+from hairlod.blender.versions import enable_nodes
 
 
 @pytest.fixture
 def hair_material():
     material = bpy.data.materials.new("HairParamsTest")
-    material.use_nodes = True
+    enable_nodes(material)
     nodes = material.node_tree.nodes
     node = nodes.new("ShaderNodeBsdfHairPrincipled")
     node.parametrization = "ABSORPTION"
@@ -38,7 +39,7 @@ def test_params_from_material_follow_the_node(hair_material):
 
 def test_material_without_the_node_is_named():
     plain = bpy.data.materials.new("PlainTest")
-    plain.use_nodes = True
+    enable_nodes(plain)
     with pytest.raises(ValueError, match="material 'PlainTest' has no Principled Hair BSDF node"):
         params_from_material(plain)
     bpy.data.materials.remove(plain)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from mathutils import Euler, Vector
 
+from hairlod.blender.versions import enable_nodes
 from hairlod.world_lighting import blender_equirectangular_directions
 
 WIDTH, HEIGHT = 64, 32
@@ -26,7 +27,7 @@ def environment_scene(tmp_path):
     image.pixels.foreach_set(pixels.ravel())
     scene = bpy.data.scenes.new("hairlod_env_test")
     world = bpy.data.worlds.new("hairlod_env_test")
-    world.use_nodes = True
+    enable_nodes(world)
     environment = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
     environment.image = image
     environment.interpolation = 'Closest'
@@ -102,7 +103,7 @@ def studio_world(name):
     path = os.path.join(folder or "", name)
     assert os.path.isfile(path), f"Blender's studio-light world {name} is missing from {folder!r}"
     world = bpy.data.worlds.new(f"hairlod_{name}")
-    world.use_nodes = True
+    enable_nodes(world)
     environment = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
     environment.image = bpy.data.images.load(path, check_existing=True)
     world.node_tree.links.new(environment.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])

@@ -58,6 +58,7 @@ def steps():
     from hairlod import opacity_map
     from hairlod.blender.curves import strands_to_curves
     from hairlod.blender.preview import lod_preview
+    from hairlod.blender.versions import uses_nodes
 
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
@@ -71,7 +72,7 @@ def steps():
     # A black world: the sun alone lights the hair.
     world = bpy.context.scene.world
     world.color = (0.0, 0.0, 0.0)
-    if world.use_nodes:
+    if uses_nodes(world):
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     check(bpy.ops.hairlod.build_lod(guides=12, levels=3, control_points=8, seed=0) == {'FINISHED'}, "LoD built")
     preview = lod_preview.preview_of(obj)

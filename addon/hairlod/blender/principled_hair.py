@@ -8,9 +8,16 @@ Inside Blender: ``params_from_material(material)`` (a HairParams) or ``principle
 prints one line ``HAIRLOD_JSON {...}`` with the inputs, or ``HAIRLOD_ERROR <message>``.
 """
 import json
+import os
 import sys
 
 import bpy
+
+try:
+    from .versions import enable_nodes, uses_nodes
+except ImportError:  # run as a script (above): no package around it
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from versions import enable_nodes, uses_nodes
 
 NODE_TYPE = "ShaderNodeBsdfHairPrincipled"
 JSON_MARKER = "HAIRLOD_JSON "
@@ -20,7 +27,7 @@ ERROR_MARKER = "HAIRLOD_ERROR "
 def principled_hair_node(material):
     """The material's Principled Hair BSDF node (the one feeding the output when there are several);
     ValueError naming the material when it has none."""
-    tree = material.node_tree if material.use_nodes else None
+    tree = material.node_tree if uses_nodes(material) else None
     nodes = [n for n in tree.nodes if n.bl_idname == NODE_TYPE] if tree else []
     if not nodes:
         raise ValueError(f"material '{material.name}' has no Principled Hair BSDF node")
@@ -61,7 +68,7 @@ def new_hair_material(name, inputs):
     "absorption_coefficient", ...; colours as RGB, Offset in radians); other inputs keep Blender's
     defaults. KeyError names an input the node does not have."""
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
+    enable_nodes(material)
     nodes = material.node_tree.nodes
     for node in list(nodes):
         nodes.remove(node)

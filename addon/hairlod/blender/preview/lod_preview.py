@@ -1015,7 +1015,11 @@ def scene_lights(scene, camera, world_sun=None):
 def replace_source_display(obj, preview_on):
     """While its preview is on, the LoD replaces the object's own drawing in the viewport: the object
     draws as its bounds (its render is unchanged, and hiding it hides the preview too). Off, or without
-    a preview, the object's own display type comes back. Not while Blender draws (it changes data)."""
+    a preview, the object's own display type comes back. Not while Blender draws (it changes data).
+    An empty holding a preview keeps its own display: it has no geometry the LoD replaces, and Blender
+    5 draws an empty displayed as bounds as a cube of its display size."""
+    if obj.type == 'EMPTY':
+        return
     if preview_on:
         if SOURCE_DISPLAY_PROPERTY not in obj:
             obj[SOURCE_DISPLAY_PROPERTY] = obj.display_type

@@ -11,12 +11,15 @@ import gpu
 import numpy as np
 
 from ... import world_lighting
+from ..versions import uses_nodes
 
 MAX_LOBES = world_lighting.DEFAULT_LOBE_COUNT
-# std140 layout of the world uniform block; world_block() fills it in this order.
+# std140 layout of the world uniform block; world_block() fills it in this order. No member may be
+# named `constant`, `device`, `thread`, `threadgroup` or `static`: Blender 5's shader sources define
+# them away (Metal's address spaces), and a struct member of that name no longer compiles.
 WORLD_BLOCK = f"""
 struct HairWorld {{
-  vec4 constant;
+  vec4 uniform_part;
   vec4 counts;
   vec4 lobe_directions[{MAX_LOBES}];
   vec4 lobe_colours[{MAX_LOBES}];
@@ -38,7 +41,7 @@ def lit_lobes(lights):
 
 def world_block_data(lights):
     """The HairWorld block's floats for `lights` (hairlod.world_lighting.WorldLights), or for the
-    ambient path (constant.w = 0) when `lights` is None. Only the lobes that carry light go in: every
+    ambient path (uniform_part.w = 0) when `lights` is None. Only the lobes that carry light go in: every
     fragment loops over those it is given, and a uniform world (the default one) fits lobes of
     coefficient 0, 16 of them, which took a third of a near view's redraw on llvmpipe for nothing."""
     data = np.zeros(8 + 8 * MAX_LOBES, np.float32)
@@ -91,7 +94,7 @@ def world_key(world):
     """A cheap key that changes when what world_lights reads changes (checked every redraw)."""
     if world is None:
         return None
-    if not world.use_nodes or world.node_tree is None:
+    if not uses_nodes(world):
         return (world.name, tuple(world.color))
     node, _ = _background_node(world)
     if node is None:
@@ -109,7 +112,7 @@ def world_lights(world, count=MAX_LOBES):
     """(WorldLights, None) for a world this module reads, else (None, the reason)."""
     if world is None:
         return None, "the scene has no world"
-    if not world.use_nodes or world.node_tree is None:
+    if not uses_nodes(world):
         return world_lighting.uniform_world(world.color, count), None
     node, reason = _background_node(world)
     if node is None:

@@ -11,7 +11,7 @@
  * hair: through the light's deep opacity map (opacity_map.glsl) for the first lights, for the others
  * through the hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the
  * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
- * as the lights: as SRBF lights (srbf_world.glsl) when hair_world.constant.w = 1, its uniform part
+ * as the lights: as SRBF lights (srbf_world.glsl) when hair_world.uniform_part.w = 1, its uniform part
  * through the mean over 14 directions (hair_world_transmittance) and each lobe through the hair on its
  * own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional albedo,
  * the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform world
@@ -87,7 +87,7 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     }
     radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf_behind(wi, wo, t, n, rho, behind) * cos_i;
   }
-  if (hair_world.constant.w > 0.5) {
+  if (hair_world.uniform_part.w > 0.5) {
     /* Each SRBF light reaches the hair through the hair on its own way (Xu 2011 Eq. 2, the effective
      * transmittance T~(w_j) of light j): a lobe behind the hair lights it through all of it, a lobe on
      * the camera's side through the little in front. Through the hair volume as the suns without a

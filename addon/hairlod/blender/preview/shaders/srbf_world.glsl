@@ -6,7 +6,7 @@
  * theta_j and |phi_o - phi_j|, trilinear over the table's nodes (theta nodes pi/2 sin(pi s / 2), s
  * uniform in [-1, 1]; phi nodes uniform in [0, pi]); the last row is the response to a uniform world,
  * the material's own directional albedo (hairlod.preview_luts.uniform_world_response).
- * Needs: sampler2D srbf_lut; the HairWorld block `hair_world` (world_srbf.py): hair_world.constant.rgb = c_0,
+ * Needs: sampler2D srbf_lut; the HairWorld block `hair_world` (world_srbf.py): hair_world.uniform_part.rgb = c_0,
  * hair_world.counts.x = the lobe count, hair_world.lobe_directions[j].xyz = w_j, hair_world.lobe_colours[j].rgb = L_j;
  * lut_row from aggregated_bcsdf.glsl. */
 
@@ -48,7 +48,7 @@ vec3 srbf_uniform(vec3 wo, vec3 t)
 {
   int samples = textureSize(srbf_lut, 0).x;
   float node_o = srbf_theta_node(clamp(dot(wo, t), -1.0, 1.0));
-  return hair_world.constant.rgb * lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1));
+  return hair_world.uniform_part.rgb * lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1));
 }
 
 vec3 srbf_world(vec3 wo, vec3 t)
