@@ -5,7 +5,7 @@ BUILD_DIR := build
 JOBS      ?= 2
 CMAKE_ARGS ?=
 
-.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui test-packages test-debian13 addon bench fuzz clean
+.PHONY: all bootstrap build demo test test-cpp test-python test-blender test-ui test-packages test-debian13 test-sid addon bench fuzz clean
 
 all: build
 
@@ -22,7 +22,7 @@ demo: bootstrap build
 	$(PYTHON) examples/demo.py
 
 test: bootstrap build
-	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui test-packages test-debian13
+	$(MAKE) --no-print-directory test-cpp test-python test-blender test-ui test-packages test-debian13 test-sid
 
 test-cpp:
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
@@ -50,13 +50,24 @@ test-packages: build
 DEBIAN13_SUITES ?= cpp python blender ui package
 test-debian13:
 	scripts/chroot.sh debian13 setup
-	scripts/chroot.sh debian13 run env JOBS=$(JOBS) scripts/debian13_suite.sh $(DEBIAN13_SUITES)
+	scripts/chroot.sh debian13 run env JOBS=$(JOBS) scripts/chroot_suite.sh $(DEBIAN13_SUITES)
 
-# dist/: the extension and the legacy zip for cp311 (here) and cp313 (built in the Debian 13 chroot).
+# The add-on in Blender 5.2 LTS (Debian unstable: Python 3.14, pybind11 3, GCC 16) in a third chroot:
+# the headless-Blender and UI suites and the extension installed there. SID_SUITES picks suites (the
+# C++ and Python suites run too with `make test-sid SID_SUITES="cpp python blender ui package"`).
+SID_SUITES ?= blender ui package
+test-sid:
+	scripts/chroot.sh sid setup
+	scripts/chroot.sh sid run env JOBS=$(JOBS) scripts/chroot_suite.sh $(SID_SUITES)
+
+# dist/: the extension and the legacy zip for cp311 (here), cp313 (built in the Debian 13 chroot) and
+# cp314 (in the sid chroot, for Debian's Blender 5.2).
 addon: build
 	$(PYTHON) scripts/build_addon.py
 	scripts/chroot.sh debian13 setup
-	scripts/chroot.sh debian13 run sh -c 'scripts/debian13_suite.sh build && python3 scripts/build_addon.py'
+	scripts/chroot.sh debian13 run sh -c 'scripts/chroot_suite.sh core && python3 scripts/build_addon.py'
+	scripts/chroot.sh sid setup
+	scripts/chroot.sh sid run sh -c 'scripts/chroot_suite.sh core && python3 scripts/build_addon.py'
 
 bench: bootstrap build
 	scripts/bench.sh
@@ -75,4 +86,4 @@ else
 endif
 
 clean:
-	rm -rf $(BUILD_DIR) build-debian13 dist addon/hairlod/_core*.so
+	rm -rf $(BUILD_DIR) build-debian13 build-sid dist addon/hairlod/_core*.so

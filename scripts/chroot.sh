@@ -5,6 +5,10 @@
 #
 #   debian13  Debian 13 (trixie) with the build tools and Blender 4.3 (Python 3.13, Embree 4,
 #             TBB 2022, OpenSubdiv 3.6, NumPy 2): the suites on a second platform.
+#   sid       Debian unstable with the same packages: Blender 5.2 LTS (Python 3.14, NumPy 2.4,
+#             GCC 16, pybind11 3), the Blender 5 line artists run. Unstable moves: it installs what
+#             the mirror holds when the chroot is made (apt accepts the mirror's Release file after
+#             its Valid-Until, as a mirror snapshot's is).
 #   bare12    Debian 12 with only python3 and python3-numpy: where a packaged hairlod must import
 #             and work with nothing else installed.
 #
@@ -23,9 +27,9 @@ die() { echo "chroot.sh: $*" >&2; exit 1; }
 
 name=${1:-}
 case "$name" in
-  debian13)
-    release=trixie
-    # What the build, the suites and Blender 4.3 under Xvfb need (x11-apps: xwd captures the window,
+  debian13|sid)
+    release=$([ "$name" = sid ] && echo sid || echo trixie)
+    # What the build, the suites and Blender under Xvfb need (x11-apps: xwd captures the window,
     # since bpy.ops.screen.screenshot returns black there; patchelf: the packages).
     packages=(
       build-essential cmake pkg-config patchelf
@@ -38,7 +42,7 @@ case "$name" in
   bare12)
     release=bookworm
     packages=(python3 python3-numpy) ;;
-  *) die "usage: scripts/chroot.sh debian13|bare12 setup | run CMD..." ;;
+  *) die "usage: scripts/chroot.sh debian13|sid|bare12 setup | run CMD..." ;;
 esac
 shift
 root=${HAIRLOD_CHROOTS:-/var/cache/hairlod}/$name
@@ -104,7 +108,7 @@ setup() {
   fi
   echo "chroot.sh: installing ${#packages[@]} packages in the $name chroot"
   in_chroot "$root" /bin/sh -c "export DEBIAN_FRONTEND=noninteractive &&
-    apt-get update -q && apt-get install -y -q --no-install-recommends $(printf '%s ' "${packages[@]}") >/tmp/apt.log 2>&1 ||
+    apt-get update -q -o Acquire::Check-Valid-Until=false && apt-get install -y -q --no-install-recommends $(printf '%s ' "${packages[@]}") >/tmp/apt.log 2>&1 ||
     { tail -n 30 /tmp/apt.log >&2; exit 1; }; apt-get clean"
   echo "$stamp" >"$root/.hairlod-packages"
 }
@@ -118,5 +122,5 @@ case "${1:-}" in
     [ -f "$root/.hairlod-packages" ] || die "no chroot in $root: run 'scripts/chroot.sh $name setup' first"
     in_chroot "$root" "$@"
     ;;
-  *) die "usage: scripts/chroot.sh debian13|bare12 setup | run CMD..." ;;
+  *) die "usage: scripts/chroot.sh debian13|sid|bare12 setup | run CMD..." ;;
 esac
