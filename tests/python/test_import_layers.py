@@ -47,6 +47,7 @@ LAYERS = {
     "hairlod.blender.hair_mesh": BRIDGES,
     "hairlod.blender.principled_hair": BRIDGES,
     "hairlod.blender.packed_asset": BRIDGES,
+    "hairlod.blender.versions": BRIDGES,
 
     "hairlod.blender.lod_build_job": JOBS,
     "hairlod.blender.pipeline": JOBS,
