@@ -343,4 +343,8 @@ def test_the_preview_replaces_a_hair_objects_drawing_and_leaves_an_empty_its_own
     empty = bpy.data.objects.new("holder", None)
     lod_preview.replace_source_display(empty, True)
     assert empty.display_type == 'TEXTURED' and lod_preview.SOURCE_DISPLAY_PROPERTY not in empty
+    # One an older release drew as its bounds gets its own display back with the preview off.
+    empty.display_type, empty[lod_preview.SOURCE_DISPLAY_PROPERTY] = 'BOUNDS', 'TEXTURED'
+    lod_preview.replace_source_display(empty, False)
+    assert empty.display_type == 'TEXTURED' and lod_preview.SOURCE_DISPLAY_PROPERTY not in empty
     bpy.data.objects.remove(empty)

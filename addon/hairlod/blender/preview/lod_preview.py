@@ -1017,10 +1017,11 @@ def replace_source_display(obj, preview_on):
     draws as its bounds (its render is unchanged, and hiding it hides the preview too). Off, or without
     a preview, the object's own display type comes back. Not while Blender draws (it changes data).
     An empty holding a preview keeps its own display: it has no geometry the LoD replaces, and Blender
-    5 draws an empty displayed as bounds as a cube of its display size."""
-    if obj.type == 'EMPTY':
-        return
+    5 draws an empty displayed as bounds as a cube of its display size (one an older release set to
+    bounds still gets its display back when the preview goes off)."""
     if preview_on:
+        if obj.type == 'EMPTY':
+            return
         if SOURCE_DISPLAY_PROPERTY not in obj:
             obj[SOURCE_DISPLAY_PROPERTY] = obj.display_type
         obj.display_type = 'BOUNDS'
