@@ -2,7 +2,7 @@
 scenes (the real Ratboy mohawk and 5000 generated wavy strands, mid view) with the Huang fibre
 path-traced as the reference, then `pt`, `ds` and `lod` through the Chiang stand-in of
 hairlod/bcsdf/chiang_stand_in.h and through a Chiang fibre with the material's own absorption, and
-prints the blurred PSNR and the mean hair colour error per channel of each (README, "Blender 4.x hair").
+prints the blurred PSNR and the mean hair colour error per channel of each (docs/lod-quality.md, "Blender 4.x hair").
 
     python3 scripts/bench_huang_stand_in.py [--width 96 --spp 64 --reference-spp 256]
 """

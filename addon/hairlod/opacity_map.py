@@ -42,7 +42,7 @@ TILE = 512  # pixels on a side of each light's map
 # an animation, about 1.7 us a segment on llvmpipe: with 1 << 17, 100k strands drew theirs from a
 # thick level of 108k segments in 200 ms a frame, with 1 << 15 from one of 20k in 55-63 ms, and the
 # preview's colour against the path tracer moved by at most 0.025 in a channel on both hairs of
-# scripts/bench_preview_fidelity.py (README, "Animated hair").
+# scripts/bench_preview_fidelity.py (docs/animated-hair.md).
 SHADOW_SEGMENTS = 1 << 15
 # Optical depth of one pixel is capped (a strand wider than the line drawn for it): exp(-4) = 2 %.
 MAX_PIXEL_DEPTH = 4.0

@@ -210,7 +210,7 @@ TEST(Huang, LosslessFibreLosesOnlyWhatItsVisibilityRulesDiscard) {
             }
 }
 
-// The energy of the lossless fibre is the README's table ("Blender 4.x hair"): the furnace within 1e-3
+// The energy of the lossless fibre is the table in docs/lod-quality.md ("Blender 4.x hair"): the furnace within 1e-3
 // of it. Near head-on it is 1 (the rules discard < 1.2e-3); towards grazing views the tilted cuticle
 // faces away from the view over part of the width and reflects light into the fibre's surface, which
 // Cycles' model drops as well.

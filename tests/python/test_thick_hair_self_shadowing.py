@@ -103,7 +103,7 @@ def test_paths_scattering_inside_the_hair_light_it_like_its_strands(bundles, tow
     # -2.4 % lit from the camera's side, +2.2 / +2.1 / +0.7 % from behind). Skipping those strands and
     # keeping dual scattering's forward share (the default) drops the light they scatter back: 0.60 /
     # 0.78 / 0.93 of the strands' from the camera's side, 1.13 / 1.09 / 1.03 from behind, which is
-    # reported, not asserted (README, LoD quality).
+    # reported, not asserted (docs/lod-quality.md).
     params, lights = as_params({}), _sun(towards_light)
     expected = _strands_mean(bundles, lights, params, spp=16).mean(axis=(0, 1))
     measured = _core.render(None, _thick_hair(), CAMERA, lights, params, method="lod-single", spp=128, seed=2,

@@ -16,7 +16,7 @@ higher, its rare bright paths missed). Asserted:
   reads 1.29 / 1.30 / 1.07 of the path-traced world light (the sun 0.86 / 0.95 / 1.02): the world's
   transmittance is one average over all directions, so the transmitted lobe (TT, most of brown hair's
   red and green), which at the hair's surface takes its light from the hair behind, gets the open
-  side's share too (README, "How the preview looks");
+  side's share too (docs/preview.md, "What is still off");
 - both hairs covering the pixels their path-traced strands cover, within 25 %;
 - lit by an HDRI alone (Blender's own courtyard.exr, the bench's --hdri courtyard --sun 0), which the
   preview fits with SRBF lights: both hairs within 15 % per channel of the path-traced image, which
@@ -27,7 +27,7 @@ higher, its rare bright paths missed). Asserted:
 - lit by sunrise.exr alone, whose sun holds 59 % of its light: the generated hair within 15 % (1.03 /
   1.09 / 1.01 at 256 spp), its sun shaded as a sun lamp with an opacity map (1.25 / 1.28 / 1.11 while
   the SRBF lobes carried it). The mohawk's ratio is printed, not asserted: 1.13 / 1.13 / 1.40, the
-  fibre's response to a sun at its grazing views (README, "Lit by an HDRI").
+  fibre's response to a sun at its grazing views (docs/preview.md, "Lit by an HDRI").
 Screenshots and the path-traced images go to $HAIRLOD_UI_OUT (default out/ui) as fidelity_*.png.
 """
 
@@ -71,7 +71,7 @@ def steps():
     lit_by_sun = {}
     yield from bench_preview_fidelity.measure(lit_by_sun, views=("mid",), spp=128, scale=0.5, sun_irradiance=0.0,
                                               hdri="sunrise")
-    print("Ratboy_mohawk mid, lit by sunrise.exr (not asserted: the fibre, README):",
+    print("Ratboy_mohawk mid, lit by sunrise.exr (not asserted: the fibre, docs/preview.md):",
           np.round(lit_by_sun["Ratboy_mohawk mid"]["mean_ratio"], 3))
     check_mean_ratios({"generated wavy 20k mid": lit_by_sun["generated wavy 20k mid"]},
                       {"generated wavy 20k mid": HDRI_TOLERANCE["generated wavy 20k mid"]}, "sunrise.exr")

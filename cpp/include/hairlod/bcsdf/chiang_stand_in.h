@@ -5,7 +5,7 @@
 // absorption that gives the light passing through its interior (TT, TRT and beyond) the energy it has
 // in the Huang fibre, channel by channel, so that multiple scattering keeps the material's colour. The
 // surface reflection R is each model's own: absorption cannot change it. Measured on the LoD test
-// scenes against the Huang fibre path-traced (README, "Blender 4.x hair").
+// scenes against the Huang fibre path-traced (docs/lod-quality.md, "Blender 4.x hair").
 #include <glm/vec3.hpp>
 
 #include "hairlod/bcsdf/hair_params.h"
