@@ -21,7 +21,7 @@ from . import _core
 from .bcsdf_bake import DEFAULT_TABLE_SAMPLES
 from .hair_params import as_params, params_to_dict
 
-__all__ = ["ShaderTables", "SrbfTables", "lobe_responses", "shader_tables", "srbf_lookup", "srbf_tables",
+__all__ = ["ShaderTables", "SrbfTables", "forward_share", "lobe_responses", "shader_tables", "srbf_lookup", "srbf_tables",
            "theta_nodes", "uniform_world_response"]
 
 _ROWS = {
@@ -122,6 +122,16 @@ class SrbfTables:
     @property
     def nbytes(self):
         return self.response.nbytes
+
+
+def forward_share(tables, sin_theta):
+    """What aggregated_bcsdf.glsl's forward_share reads from `tables` (ShaderTables), in float64: a_f, the
+    share of light a strand passes on forwards, at the inclinations asin(sin_theta) of the light to the
+    strand, linear between the dual table's nodes over [-pi/2, pi/2] and clamped to [1e-4, 1]; [..., 3]."""
+    a_f = np.asarray(tables.dual, np.float64)[0, :, :3]
+    theta = np.arcsin(np.clip(np.asarray(sin_theta, np.float64), -1.0, 1.0))
+    nodes = np.linspace(-0.5 * np.pi, 0.5 * np.pi, len(a_f))
+    return np.clip(np.stack([np.interp(theta, nodes, a_f[:, c]) for c in range(3)], axis=-1), 1e-4, 1.0)
 
 
 def srbf_lookup(tables, sin_o, sin_j=None, phi=None):

@@ -106,15 +106,22 @@ def world_transmittance(points, volume, strength, keep=None):
     """The share of a uniform world's light that reaches points [N, 3] through the hair volume:
     transmittance() over WORLD_DIRECTIONS taken as suns, averaged; float64 [N]. The world lights the
     hair's inside through the hair as the suns do; without it the preview's interior was lit by the
-    whole sky (2.2x the path-traced hair radiance on generated hair). With `keep` (per channel, [3]:
-    1 - a_f, the share the strands on the way do not pass on forwards) each direction's T is raised to
-    it before the average, [N, 3], as self_shadow.glsl's hair_world_transmittance does."""
+    whole sky (2.2x the path-traced hair radiance on generated hair). With `keep` (1 - a_f, the share
+    the strands on the way do not pass on forwards: per channel [3], or per direction of
+    WORLD_DIRECTIONS and channel [14, 3], as the preview takes a_f at each direction's inclination to
+    the strand) each direction's T is raised to it before the average, [N, 3], as self_shadow.glsl's
+    hair_world_transmittance does."""
     points = np.atleast_2d(np.asarray(points, dtype=np.float64))
     per_direction = np.array([transmittance(points, np.append(direction, 0.0), volume, strength)
                               for direction in WORLD_DIRECTIONS])
     if keep is None:
         return per_direction.mean(axis=0)
-    return np.mean(per_direction[:, :, None] ** np.asarray(keep, dtype=np.float64)[None, None, :], axis=0)
+    keep = np.asarray(keep, dtype=np.float64)
+    if keep.shape not in ((3,), (len(WORLD_DIRECTIONS), 3)):
+        raise ValueError(f"world transmittance: keep must have shape [3] or [{len(WORLD_DIRECTIONS)}, 3], "
+                         f"got {list(keep.shape)}")
+    keep = np.broadcast_to(keep, (len(WORLD_DIRECTIONS), 3))
+    return np.mean(per_direction[:, :, None] ** keep[:, None, :], axis=0)
 
 
 def transmittance(points, light_vectors, volume, strength):

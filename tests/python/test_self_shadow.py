@@ -145,3 +145,23 @@ def test_world_transmittance_averages_the_suns_of_its_directions():
     assert len(self_shadow.WORLD_DIRECTIONS) == 14
     np.testing.assert_allclose(np.linalg.norm(self_shadow.WORLD_DIRECTIONS, axis=1), 1.0)
 
+
+def test_world_transmittance_takes_a_keep_per_direction():
+    # keep per direction and channel [14, 3]: each direction's T raised to its own row. The same row for
+    # every direction is the per-channel keep; at the centre of a sphere (every T = exp(-1)) the result
+    # is the mean of exp(-keep) over the rows; a direction whose keep is 0 passes all its light.
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.full(3, 2.0), extinction=0.5)
+    off_centre = [[1.2, 0.4, -0.3], [-0.5, 0.1, 0.9]]
+    keep = np.array([0.3, 0.6, 1.0])
+    np.testing.assert_allclose(self_shadow.world_transmittance(off_centre, volume, 1.0, keep=np.tile(keep, (14, 1))),
+                               self_shadow.world_transmittance(off_centre, volume, 1.0, keep=keep), rtol=1e-12)
+    rows = np.linspace(0.0, 1.0, 14)[:, None] * np.array([1.0, 0.5, 0.25])
+    np.testing.assert_allclose(self_shadow.world_transmittance([[0.0, 0.0, 0.0]], volume, 1.0, keep=rows)[0],
+                               np.exp(-rows).mean(axis=0), rtol=1e-12)
+    # Brute force off centre: the suns of the directions one by one.
+    suns = [self_shadow.transmittance(off_centre, np.append(d, 0.0), volume, 1.0) for d in self_shadow.WORLD_DIRECTIONS]
+    expected = np.mean([t[:, None] ** row[None, :] for t, row in zip(suns, rows)], axis=0)
+    np.testing.assert_allclose(self_shadow.world_transmittance(off_centre, volume, 1.0, keep=rows), expected, rtol=1e-12)
+    with pytest.raises(ValueError, match="keep must have shape"):
+        self_shadow.world_transmittance(off_centre, volume, 1.0, keep=np.ones((13, 3)))
+

@@ -31,7 +31,9 @@ import harness  # noqa: E402  (tests/ui/harness.py)
 from harness import check  # noqa: E402
 
 SIZE = 64  # pixels per side: 4096 configurations per hair
-WORLD_KEEP = (0.35, 0.6, 0.9)  # 1 - a_f per channel for the world's transmittance (brown hair scatters red forwards most)
+# 1 - a_f per direction of self_shadow.WORLD_DIRECTIONS and channel for the world's transmittance (brown
+# hair scatters red forwards most; a_f changes with each direction's inclination to the strand).
+WORLD_KEEP = tuple((0.35 + 0.02 * k, 0.6 - 0.01 * k, 0.9 - 0.03 * k) for k in range(14))
 
 
 def directions(rng, count, max_theta=1.55):
@@ -79,10 +81,11 @@ def full_screen_shader_info():
     return info
 
 
-def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False, behind=None):
+def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False, behind=None, call=None):
     """aggregated_bcsdf per pixel; with `single_hair`, as the strands' shader builds it
     (HAIRLOD_SINGLE_HAIR: n = 1 and rho = 1 whatever hair_count and density say); with `behind`,
-    aggregated_bcsdf_behind with that share of hair behind."""
+    aggregated_bcsdf_behind with that share of hair behind; `call` another vec3 expression of
+    aggregated_bcsdf.glsl in i (wi, hair count) and o (wo, density)."""
     import gpu
 
     from hairlod.blender.preview import bcsdf_textures
@@ -92,8 +95,9 @@ def evaluate_on_gpu(tables, wi, wo, hair_count, density, single_hair=False, behi
     info.sampler(3, 'FLOAT_2D', "incoming")
     info.sampler(4, 'FLOAT_2D', "outgoing")
     bcsdf_textures.declare(info)
-    call = ("aggregated_bcsdf(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w)" if behind is None else
-            f"aggregated_bcsdf_behind(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w, {float(behind)!r})")
+    if call is None:
+        call = ("aggregated_bcsdf(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w)" if behind is None else
+                f"aggregated_bcsdf_behind(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w, {float(behind)!r})")
     info.fragment_source(("#define HAIRLOD_SINGLE_HAIR\n" if single_hair else "") + glsl_source("aggregated_bcsdf.glsl") + """
 void main()
 {
@@ -128,7 +132,8 @@ def transmittance_on_gpu(points, light_vectors, volume, strength):
     info.sampler(1, 'FLOAT_2D', "light_data")
     info.push_constant('VEC4', "centre_sigma")
     info.push_constant('VEC3', "semi_axes")
-    info.fragment_source(glsl_source("self_shadow.glsl") + f"const vec3 WORLD_KEEP = vec3{WORLD_KEEP};\n" + """
+    keeps = ", ".join(f"vec3{keep}" for keep in WORLD_KEEP)
+    info.fragment_source(glsl_source("self_shadow.glsl") + f"const vec3 WORLD_KEEP[14] = vec3[]({keeps});\n" + """
 void main()
 {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -405,8 +410,32 @@ def run():
         check(bool(taken.max() > 100.0 * tolerance), f"{name}: the hair behind's back-scatter is there towards the front")
 
 
+def check_forward_share():
+    """aggregated_bcsdf.glsl's forward_share (a_f at a light's inclination to the strand: the suns' and each
+    world direction's forward transmittance) against preview_luts.forward_share, grazing angles included."""
+    from hairlod import preview_luts
+
+    rng = np.random.default_rng(13)
+    count = SIZE * SIZE
+    tables = preview_luts.shader_tables({"sigma_a": (1.2, 1.8, 3.0), "beta_m": 0.3, "beta_n": 0.3})
+    w = directions(rng, count)
+    shader_values = evaluate_on_gpu(tables, w, w, np.ones(count), np.ones(count),
+                                    # The BCSDF's term times step(2, density) = 0, which the compiler cannot drop,
+                                    # keeps the uniforms BcsdfTextures binds in the program.
+                                    call="forward_share(normalize(i.xyz), vec3(1.0, 0.0, 0.0)) + step(2.0, o.w) * aggregated_bcsdf("
+                                         "normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w)")
+    reference = preview_luts.forward_share(tables, w[:, 0])
+    error = np.abs(shader_values - reference).max()
+    print(f"forward share: max |a_f glsl - a_f ref| = {error:.2e}, a_f from {reference.min():.3f} to {reference.max():.3f}")
+    # Mesa's asin is an approximation that errs by up to a few 1e-4 rad, most near |sin| = 1, where a_f also
+    # changes fastest (2.6e-4 in a_f at 81 degrees); a node off by one would err by 1e-2.
+    check(error <= 5e-4 and np.ptp(reference) > 0.05, "forward share: GLSL reads a_f at the light's inclination as "
+          "the reference does, within 5e-4, and a_f changes with the inclination")
+
+
 def steps():
     run()
+    check_forward_share()
     check_self_shadowing()
     check_layered_optical_depth()
     check_srbf_world()

@@ -27,6 +27,14 @@ vec3 lut_row(sampler2D lut, int row, float x, float lo, float hi)
   return mix(texelFetch(lut, ivec2(k, row), 0).rgb, texelFetch(lut, ivec2(k + 1, row), 0).rgb, t);
 }
 
+/* a_f, the share of light a strand passes on forwards (dual scattering, Zinke et al. 2008 Sec. 4.2), for
+ * light arriving from the unit direction w at a strand of unit tangent t: dual_lut's a_f row at w's
+ * inclination asin(w . t), clamped to [1e-4, 1] (hairlod/preview_luts.py forward_share). */
+vec3 forward_share(vec3 w, vec3 t)
+{
+  return clamp(lut_row(dual_lut, 0, asin(clamp(dot(w, t), -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 1e-4, 1.0);
+}
+
 /* Block `block` of aggregated_lut at (theta_d, n): bilinear within the block. */
 vec3 aggregated_lookup(int block, float theta_d, float n)
 {

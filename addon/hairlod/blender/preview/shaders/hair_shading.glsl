@@ -38,8 +38,8 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
    * the mean free path 1 / sigma into the hair; sigma the density under the first mapped light's lit
    * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
    * Zinke et al. 2008): through the volume, a uniform random medium, the mean of a_f^N over the Poisson
-   * number N of strands crossed is exp(-tau (1 - a_f)) = T^(1 - a_f) per channel and direction, the
-   * world's a_f at normal incidence. Strands drawn by their coverage
+   * number N of strands crossed is exp(-tau (1 - a_f)) = T^(1 - a_f) per channel and direction, a_f at
+   * the direction's inclination to the strand (forward_share). Strands drawn by their coverage
    * (strand.vert.glsl) are the strands the camera sees, at their own depth: there the depth is 0. */
   bool at_own_depth = frame.counts.z > 0.5 && ellipse.z <= 0.0;
   float first_density = frame.light_shadow[0].w > 0.5 && !at_own_depth ? light_side_density(0, seen) : 0.0;
@@ -49,7 +49,13 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
                                               : max(max(frame.hair_axes.x, frame.hair_axes.y), frame.hair_axes.z);
   float world_depth = visible_density > 0.0 ? min(1.0 / visible_density, reach) : 0.0;
   vec3 world_point = (frame.model_inverse * vec4(seen, 1.0)).xyz + world_depth * into_object;
-  vec3 world_keep = vec3(1.0) - clamp(lut_row(dual_lut, 0, 0.0, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 0.0, 1.0);
+  /* Each direction's strands pass on a_f at that direction's inclination to the hair, as a sun's do
+   * (the hair near a strand runs along it): in world space, where t is. */
+  mat3 object_to_world = inverse(mat3(frame.model_inverse));
+  vec3 world_keep[14];
+  for (int k = 0; k < 14; ++k) {
+    world_keep[k] = vec3(1.0) - forward_share(normalize(object_to_world * HAIR_WORLD_DIRECTIONS[k]), t);
+  }
   vec3 world_shadow = hair_world_transmittance(world_point, frame.hair_centre.xyz, frame.hair_axes.xyz,
                                                frame.hair_centre.w, world_keep);
   for (int k = 0; k < int(frame.counts.x); ++k) {
@@ -62,7 +68,7 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
     /* The strands on the light's way pass a_f of it on forwards, coloured (dual scattering, Zinke et al.
      * 2008 Sec. 4.2; a_f at the light's inclination). */
-    vec3 a_f = clamp(lut_row(dual_lut, 0, asin(clamp(sin_i, -1.0, 1.0)), -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI), 1e-4, 1.0);
+    vec3 a_f = forward_share(wi, t);
     vec3 shadow;
     /* The back-scatter of the hair behind (B^'s A_1 + A_3) needs hair there: the chance that the light
      * passing the hair meets a strand beyond it, 1 - exp(-tau) over the map's optical depth past the
@@ -99,7 +105,8 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     vec3 world = srbf_uniform(wo, t) * world_shadow;
     for (int k = 0; k < int(hair_world.counts.x); ++k) {
       vec3 towards_object = (frame.model_inverse * vec4(hair_world.lobe_directions[k].xyz, 0.0)).xyz;
-      vec3 through = exp(-world_keep * hair_optical_depth(world_point, towards_object, 1e30, frame.hair_centre.xyz,
+      vec3 lobe_keep = vec3(1.0) - forward_share(normalize(hair_world.lobe_directions[k].xyz), t);
+      vec3 through = exp(-lobe_keep * hair_optical_depth(world_point, towards_object, 1e30, frame.hair_centre.xyz,
                                                           frame.hair_axes.xyz, frame.hair_centre.w));
       world += hair_world.lobe_colours[k].rgb * srbf_lobe_response(k, t, node_o, po) * through;
     }

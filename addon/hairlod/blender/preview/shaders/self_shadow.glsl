@@ -26,25 +26,35 @@ float hair_transmittance(vec3 p, vec3 to_light, float t_max, vec3 centre, vec3 s
   return exp(-hair_optical_depth(p, to_light, t_max, centre, semi_axes, sigma));
 }
 
+/* Unit directions a uniform world's light is averaged over, in the order of hairlod/self_shadow.py's
+ * WORLD_DIRECTIONS (a keep per direction follows it): +x, +y, +z, -x, -y, -z, then the 8 diagonals
+ * (+-1, +-1, +-1) / sqrt(3), x slowest. */
+const float HAIR_WORLD_DIAGONAL = 0.57735026919;
+const vec3 HAIR_WORLD_DIRECTIONS[14] = vec3[](
+    vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(-1, 0, 0), vec3(0, -1, 0), vec3(0, 0, -1),
+    vec3(HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL),
+    vec3(HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL),
+    vec3(HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL),
+    vec3(HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL),
+    vec3(-HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL),
+    vec3(-HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL),
+    vec3(-HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL),
+    vec3(-HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL));
+
 /* The share of a uniform world's light that reaches p through the hair volume, per channel:
- * hair_transmittance over 14 directions spread over the sphere (the 6 axes and the 8 cube diagonals),
- * the world occluded by the hair as the suns are, each direction's T raised to `keep` (1 - a_f: the
- * strands on the way pass a_f of the light on forwards) before the average. Averaging T first and
- * raising the mean overstates the light wherever the directions differ (Jensen's inequality: the mean
- * of T^keep is at most the mean of T to the power keep, for keep <= 1), most in the channels hair
- * scatters forwards most, red for brown hair. */
-vec3 hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma, vec3 keep)
+ * hair_transmittance over HAIR_WORLD_DIRECTIONS, the world occluded by the hair as the suns are, each
+ * direction's T raised to its own keep[k] (1 - a_f at that direction's inclination to the strand: the
+ * strands on the way pass a_f of the light on forwards, as they do a sun's) before the average.
+ * Averaging T first and raising the mean overstates the light wherever the directions differ (Jensen's
+ * inequality: the mean of T^keep is at most the mean of T to the power keep, for keep <= 1), most in
+ * the channels hair scatters forwards most, red for brown hair. */
+vec3 hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma, vec3 keep[14])
 {
-  /* Unit directions: the 6 axes, then the 8 diagonals (1, 1, 1) / sqrt(3). T^keep = exp(-keep tau): one
-   * exponential per channel, where pow(T, keep) took a logarithm and an exponential per channel more
-   * for every direction, in every fragment. */
-  const float d = 0.57735026919;
-  const vec3 directions[14] = vec3[](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1),
-                                     vec3(0, 0, -1), vec3(d, d, d), vec3(d, d, -d), vec3(d, -d, d), vec3(d, -d, -d),
-                                     vec3(-d, d, d), vec3(-d, d, -d), vec3(-d, -d, d), vec3(-d, -d, -d));
+  /* T^keep = exp(-keep tau): one exponential per channel, where pow(T, keep) took a logarithm and an
+   * exponential per channel more for every direction, in every fragment. */
   vec3 sum = vec3(0.0);
   for (int k = 0; k < 14; ++k) {
-    sum += exp(-keep * hair_optical_depth(p, directions[k], 1e30, centre, semi_axes, sigma));
+    sum += exp(-keep[k] * hair_optical_depth(p, HAIR_WORLD_DIRECTIONS[k], 1e30, centre, semi_axes, sigma));
   }
   return sum / 14.0;
 }
