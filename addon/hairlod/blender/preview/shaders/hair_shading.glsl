@@ -51,10 +51,9 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
   vec3 world_point = (frame.model_inverse * vec4(seen, 1.0)).xyz + world_depth * into_object;
   /* Each direction's strands pass on a_f at that direction's inclination to the hair, as a sun's do
    * (the hair near a strand runs along it): in world space, where t is. */
-  mat3 object_to_world = inverse(mat3(frame.model_inverse));
   vec3 world_keep[14];
   for (int k = 0; k < 14; ++k) {
-    world_keep[k] = vec3(1.0) - forward_share(normalize(object_to_world * HAIR_WORLD_DIRECTIONS[k]), t);
+    world_keep[k] = vec3(1.0) - forward_share(normalize(mat3(frame.model) * HAIR_WORLD_DIRECTIONS[k]), t);
   }
   vec3 world_shadow = hair_world_transmittance(world_point, frame.hair_centre.xyz, frame.hair_axes.xyz,
                                                frame.hair_centre.w, world_keep);
