@@ -9,9 +9,13 @@ export with the BCSDF tables baked (pipeline.export_lod), the same build from th
 asset being packed to the first draw of the preview ending, and that draw's own time, with the part of
 it spent making vertex buffers and tables, which a faster GPU does not shorten), and the median of the
 next 3 draws of the same view (drawing that frame once everything is set up: the floor of the first
-frame on this GPU). Every draw timed waits for the GPU to finish it (a pixel read back). Then, for
-comparison, whole redraws of the viewport region (3 each, median) with the preview on and with Blender
-drawing the strands itself (the preview off). Prints one JSON
+frame on this GPU), then 3 more with each pass of the draw timed on its own (the levels into the hair
+layer, the strands' shading there, the composite into the viewport; medians). These draws are made in
+full (LodPreview.draw_again): a redraw of a view where nothing changed only composites the hair layer
+again. The benchmark waits for the viewport to be at rest (no redraw for 3 s) before each build.
+Every draw timed waits for the GPU to finish it (a pixel read back). Then, for
+comparison, whole redraws of the viewport region (3 each, median) with the preview on (drawn in full,
+and unchanged: composited again) and with Blender drawing the strands itself (the preview off). Prints one JSON
 object with every run and the medians; the ratio of button to direct build in the same run.
 """
 
@@ -24,6 +28,7 @@ import tempfile
 import time
 
 import bpy
+import gpu
 
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
@@ -45,6 +50,18 @@ def parse_args():
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
 
+def settle(viewport_draws, quiet=3.0, longest=90.0):
+    """Waits (a step generator) until the viewport has not redrawn for `quiet` seconds (longer than one
+    redraw of every strand on llvmpipe), or `longest`."""
+    start = time.perf_counter()
+    while time.perf_counter() - start < longest:
+        # From the start at least: a change made just before (in the same step) is redrawn only now.
+        last = max(viewport_draws[-1], start) if viewport_draws else start
+        if time.perf_counter() - last >= quiet:
+            return
+        yield POLL
+
+
 def steps(args):
     import addon_utils
 
@@ -54,7 +71,7 @@ def steps(args):
     from hairlod.blender.curves import strands_to_curves
     from hairlod.blender import pipeline
     from hairlod.blender.packed_asset import PACKED_PROPERTY
-    from hairlod.blender.preview import lod_preview
+    from hairlod.blender.preview import hair_layer, lod_preview
 
     window = bpy.context.window_manager.windows[0]
     area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
@@ -91,11 +108,43 @@ def steps(args):
 
     for name in setup_methods:
         setattr(lod_preview.LodPreview, name, timed_method(name))
+    # The passes of a draw (lod_preview.LodPreview.draw): the hair levels into the hair layer, the strands'
+    # shading in it, the composite into the viewport; each timed until the framebuffer it drew into has
+    # been drawn (the layer's, its shading framebuffer, the viewport's), only while timing_passes[0].
+    pass_times = {}
+    timing_passes = [False]
+
+    def read_pixel(framebuffer):
+        framebuffer.read_color(0, 0, 1, 1, 4, 0, 'UBYTE')
+
+    def timed_pass(cls, method_name, key, framebuffer_of):
+        original = getattr(cls, method_name)
+
+        def method(instance, *method_args):
+            if not timing_passes[0]:
+                return original(instance, *method_args)
+            read_pixel(gpu.state.active_framebuffer_get())
+            start = time.perf_counter()
+            result = original(instance, *method_args)
+            read_pixel(framebuffer_of(instance))
+            pass_times.setdefault(key, []).append(time.perf_counter() - start)
+            return result
+        setattr(cls, method_name, method)
+        return original
+
+    active = lambda instance: gpu.state.active_framebuffer_get()  # noqa: E731
+    pass_originals = [
+        (lod_preview.LodPreview, "_draw_levels", timed_pass(lod_preview.LodPreview, "_draw_levels", "levels", active)),
+        (hair_layer.HairLayer, "shade_strands",
+         timed_pass(hair_layer.HairLayer, "shade_strands", "strand_shading", lambda layer: layer._shading_framebuffer)),
+        (hair_layer.HairLayer, "composite", timed_pass(hair_layer.HairLayer, "composite", "composite", active)),
+    ]
     viewport_draws = []
     counter = bpy.types.SpaceView3D.draw_handler_add(lambda: viewport_draws.append(time.perf_counter()), (), 'WINDOW',
                                                      'POST_PIXEL')
     runs = []
     for _ in range(args.runs):
+        yield from settle(viewport_draws)
         start = time.perf_counter()
         pipeline.build_lod(source)
         direct = time.perf_counter() - start
@@ -106,7 +155,10 @@ def steps(args):
         if PACKED_PROPERTY in source:
             del source[PACKED_PROPERTY]
         lod_preview.detach(source.name)
-        yield 0.5
+        # The viewport settles first: after a change Blender redraws it once per sample of its
+        # anti-aliasing (Preferences > Viewport > Anti-Aliasing, 8 by default), each drawing every
+        # strand of the source again; an artist presses the button in a viewport at rest.
+        yield from settle(viewport_draws)
         draws.clear()
         viewport_draws.clear()
         setup.clear()
@@ -122,29 +174,59 @@ def steps(args):
             yield POLL
         first_start, first_end = draws[0]
         first_setup = dict(setup)  # what the first draw spent in them (later draws add nothing: cached)
-        # The same view drawn again, nothing to set up: what the GPU (llvmpipe) takes to draw the frame.
-        while len(draws) < 1 + LATER_DRAWS:
+        preview = lod_preview.preview_of(source)
+
+        def draw_again():
+            """A step generator: the same view drawn again in full (LodPreview.draw_again: the preview
+            would otherwise composite the unchanged hair layer); that draw's (start, end)."""
+            preview.draw_again()
             area.tag_redraw()
             count = len(draws)
             while len(draws) == count:
                 yield POLL
-        later_draw = statistics.median(end - begin for begin, end in draws[1:1 + LATER_DRAWS])
+            return draws[count]
+
+        # The same view drawn again, nothing to set up: what the GPU (llvmpipe) takes to draw the frame.
+        later = []
+        for _ in range(LATER_DRAWS):
+            begin, end = yield from draw_again()
+            later.append(end - begin)
+        later_draw = statistics.median(later)
+        # The same view again, each pass of the draw timed on its own (a pixel of what it drew read back
+        # after it): where a later draw's time goes.
+        pass_times.clear()
+        timing_passes[0] = True
+        for _ in range(LATER_DRAWS):
+            yield from draw_again()
+        timing_passes[0] = False
+        later_passes = {name: statistics.median(seconds) for name, seconds in pass_times.items()}
         region = next(r for r in area.regions if r.type == 'WINDOW')
         region_redraws = {}
-        for name, enabled in (("preview", True), ("blender", False)):
+        for name, enabled, again in (("preview", True, True), ("preview_unchanged", True, False),
+                                     ("blender", False, False)):
             source.hairlod_lod_preview.enabled = enabled
             redraw(window, area, region, finish=True)  # the display change settles
-            region_redraws[name] = statistics.median(redraw(window, area, region, finish=True) for _ in range(LATER_DRAWS))
+            seconds = []
+            for _ in range(LATER_DRAWS):
+                if again:
+                    preview.draw_again()
+                seconds.append(redraw(window, area, region, finish=True))
+            region_redraws[name] = statistics.median(seconds)
         source.hairlod_lod_preview.enabled = True
         runs.append({"direct_build_s": direct, "export_bake_s": export, "button_build_s": packed - start,
                      "button_over_direct": (packed - start) / direct, "first_frame_s": first_end - packed,
                      "first_draw_s": first_end - first_start, "first_draw_setup_s": sum(first_setup.values()),
-                     "later_draw_s": later_draw, "preview_region_redraw_s": region_redraws["preview"],
+                     "later_draw_s": later_draw,
+                     **{f"later_{name}_s": later_passes.get(name, 0.0) for name in ("levels", "strand_shading", "composite")},
+                     "preview_region_redraw_s": region_redraws["preview"],
+                     "preview_unchanged_region_redraw_s": region_redraws["preview_unchanged"],
                      "blender_region_redraw_s": region_redraws["blender"],
                      **{f"setup_{name.lstrip('_')}_s": first_setup.get(name, 0.0) for name in setup_methods},
                      "viewport_redraws_during_build": redraws_during_build})
         print(json.dumps(runs[-1]), flush=True)
     lod_preview.LodPreview.draw = original_draw
+    for cls, name, method in pass_originals:
+        setattr(cls, name, method)
     for name, method in originals.items():
         setattr(lod_preview.LodPreview, name, method)
     bpy.types.SpaceView3D.draw_handler_remove(counter, 'WINDOW')

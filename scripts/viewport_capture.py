@@ -63,17 +63,26 @@ def _finish_drawing():
     gpu_finish()()
 
 
-def redraw(window, area, region, iterations=1, finish=False):
+def redraw(window, area, region, iterations=1, finish=False, before=None):
     """Seconds per redraw of `region`, over `iterations` redraws. With `finish`, each redraw ends by
     reading a pixel back in a POST_PIXEL handler, so that the time holds the GPU's work on it: without,
     a software GPU (llvmpipe) may still be drawing when the call returns, and whatever runs next (a
-    screenshot, the next frame) pays for the rest."""
+    screenshot, the next frame) pays for the rest. `before`, when given, is called before each redraw,
+    untimed (a preview's draw_again, so that an unchanged view is drawn in full)."""
     handle = bpy.types.SpaceView3D.draw_handler_add(_finish_drawing, (), 'WINDOW', 'POST_PIXEL') if finish else None
     try:
         with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region):
-            start = time.perf_counter()
-            bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
-            seconds = time.perf_counter() - start
+            if before is None:
+                start = time.perf_counter()
+                bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
+                seconds = time.perf_counter() - start
+            else:
+                seconds = 0.0
+                for _ in range(iterations):
+                    before()
+                    start = time.perf_counter()
+                    bpy.ops.wm.redraw_timer(type='DRAW', iterations=1)
+                    seconds += time.perf_counter() - start
     finally:
         if handle is not None:
             bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')

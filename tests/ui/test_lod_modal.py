@@ -1,7 +1,9 @@
 """Build Hair LoD runs modal in a real window (Blender under Xvfb, see scripts/run_ui_tests.sh).
 
-Invokes the operator as a click would: it must return RUNNING_MODAL, report progress from its
-timer and finish with one Curves object per level and the packed asset. Invoked again and sent Esc
+Invokes the operator as a click would, in a viewport at rest: it must return RUNNING_MODAL, report
+progress from its timer, leave the viewport undrawn until the build is done (a change would make
+Blender redraw it once per sample of its anti-aliasing, taking the CPU from the build), and finish
+with one Curves object per level and the packed asset. Invoked again and sent Esc
 (simulated) while it builds, it must leave no object, hair data or collection behind. Exits 0 on
 success, 1 on failure.
 """
@@ -19,6 +21,7 @@ from harness import check  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "blender"))
 
 POLL_DELAY = 0.2
+QUIET = 2.0  # seconds without a redraw: the viewport is at rest
 TIMEOUT = 120.0
 
 
@@ -43,23 +46,39 @@ def steps():
     progress, escapes = [], []
     modal = HAIRLOD_OT_build_lod.modal
 
+    built = []  # when a timer event first found the build thread done (the level objects are made after)
+
     def recording_modal(operator, context, event):
         if event.type == 'TIMER':
             progress.append(operator._job.fraction)
+            if not built and not operator._job._thread.is_alive():
+                built.append(time.perf_counter())
         result = modal(operator, context, event)
         if event.type == 'ESC':
             escapes.append((operator._job.fraction, result))
         return result
 
     HAIRLOD_OT_build_lod.modal = recording_modal
+    region_draws = []
+    handle = bpy.types.SpaceView3D.draw_handler_add(lambda: region_draws.append(time.perf_counter()), (),
+                                                    'WINDOW', 'POST_PIXEL')
+    area.tag_redraw()
+    start = time.perf_counter()
+    while time.perf_counter() - max(region_draws[-1] if region_draws else start, start) < QUIET:
+        yield POLL_DELAY  # the viewport at rest, as when an artist presses the button
     before = counts()
+    invoked = time.perf_counter()
     with bpy.context.temp_override(window=window, area=area):
         started = bpy.ops.hairlod.build_lod('INVOKE_DEFAULT', guides=32, levels=5, control_points=8, level_objects=True)
     check(started == {'RUNNING_MODAL'}, f"the operator runs modal ({started})")
     deadline = time.monotonic() + TIMEOUT
     while PACKED_PROPERTY not in source and time.monotonic() < deadline:
         yield POLL_DELAY
-    check(PACKED_PROPERTY in source, "the build finished and packed the asset")
+    bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    check(PACKED_PROPERTY in source and built, "the build finished and packed the asset")
+    during = [t for t in region_draws if invoked < t < built[0]]
+    check(not during, f"the viewport was not redrawn while the build ran ({len(during)} redraws in "
+                      f"{built[0] - invoked:.2f} s)")
     check(len(progress) >= 3 and progress == sorted(progress), f"progress rose over {len(progress)} timer events")
     levels, thick_levels = len(bpy.data.collections[COLLECTION_NAME].objects), len(packed_asset(source).levels)
     # levels=5 is the most; the hierarchy stops where the area no longer shrinks about 4x.

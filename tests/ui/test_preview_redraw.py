@@ -1,0 +1,124 @@
+"""The LoD preview draws the hair again only when what it shows changed (Blender under Xvfb, see
+scripts/run_ui_tests.sh).
+
+Blender redraws a viewport at rest once per sample of its anti-aliasing (Preferences > Viewport >
+Anti-Aliasing, 8 samples by default), and each redraw ran the preview's draw handler: the same hair
+drawn 8 times after every change. The preview now composites its hair layer again when nothing it is
+drawn from changed. Checked on 6,000 generated strands with the preview on:
+- after one change of the view, the region redraws more than once (its anti-aliasing) and the hair is
+  drawn once; a redraw of the unchanged view gives the same pixels;
+- a change of each input draws the hair again, with different pixels where the input changes what
+  the hair looks like: the light's strength, the world's colour, a preview setting, the material, the
+  view, the hair's object transform;
+- LodPreview.draw_again makes the next redraw draw the hair in full (what the benchmarks time).
+Screenshots go to $HAIRLOD_UI_OUT (default out/ui).
+"""
+
+import os
+import sys
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness  # noqa: E402  (tests/ui/harness.py)
+from harness import check, screenshot  # noqa: E402
+
+REDRAW_DELAY = 1.0
+QUIET = 2.0      # seconds without a redraw: the viewport is at rest
+LONGEST = 60.0
+
+
+def steps():
+    import addon_utils
+
+    check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    from hairlod.blender.preview import lod_preview
+
+    window = bpy.context.window_manager.windows[0]
+    area, region_3d = harness.plain_view(next(a for a in window.screen.areas if a.type == 'VIEW_3D'))
+    strands, hair = harness.generated_hair_object(count=6000, vertices=9, seed=3)
+    light = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
+    bpy.context.scene.collection.objects.link(light)
+    light.rotation_euler = (0.6, 0.2, 0.4)
+    lower, upper = strands.points.min(axis=0), strands.points.max(axis=0)
+    region_3d.view_location = 0.5 * (lower + upper)
+    region_3d.view_distance = 1.6 * float(np.linalg.norm(upper - lower))
+    with bpy.context.temp_override(window=window, area=area):
+        check(bpy.ops.hairlod.build_lod('EXEC_DEFAULT', guides=32) == {'FINISHED'}, "Build Hair LoD finished")
+    preview = lod_preview.preview_of(hair)
+    check(preview is not None and hair.hairlod_lod_preview.enabled, "the built hair is previewed")
+
+    hair_draws, region_draws = [], []
+    draw_levels = lod_preview.LodPreview._draw_levels
+
+    def counted_draw_levels(instance, *args):
+        hair_draws.append(time.perf_counter())
+        return draw_levels(instance, *args)
+
+    lod_preview.LodPreview._draw_levels = counted_draw_levels
+    handle = bpy.types.SpaceView3D.draw_handler_add(lambda: region_draws.append(time.perf_counter()), (),
+                                                    'WINDOW', 'POST_PIXEL')
+
+    def at_rest():
+        """A step generator: waits until the viewport has not redrawn for QUIET seconds."""
+        start = time.perf_counter()
+        while time.perf_counter() - start < LONGEST:
+            last = max(region_draws[-1], start) if region_draws else start
+            if time.perf_counter() - last >= QUIET:
+                return
+            yield 0.1
+
+    def after_change(name, change):
+        """A step generator: makes `change`, waits for the viewport to come to rest and screenshots it;
+        returns (hair draws, region redraws, pixels)."""
+        yield from at_rest()
+        hair_draws.clear()
+        region_draws.clear()
+        change()
+        area.tag_redraw()
+        yield REDRAW_DELAY
+        yield from at_rest()
+        counts = (len(hair_draws), len(region_draws))
+        return (*counts, screenshot(window, area, f"preview_redraw_{name}.png"))
+
+    try:
+        def move_view():
+            region_3d.view_distance *= 0.97
+
+        drawn, redrawn, moved = yield from after_change("view", move_view)
+        check(drawn == 1 and redrawn > 1, f"after one change of the view the region redraws {redrawn} times "
+                                          f"(its anti-aliasing) and the hair is drawn once ({drawn})")
+        drawn, _, again = yield from after_change("unchanged", lambda: None)
+        check(drawn == 0 and np.array_equal(again, moved),
+              f"a redraw of the unchanged view draws no hair ({drawn}) and shows the same pixels")
+        drawn, _, forced = yield from after_change("draw_again", preview.draw_again)
+        check(drawn == 1 and np.abs(forced - moved).max() <= 1.0 / 255.0,
+              f"draw_again draws the hair in full once ({drawn}), the same picture")
+
+        def hair_pixels_differ(before, after):
+            return float(np.mean(np.abs(after - before).max(axis=2) > 2.0 / 255.0))
+
+        changes = [
+            ("light", lambda: setattr(light.data, "energy", 3.0 * light.data.energy)),
+            ("world", lambda: bpy.context.scene.world.node_tree.nodes["Background"].inputs["Color"]
+             .default_value.foreach_set((0.6, 0.35, 0.1, 1.0))),
+            ("self_shadowing", lambda: setattr(hair.hairlod_lod_preview, "self_shadowing",
+                                               0.3 * hair.hairlod_lod_preview.self_shadowing)),
+            ("melanin", lambda: setattr(hair.hairlod_lod_preview, "melanin", 0.2)),
+            ("object", lambda: setattr(hair, "location", (0.02 * float(np.linalg.norm(upper - lower)), 0.0, 0.0))),
+        ]
+        before = forced
+        for name, change in changes:
+            drawn, _, after = yield from after_change(name, change)
+            differ = hair_pixels_differ(before, after)
+            check(drawn == 1 and differ > 0.002,
+                  f"changing the {name} draws the hair again ({drawn}) and changes {100 * differ:.2f} % of the pixels")
+            before = after
+    finally:
+        lod_preview.LodPreview._draw_levels = draw_levels
+        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+
+
+harness.run(steps)
