@@ -34,10 +34,11 @@ REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
-from viewport_capture import redraw  # noqa: E402  (scripts/viewport_capture.py)
+from viewport_capture import RedrawTimes, redraw  # noqa: E402  (scripts/viewport_capture.py)
 HAIR_MESH = os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")
 POLL = 0.02
 LATER_DRAWS = 3  # redraws of the same view after the first, their median reported
+QUIET = 3.0  # seconds without a redraw: the viewport at rest (longer than a redraw of every strand)
 
 
 def parse_args():
@@ -48,18 +49,6 @@ def parse_args():
                         help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--out")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
-
-
-def settle(viewport_draws, quiet=3.0, longest=90.0):
-    """Waits (a step generator) until the viewport has not redrawn for `quiet` seconds (longer than one
-    redraw of every strand on llvmpipe), or `longest`."""
-    start = time.perf_counter()
-    while time.perf_counter() - start < longest:
-        # From the start at least: a change made just before (in the same step) is redrawn only now.
-        last = max(viewport_draws[-1], start) if viewport_draws else start
-        if time.perf_counter() - last >= quiet:
-            return
-        yield POLL
 
 
 def steps(args):
@@ -139,12 +128,10 @@ def steps(args):
          timed_pass(hair_layer.HairLayer, "shade_strands", "strand_shading", lambda layer: layer._shading_framebuffer)),
         (hair_layer.HairLayer, "composite", timed_pass(hair_layer.HairLayer, "composite", "composite", active)),
     ]
-    viewport_draws = []
-    counter = bpy.types.SpaceView3D.draw_handler_add(lambda: viewport_draws.append(time.perf_counter()), (), 'WINDOW',
-                                                     'POST_PIXEL')
+    viewport_draws = RedrawTimes()
     runs = []
     for _ in range(args.runs):
-        yield from settle(viewport_draws)
+        yield from viewport_draws.at_rest(QUIET)
         start = time.perf_counter()
         pipeline.build_lod(source)
         direct = time.perf_counter() - start
@@ -158,7 +145,7 @@ def steps(args):
         # The viewport settles first: after a change Blender redraws it once per sample of its
         # anti-aliasing (Preferences > Viewport > Anti-Aliasing, 8 by default), each drawing every
         # strand of the source again; an artist presses the button in a viewport at rest.
-        yield from settle(viewport_draws)
+        yield from viewport_draws.at_rest(QUIET)
         draws.clear()
         viewport_draws.clear()
         setup.clear()
@@ -229,7 +216,7 @@ def steps(args):
         setattr(cls, name, method)
     for name, method in originals.items():
         setattr(lod_preview.LodPreview, name, method)
-    bpy.types.SpaceView3D.draw_handler_remove(counter, 'WINDOW')
+    viewport_draws.remove()
     result = {"blender": bpy.app.version_string, "strands": args.count, "runs": runs,
               "median": {key: statistics.median(run[key] for run in runs) for key in runs[0]}}
     window_steps.report(result, args.out)

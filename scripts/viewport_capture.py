@@ -1,7 +1,7 @@
 """What the viewport benchmarks under Xvfb share (scripts/bench_lod_preview.py,
-scripts/bench_preview_animation.py, scripts/bench_preview_fidelity.py and the UI tests): the light and
-the viewport, timed redraws, screenshots as arrays, a PSNR over the hair, and the viewport's camera for
-hairlod.render."""
+scripts/bench_preview_animation.py, scripts/bench_preview_fidelity.py, scripts/bench_preview_latency.py
+and the UI tests): the light and the viewport, timed redraws, the viewport coming to rest, screenshots
+as arrays, a PSNR over the hair, and the viewport's camera for hairlod.render."""
 
 import math
 import time
@@ -61,6 +61,33 @@ def _finish_drawing():
     from hairlod.blender.preview.lod_preview import gpu_finish  # the add-on's, once it is enabled
 
     gpu_finish()()
+
+
+class RedrawTimes(list):
+    """The times (time.perf_counter) at which the 3D viewports finished a redraw, appended by a
+    POST_PIXEL handler from construction until remove()."""
+
+    def __init__(self):
+        super().__init__()
+        self._handle = bpy.types.SpaceView3D.draw_handler_add(lambda: self.append(time.perf_counter()), (),
+                                                              'WINDOW', 'POST_PIXEL')
+
+    def remove(self):
+        if self._handle is not None:
+            bpy.types.SpaceView3D.draw_handler_remove(self._handle, 'WINDOW')
+            self._handle = None
+
+    def at_rest(self, quiet, longest=90.0, poll=0.05):
+        """A step generator (``yield from``, its yields the seconds to wait): returns once no redraw has
+        ended for `quiet` seconds, counted from the call at the earliest (a change made just before is
+        redrawn only once the steps yield), or after `longest` seconds. After a change Blender redraws
+        a viewport at rest once per sample of its anti-aliasing (8 by default): `quiet` must be longer
+        than one redraw."""
+        start = time.perf_counter()
+        while time.perf_counter() - start < longest:
+            if time.perf_counter() - max(self[-1] if self else start, start) >= quiet:
+                return
+            yield poll
 
 
 def redraw(window, area, region, iterations=1, finish=False, before=None):

@@ -19,6 +19,8 @@ import harness  # noqa: E402  (tests/ui/harness.py)
 from harness import check  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "blender"))
+sys.path.insert(0, os.path.join(harness.REPO_ROOT, "scripts"))
+from viewport_capture import RedrawTimes  # noqa: E402  (scripts/viewport_capture.py)
 
 POLL_DELAY = 0.2
 QUIET = 2.0  # seconds without a redraw: the viewport is at rest
@@ -59,13 +61,9 @@ def steps():
         return result
 
     HAIRLOD_OT_build_lod.modal = recording_modal
-    region_draws = []
-    handle = bpy.types.SpaceView3D.draw_handler_add(lambda: region_draws.append(time.perf_counter()), (),
-                                                    'WINDOW', 'POST_PIXEL')
+    region_draws = RedrawTimes()
     area.tag_redraw()
-    start = time.perf_counter()
-    while time.perf_counter() - max(region_draws[-1] if region_draws else start, start) < QUIET:
-        yield POLL_DELAY  # the viewport at rest, as when an artist presses the button
+    yield from region_draws.at_rest(QUIET)  # as when an artist presses the button
     before = counts()
     invoked = time.perf_counter()
     with bpy.context.temp_override(window=window, area=area):
@@ -74,7 +72,7 @@ def steps():
     deadline = time.monotonic() + TIMEOUT
     while PACKED_PROPERTY not in source and time.monotonic() < deadline:
         yield POLL_DELAY
-    bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    region_draws.remove()
     check(PACKED_PROPERTY in source and built, "the build finished and packed the asset")
     during = [t for t in region_draws if invoked < t < built[0]]
     check(not during, f"the viewport was not redrawn while the build ran ({len(during)} redraws in "

@@ -23,11 +23,13 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402  (tests/ui/harness.py)
-from harness import check, screenshot  # noqa: E402
+from harness import REPO_ROOT, check, screenshot  # noqa: E402
+
+sys.path.insert(0, os.path.join(REPO_ROOT, "scripts"))
+from viewport_capture import RedrawTimes  # noqa: E402  (scripts/viewport_capture.py)
 
 REDRAW_DELAY = 1.0
-QUIET = 2.0      # seconds without a redraw: the viewport is at rest
-LONGEST = 60.0
+QUIET = 2.0  # seconds without a redraw: the viewport is at rest
 
 
 def steps():
@@ -50,7 +52,7 @@ def steps():
     preview = lod_preview.preview_of(hair)
     check(preview is not None and hair.hairlod_lod_preview.enabled, "the built hair is previewed")
 
-    hair_draws, region_draws = [], []
+    hair_draws = []
     draw_levels = lod_preview.LodPreview._draw_levels
 
     def counted_draw_levels(instance, *args):
@@ -58,28 +60,18 @@ def steps():
         return draw_levels(instance, *args)
 
     lod_preview.LodPreview._draw_levels = counted_draw_levels
-    handle = bpy.types.SpaceView3D.draw_handler_add(lambda: region_draws.append(time.perf_counter()), (),
-                                                    'WINDOW', 'POST_PIXEL')
-
-    def at_rest():
-        """A step generator: waits until the viewport has not redrawn for QUIET seconds."""
-        start = time.perf_counter()
-        while time.perf_counter() - start < LONGEST:
-            last = max(region_draws[-1], start) if region_draws else start
-            if time.perf_counter() - last >= QUIET:
-                return
-            yield 0.1
+    region_draws = RedrawTimes()
 
     def after_change(name, change):
         """A step generator: makes `change`, waits for the viewport to come to rest and screenshots it;
         returns (hair draws, region redraws, pixels)."""
-        yield from at_rest()
+        yield from region_draws.at_rest(QUIET)
         hair_draws.clear()
         region_draws.clear()
         change()
         area.tag_redraw()
         yield REDRAW_DELAY
-        yield from at_rest()
+        yield from region_draws.at_rest(QUIET)
         counts = (len(hair_draws), len(region_draws))
         return (*counts, screenshot(window, area, f"preview_redraw_{name}.png"))
 
@@ -118,7 +110,7 @@ def steps():
             before = after
     finally:
         lod_preview.LodPreview._draw_levels = draw_levels
-        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+        region_draws.remove()
 
 
 harness.run(steps)
