@@ -75,8 +75,8 @@ class HAIRLOD_OT_build_lod(bpy.types.Operator):
             return {'CANCELLED'}
         # Nothing in the viewport changes until the build is done (the preview then replaces the hair's
         # drawing): a change makes Blender redraw a viewport once per sample of its anti-aliasing (8 by
-        # default), which on a software GPU took the CPU from the build (1.40-1.48x the direct call with
-        # the source shown as its bounds from the start, 1.02x without; 2.6x drawing every strand).
+        # default), which on a software GPU took the CPU from the build (1.56-1.67x the direct call with
+        # the source shown as its bounds from the start, 1.16-1.24x without; docs/preview.md).
         window_manager = context.window_manager
         self._shaders_ready = False
         self._timer = window_manager.event_timer_add(0.1, window=context.window)

@@ -887,11 +887,11 @@ class LodPreview:
         if state.hair_layer is None:
             state.hair_layer = hair_layer.HairLayer()
         # The hair layer already holds this hair when nothing it is drawn from changed: the frame's values
-        # (view, lights, world colour, volume, maps' views), the pose, the selection, the tables and the
-        # mode. Blender redraws a viewport at rest once per sample of its anti-aliasing (8 by default),
-        # and each drew the hair again, the same pixels (a near view of 100k strands: 0.75 s a draw on
-        # llvmpipe); it is composited again instead (7 ms).
-        # Statistics turned on draw once more, timed with the GPU's work.
+        # (view, lights, world colour, volume, maps' views), the pose, the selection, the tables, the mode
+        # and Statistics (turned on, the hair is drawn once more, timed with the GPU's work). Blender
+        # redraws a viewport at rest once per sample of its anti-aliasing (8 by default), and each drew
+        # the hair again, the same pixels (a near view of 100k strands: 0.75 s a draw on llvmpipe); it is
+        # composited again instead (7 ms).
         drawn_key = (values.tobytes(), shaded, self.pose_version, textures, view_lut, self.view_transform_exact,
                      world_block, world_texture, settings.show_statistics)
         if not (changed or strides_changed) and drawn_key == state.drawn_key:
@@ -967,8 +967,9 @@ class LodPreview:
     def stats(self):
         """The last draw's statistics: segments drawn (in all and per level), those selected, its
         selection + update and draw times in ms, whether the selection changed and whether the draw time
-        holds the GPU's work (a redraw that only composited the unchanged layer again leaves them). The segments are counted here, when read (the panel reads them only with
-        Statistics on), not in every frame's selection."""
+        holds the GPU's work (a redraw that only composited the unchanged layer again leaves them). The
+        segments are counted here, when read (the panel reads them only with Statistics on), not in every
+        frame's selection."""
         if self.last_draw is None:
             return {}
         state, timings = self.last_draw
