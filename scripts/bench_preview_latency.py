@@ -193,12 +193,9 @@ def steps(args):
                                      ("blender", False, False)):
             source.hairlod_lod_preview.enabled = enabled
             redraw(window, area, region, finish=True)  # the display change settles
-            seconds = []
-            for _ in range(LATER_DRAWS):
-                if again:
-                    preview.draw_again()
-                seconds.append(redraw(window, area, region, finish=True))
-            region_redraws[name] = statistics.median(seconds)
+            region_redraws[name] = statistics.median(
+                redraw(window, area, region, finish=True, before=preview.draw_again if again else None)
+                for _ in range(LATER_DRAWS))
         source.hairlod_lod_preview.enabled = True
         runs.append({"direct_build_s": direct, "export_bake_s": export, "button_build_s": packed - start,
                      "button_over_direct": (packed - start) / direct, "first_frame_s": first_end - packed,
