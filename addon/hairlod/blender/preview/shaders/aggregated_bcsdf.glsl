@@ -11,7 +11,7 @@
  * TT shift, TT variance); vec4 lobe_tilts (sin 2s, cos 2s of the R and of the TT shift s); vec4 lut_constants (TT azimuthal variance, n_max,
  * deon_log_normalisation of the R and of the TT variance).
  * Shaders that draw single strands only (n = 1, rho = 1) define HAIRLOD_SINGLE_HAIR: what depends on n is then
- * constant and left out. */
+ * constant and left out, and so is A_1+ (a strand holds no hairs behind itself; aggregated_bcsdf_behind). */
 
 #define HAIRLOD_PI 3.14159265358979
 #define HAIRLOD_SIDE_SCATTER 0.6  /* d_1+ of Huang 2025 Eq. 10 */
@@ -135,8 +135,9 @@ float wrapped_gaussian(float x, float variance)
   return sum / (2.0 * HAIRLOD_PI);
 }
 
-/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15; n = 1 and rho = 1 is the
- * single fibre of Huang 2025 Eq. 1 with hair behind it). `behind` in [0, 1] is the share of the light that
+/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15); built with
+ * HAIRLOD_SINGLE_HAIR, of a strand: the single fibre of Huang 2025 Eq. 1 and the back-scatter of the hair
+ * behind it. `behind` in [0, 1] is the share of the light that
  * meets hair beyond the hair along wi: the back-scatter of the hair behind, A_1 + A_3 of B^ (dual
  * scattering's backscattering attenuation, Zinke et al. 2008 Sec. 4.2, for hair that fills the half-space
  * behind), scales with it; A_1+, the hair's own side scattering (Huang 2025 Eq. 10), does not. Returns RGB. */
@@ -188,7 +189,16 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
   if (phi < 0.5 * HAIRLOD_PI) {
     /* Huang 2025 Eq. 10-11: B^ = A_1+ + A_1 + A_3 (the latter two for the hair behind), capped by the budget
      * 1 - a_F^(n-1) (a_f + a_b) at theta_o. */
+#ifdef HAIRLOD_SINGLE_HAIR
+    /* A strand has none of its own hairs behind it: Huang 2025 Eq. 10's series runs over the hairs a thick hair holds
+     * behind the shaded one (none for one hair, as aggregated.cpp's shaded_inside), and the strands behind a
+     * strand are the hair behind, A_1 + A_3 times `behind`. At n = 1 the table's A_1+, d_1+ a_B a_F, counted
+     * them a second time: the real mohawk's sun term read 1.40 / 1.37 / 1.34 of the path tracer with it,
+     * 1.18 / 1.16 / 1.20 without (docs/preview.md). */
+    vec3 a_1_plus = vec3(0.0);
+#else
     vec3 a_1_plus = aggregated_lookup(1, theta_d, n);
+#endif
     vec3 budget = aggregated_lookup(2, theta_o, n);
     vec3 a_1 = lut_row(dual_lut, 2, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
     vec3 a_3 = lut_row(dual_lut, 3, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
