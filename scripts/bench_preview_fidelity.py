@@ -47,11 +47,12 @@ REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import window_steps  # noqa: E402  (scripts/window_steps.py)
-from viewport_capture import render_camera  # noqa: E402  (scripts/viewport_capture.py)
+from viewport_capture import RedrawTimes, render_camera  # noqa: E402  (scripts/viewport_capture.py)
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
 SUN_IRRADIANCE = 3.0
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
 DELAY = 1.0
+QUIET = 1.0  # seconds without a redraw: the viewport is at rest
 
 
 def parse_args():
@@ -289,86 +290,98 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
              "generated wavy 20k": hairlod.generate_strands(
                  hairmesh.read(os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")),
                  count=20000, vertices=17, seed=1)}
-    for name, strands in hairs.items():
-        asset = lod.build_lod(strands)
-        holder = bpy.data.objects.new(name, None)
-        scene.collection.objects.link(holder)
-        lod_preview.attach(holder, asset)
-        settings = holder.hairlod_lod_preview
-        settings.use_material = False  # the panel's default hair: melanin 0.5, as the renderer's default
-        settings.strand_coverage = strand_coverage
-        if shadowing is not None:
-            settings.self_shadowing = shadowing
-        for view in views:
-            camera = render.frame_view(strands.points, view, region.width, region.height)
-            eye, target = np.array(camera["eye"]), np.array(camera["target"])
-            region_3d.view_perspective = 'PERSP'
-            region_3d.view_location = target
-            region_3d.view_distance = float(np.linalg.norm(eye - target))
-            forward = (target - eye) / np.linalg.norm(target - eye)
-            from mathutils import Vector
-            region_3d.view_rotation = Vector(-forward).to_track_quat('Z', 'Y')
-            sun_direction = render.default_lights(camera)["directional"][0][0]
-            sun = bpy.data.objects.get("Sun") or bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
-            if sun.name not in scene.collection.objects:
-                scene.collection.objects.link(sun)
-            sun.data.energy = sun_irradiance
-            sun.rotation_euler = Vector(-np.asarray(sun_direction)).to_track_quat('Z', 'Y').to_euler()
-            settings.enabled = True
-            area.tag_redraw()
-            yield DELAY
-            area.tag_redraw()
-            yield DELAY
-            with_hair = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_preview.png")
-            settings.enabled = False
-            area.tag_redraw()
-            yield DELAY
-            without = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_off.png")
-            mask = np.abs(with_hair - without).max(axis=2) > 2.0 / 255.0
-            box = (slice(region.y - area.y, region.y - area.y + region.height),
-                   slice(region.x - area.x, region.x - area.x + region.width))
-            preview_linear, mask = to_linear(with_hair[box]), mask[box]
-            # The viewport's projection, so that the path-traced camera sees what the viewport shows.
-            traced_camera = render_camera(region, region_3d, target, scale)
-            lights = {"directional": [(tuple(sun_direction), (sun_irradiance,) * 3)], "points": [],
-                      "environment": environment}
-            start = time.perf_counter()
-            params = object_hair_params(holder)  # the hair the preview shades
-            bounces = render.MAX_BOUNCES if max_bounces is None else max_bounces
-            traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
-                                   seed=5, max_bounces=bounces)["image"]
-            alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
-            # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
-            traced, alpha = traced[::-1], alpha[::-1]
-            # Thin strands cover pixels partly (Ratboy's at a quarter size: a few pixels over 0.5): the
-            # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage. The
-            # preview draws its strands at least a pixel wide, so its hair pixels are the hair's alone.
-            covered = alpha > 0.05
-            background = world if hdri is None else sky_behind(traced_camera, environment)[::-1]
-            hair_radiance = unmixed(traced, alpha, background)
-            entry = {"preview": summary(preview_linear, mask),
-                     "path_traced": summary(hair_radiance, covered, weights=alpha),
-                     "render_seconds": time.perf_counter() - start, "spp": spp, "max_bounces": bounces,
-                     "segments": lod_preview.preview_of(holder).stats.get("segments")}
-            entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
-            entry["spread_same_pixels"] = spread_on_same_pixels(preview_linear, mask, hair_radiance, alpha, scale)
-            # How much of the image the hair covers: the preview's hair pixels against the path-traced
-            # coverage summed over the image (the same pixel grid at --scale 1).
-            entry["coverage_ratio"] = float(mask.sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))
-            if cycles_samples:
-                cycles = cycles_image(strands, traced_camera, sun_direction, cycles_samples, world,
-                                      sun_irradiance)[::-1]
-                entry["cycles"] = summary(unmixed(cycles, alpha, world), covered, weights=alpha)
-                entry["cycles_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["cycles"]["mean"])).tolist()
-                entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
-                                                    np.array(entry["cycles"]["mean"])).tolist()
-            results[f"{name} {view}"] = entry
-            print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio", "spread_same_pixels")}), "preview", entry["preview"],
-                  "traced", entry["path_traced"], flush=True)
-            render.write_image(os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"),
-                                            f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
-        lod_preview.detach(holder.name)
-        bpy.data.objects.remove(holder)
+    redraws = RedrawTimes()
+    try:
+        for name, strands in hairs.items():
+            asset = lod.build_lod(strands)
+            holder = bpy.data.objects.new(name, None)
+            scene.collection.objects.link(holder)
+            lod_preview.attach(holder, asset)
+            settings = holder.hairlod_lod_preview
+            settings.use_material = False  # the panel's default hair: melanin 0.5, as the renderer's default
+            settings.strand_coverage = strand_coverage
+            if shadowing is not None:
+                settings.self_shadowing = shadowing
+            for view in views:
+                camera = render.frame_view(strands.points, view, region.width, region.height)
+                eye, target = np.array(camera["eye"]), np.array(camera["target"])
+                region_3d.view_perspective = 'PERSP'
+                region_3d.view_location = target
+                region_3d.view_distance = float(np.linalg.norm(eye - target))
+                forward = (target - eye) / np.linalg.norm(target - eye)
+                from mathutils import Vector
+                region_3d.view_rotation = Vector(-forward).to_track_quat('Z', 'Y')
+                sun_direction = render.default_lights(camera)["directional"][0][0]
+                sun = bpy.data.objects.get("Sun") or bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
+                if sun.name not in scene.collection.objects:
+                    scene.collection.objects.link(sun)
+                sun.data.energy = sun_irradiance
+                sun.rotation_euler = Vector(-np.asarray(sun_direction)).to_track_quat('Z', 'Y').to_euler()
+                settings.enabled = True
+                area.tag_redraw()
+                yield DELAY
+                area.tag_redraw()
+                yield DELAY
+                # At rest, once the preview holds every sample of the viewport's anti-aliasing.
+                yield from redraws.at_rest(QUIET)
+                with_hair = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_preview.png")
+                coverage, samples = lod_preview.preview_of(holder).hair_coverage(region_3d)
+                settings.enabled = False
+                area.tag_redraw()
+                yield DELAY
+                without = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_off.png")
+                box = (slice(region.y - area.y, region.y - area.y + region.height),
+                       slice(region.x - area.x, region.x - area.x + region.width))
+                # The preview's own hair radiance: a pixel shows the mean over its samples that hold hair,
+                # mixed with what lies behind by the share of them that do (its coverage, read from its
+                # layer), as the path-traced image is unmixed below.
+                coverage = coverage[:region.height, :region.width]
+                preview_linear = unmixed(to_linear(with_hair[box]), coverage, to_linear(without[box]))
+                mask = coverage > 0.05
+                # The viewport's projection, so that the path-traced camera sees what the viewport shows.
+                traced_camera = render_camera(region, region_3d, target, scale)
+                lights = {"directional": [(tuple(sun_direction), (sun_irradiance,) * 3)], "points": [],
+                          "environment": environment}
+                start = time.perf_counter()
+                params = object_hair_params(holder)  # the hair the preview shades
+                bounces = render.MAX_BOUNCES if max_bounces is None else max_bounces
+                traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
+                                       seed=5, max_bounces=bounces)["image"]
+                alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
+                # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
+                traced, alpha = traced[::-1], alpha[::-1]
+                # Thin strands cover pixels partly (Ratboy's at a quarter size: a few pixels over 0.5): the
+                # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage, as the
+                # preview's above.
+                covered = alpha > 0.05
+                background = world if hdri is None else sky_behind(traced_camera, environment)[::-1]
+                hair_radiance = unmixed(traced, alpha, background)
+                entry = {"preview": summary(preview_linear, mask, weights=coverage), "preview_samples": samples,
+                         "path_traced": summary(hair_radiance, covered, weights=alpha),
+                         "render_seconds": time.perf_counter() - start, "spp": spp, "max_bounces": bounces,
+                         "segments": lod_preview.preview_of(holder).stats.get("segments")}
+                entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
+                entry["spread_same_pixels"] = spread_on_same_pixels(preview_linear, coverage * mask, hair_radiance, alpha,
+                                                                    scale)
+                # How much of the image the hair covers: the preview's coverage against the path-traced
+                # coverage, each summed over the image (the same pixel grid at --scale 1).
+                entry["coverage_ratio"] = float(coverage[mask].sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))
+                if cycles_samples:
+                    cycles = cycles_image(strands, traced_camera, sun_direction, cycles_samples, world,
+                                          sun_irradiance)[::-1]
+                    entry["cycles"] = summary(unmixed(cycles, alpha, world), covered, weights=alpha)
+                    entry["cycles_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["cycles"]["mean"])).tolist()
+                    entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
+                                                        np.array(entry["cycles"]["mean"])).tolist()
+                results[f"{name} {view}"] = entry
+                print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio", "spread_same_pixels")}), "preview", entry["preview"],
+                      "traced", entry["path_traced"], flush=True)
+                render.write_image(os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"),
+                                                f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
+            lod_preview.detach(holder.name)
+            bpy.data.objects.remove(holder)
+    finally:
+        redraws.remove()
 
 
 if __name__ == "__main__":

@@ -10,12 +10,13 @@ asset being packed to the first draw of the preview ending, and that draw's own 
 it spent making vertex buffers and tables, which a faster GPU does not shorten), and the median of the
 next 3 draws of the same view (drawing that frame once everything is set up: the floor of the first
 frame on this GPU), then 3 more with each pass of the draw timed on its own (the levels into the hair
-layer, the strands' shading there, the composite into the viewport; medians). These draws are made in
-full (LodPreview.draw_again): a redraw of a view where nothing changed only composites the hair layer
-again. The benchmark waits for the viewport to be at rest (no redraw for 3 s) before each build.
+layer, the strands' shading there, the sample added to the layer's sums, the composite into the
+viewport; medians). These draws are made in full (LodPreview.draw_again): a redraw of a view where
+nothing changed adds one more sample of the viewport's anti-aliasing to the hair layer, and once the
+layer holds them all only composites it again. The benchmark waits for the viewport to be at rest (no redraw for 3 s) before each build.
 Every draw timed waits for the GPU to finish it (a pixel read back). Then, for
 comparison, whole redraws of the viewport region (3 each, median) with the preview on (drawn in full,
-and unchanged: composited again) and with Blender drawing the strands itself (the preview off). Prints one JSON
+and unchanged with every sample held: composited again) and with Blender drawing the strands itself (the preview off). Prints one JSON
 object with every run and the medians; the ratio of button to direct build in the same run.
 """
 
@@ -98,7 +99,7 @@ def steps(args):
     for name in setup_methods:
         setattr(lod_preview.LodPreview, name, timed_method(name))
     # The passes of a draw (lod_preview.LodPreview.draw): the hair levels into the hair layer, the strands'
-    # shading in it, the composite into the viewport; each timed until the framebuffer it drew into has
+    # shading in it, the sample added to the layer's sums, the composite into the viewport; each timed until the framebuffer it drew into has
     # been drawn (the layer's, its shading framebuffer, the viewport's), only while timing_passes[0].
     pass_times = {}
     timing_passes = [False]
@@ -109,12 +110,12 @@ def steps(args):
     def timed_pass(cls, method_name, key, framebuffer_of):
         original = getattr(cls, method_name)
 
-        def method(instance, *method_args):
+        def method(instance, *method_args, **method_kwargs):
             if not timing_passes[0]:
-                return original(instance, *method_args)
+                return original(instance, *method_args, **method_kwargs)
             read_pixel(gpu.state.active_framebuffer_get())
             start = time.perf_counter()
-            result = original(instance, *method_args)
+            result = original(instance, *method_args, **method_kwargs)
             read_pixel(framebuffer_of(instance))
             pass_times.setdefault(key, []).append(time.perf_counter() - start)
             return result
@@ -126,6 +127,8 @@ def steps(args):
         (lod_preview.LodPreview, "_draw_levels", timed_pass(lod_preview.LodPreview, "_draw_levels", "levels", active)),
         (hair_layer.HairLayer, "shade_strands",
          timed_pass(hair_layer.HairLayer, "shade_strands", "strand_shading", lambda layer: layer._shading_framebuffer)),
+        (hair_layer.HairLayer, "accumulate",
+         timed_pass(hair_layer.HairLayer, "accumulate", "accumulate", lambda layer: layer._accumulation_framebuffer)),
         (hair_layer.HairLayer, "composite", timed_pass(hair_layer.HairLayer, "composite", "composite", active)),
     ]
     viewport_draws = RedrawTimes()
@@ -192,7 +195,12 @@ def steps(args):
         for name, enabled, again in (("preview", True, True), ("preview_unchanged", True, False),
                                      ("blender", False, False)):
             source.hairlod_lod_preview.enabled = enabled
-            redraw(window, area, region, finish=True)  # the display change settles
+            # The display change settles. Unchanged, the preview's hair layer then holds every sample of
+            # the viewport's anti-aliasing, as after Blender's redraws at rest, and only composites it
+            # again; Blender's own drawing is timed per sample of its anti-aliasing, each of which draws
+            # the strands.
+            redraw(window, area, region, finish=True,
+                   iterations=lod_preview.anti_aliasing_samples() if name == "preview_unchanged" else 1)
             region_redraws[name] = statistics.median(
                 redraw(window, area, region, finish=True, before=preview.draw_again if again else None)
                 for _ in range(LATER_DRAWS))
@@ -201,7 +209,7 @@ def steps(args):
                      "button_over_direct": (packed - start) / direct, "first_frame_s": first_end - packed,
                      "first_draw_s": first_end - first_start, "first_draw_setup_s": sum(first_setup.values()),
                      "later_draw_s": later_draw,
-                     **{f"later_{name}_s": later_passes.get(name, 0.0) for name in ("levels", "strand_shading", "composite")},
+                     **{f"later_{name}_s": later_passes.get(name, 0.0) for name in ("levels", "strand_shading", "accumulate", "composite")},
                      "preview_region_redraw_s": region_redraws["preview"],
                      "preview_unchanged_region_redraw_s": region_redraws["preview_unchanged"],
                      "blender_region_redraw_s": region_redraws["blender"],

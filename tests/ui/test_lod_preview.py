@@ -71,6 +71,9 @@ def steps():
 
     window = bpy.context.window_manager.windows[0]
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    # Each picture one sample of the hair (No Anti-Aliasing), so that pictures drawn in different ways
+    # compare pixel by pixel; test_preview_redraw.py tests the samples of the viewport's anti-aliasing.
+    bpy.context.preferences.system.viewport_aa = 'OFF'
     import hairlod
     from hairlod import hairmesh, lod
     from hairlod.blender.preview import lod_preview, pulled_strips
@@ -123,6 +126,7 @@ def steps():
         # (pulled_strips), the strands' (every control point here) as an index list.
         state.to_draw[level] = None
         state.exact[level] = preview.sparse_draw(state, level, preview.cluster_strides(state))
+    preview.draw_again()  # the view is unchanged: without, the layer drawn from the blocks is composited again
     area.tag_redraw()
     yield REDRAW_DELAY
     exact_image = screenshot(window, area, "lod_preview_mixed_exact.png")
@@ -133,6 +137,7 @@ def steps():
     preview_buffers.THICK_WASTE_RATIO = default_waste_ratio
     default_exact, lod_preview.EXACT_SEGMENTS = lod_preview.EXACT_SEGMENTS, 64
     state.upload_again()  # the next draw uploads the selection and chooses how to draw each level
+    preview.draw_again()
     area.tag_redraw()
     yield REDRAW_DELAY
     chosen_image = screenshot(window, area, "lod_preview_mixed_chosen.png")
@@ -184,6 +189,7 @@ def steps():
             state.to_draw[level] = None
             state.exact[level] = preview.sparse_draw(state, level)
         check(any(isinstance(draw, pulled_strips.PulledDraw) for draw in state.exact), "thick view: levels drawn pulled")
+        preview.draw_again()
         area.tag_redraw()
         yield REDRAW_DELAY
         pulled_image = screenshot(window, area, f"lod_preview_thick_pulled_{overlay.lower()}.png")

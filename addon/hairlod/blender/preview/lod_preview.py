@@ -109,6 +109,7 @@ def frame_data(model, view_projection, camera, viewport, ambient, light_count, l
                hair_volume, shadow_strength, strand_radius, shadows, control_points=0, strand_coverage=False,
                strands_follow_surface=False):
     """The HairFrame uniform block's values, float32 (matrices column-major, as std140 stores them).
+    viewport = (width, height, the hair layer's sample: 0, the first after a change (for_sample), 0);
     counts = (lights, control points per strand, 1 to draw strands by coverage (strand.vert.glsl), 1 when
     the strands move by their surface transforms);
     hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow) of the
@@ -123,6 +124,34 @@ def frame_data(model, view_projection, camera, viewport, ambient, light_count, l
                            light_vectors.ravel(), light_colours.ravel(), (strand_radius, 0.0, shadow_strength, 0.0),
                            np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel()])
     return np.ascontiguousarray(data, dtype=np.float32)
+
+
+# Where the view-projection matrix and the viewport's (width, height, sample) lie in frame_data's values
+# (column-major, after the model matrix; after the camera).
+_VIEW_PROJECTION = slice(16, 32)
+_SAMPLE = 54
+
+
+def for_sample(values, sample, viewport):
+    """frame_data's values for sample `sample` of the hair layer on a viewport of `viewport` = (width,
+    height) pixels: the view-projection moved by hair_layer.SAMPLE_OFFSETS[sample] pixels (clip x and y
+    gain 2 offset / size times clip w; the depth is unchanged), and the sample in frame.viewport.z, which
+    draws another choice of the strands by coverage (strand.vert.glsl)."""
+    offset = hair_layer.SAMPLE_OFFSETS[sample]
+    moved = np.array(values, dtype=np.float32)
+    columns = moved[_VIEW_PROJECTION].reshape(4, 4)  # one row per column of the matrix
+    columns[:, 0] += 2.0 * offset[0] / viewport[0] * columns[:, 3]
+    columns[:, 1] += 2.0 * offset[1] / viewport[1] * columns[:, 3]
+    moved[_VIEW_PROJECTION] = columns.ravel()
+    moved[_SAMPLE] = float(sample)
+    return moved
+
+
+def anti_aliasing_samples():
+    """How many samples the hair layer averages at rest: as many as Blender redraws a viewport for its
+    own anti-aliasing (Preferences > Viewport > Anti-Aliasing; 1 for No Anti-Aliasing and FXAA)."""
+    setting = getattr(bpy.context.preferences.system, "viewport_aa", "8")
+    return min(int(setting), hair_layer.MAX_SAMPLES) if setting.isdigit() else 1
 
 
 # What the thick hairs' varyings hold, constant for a strand (one hair of radius r: no ellipse, n = 1,
@@ -604,6 +633,14 @@ class LodPreview:
             self.views[key] = ViewState(self.asset.view_selection(skinning=self.skinning), self.level_count)
         return self.views[key]
 
+    def hair_coverage(self, region_3d):
+        """(the share of the hair layer's samples holding hair per pixel, float32 [height, width] with rows
+        bottom-up, how many samples) of the viewport `region_3d` as last drawn; None before its first draw."""
+        state = self.views.get(region_3d.as_pointer())
+        if state is None or state.hair_layer is None or state.hair_layer.size is None:
+            return None
+        return state.hair_layer.coverage(), state.hair_layer.samples
+
     def upload_selection(self, state):
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
         the flagged blocks of a dense level, or its selected segments alone for a sparse one
@@ -889,18 +926,24 @@ class LodPreview:
         # The hair layer already holds this hair when nothing it is drawn from changed: the frame's values
         # (view, lights, world colour, volume, maps' views), the pose, the selection, the tables, the mode
         # and Statistics (turned on, the hair is drawn once more, timed with the GPU's work). Blender
-        # redraws a viewport at rest once per sample of its anti-aliasing (8 by default), and each drew
-        # the hair again, the same pixels (a near view of 100k strands: 0.75 s a draw on llvmpipe); it is
-        # composited again instead (7 ms).
+        # redraws a viewport at rest once per sample of its anti-aliasing (Preferences > Viewport >
+        # Anti-Aliasing, 8 by default): those redraws each add one more sample of the hair, moved within
+        # the pixel (hair_layer.SAMPLE_OFFSETS), until the layer holds as many as Blender's setting; later
+        # redraws composite the layer again (7 ms) instead of drawing the same pixels (a near view of 100k
+        # strands: 0.75 s a draw on llvmpipe).
         drawn_key = (values.tobytes(), shaded, self.pose_version, textures, view_lut, self.view_transform_exact,
                      world_block, world_texture, settings.show_statistics)
-        if not (changed or strides_changed) and drawn_key == state.drawn_key:
-            state.hair_layer.composite(fitted)
+        at_rest = not (changed or strides_changed) and drawn_key == state.drawn_key
+        layer = state.hair_layer
+        if at_rest and layer.samples >= anti_aliasing_samples():
+            layer.composite(fitted)
             if finish is not None:
                 finish()
             if self.last_draw is not None:  # the last full draw's figures; the selection did not change
                 self.last_draw = (self.last_draw[0], {**self.last_draw[1], "changed": False})
             return changed
+        if at_rest:
+            values = for_sample(values, layer.samples, (region.width, region.height))
         frame = _uniform_block(values)  # kept referenced until the batches are drawn
 
         def bind_shading(program):
@@ -912,11 +955,12 @@ class LodPreview:
             program.uniform_sampler("srbf_lut", world_texture)
             program.uniform_sampler("view_lut", view_lut)
 
-        with state.hair_layer.drawing((region.width, region.height)):
+        with layer.drawing((region.width, region.height)):
             self._draw_levels(state, frame, bind_shading, shaded)
         if shaded:
-            state.hair_layer.shade_strands(strand_shading_shader(), bind_shading)
-        state.hair_layer.composite(fitted)
+            layer.shade_strands(strand_shading_shader(), bind_shading)
+        layer.accumulate(first=not at_rest)
+        layer.composite(fitted)
         state.drawn_key = drawn_key
         if finish is not None:
             finish()

@@ -9,7 +9,8 @@
  * pixels (stochastic transparency, Enderton et al. 2010, per strand instead of per fragment): the
  * expected coverage of every pixel, 1 - prod(1 - w_i) over the strands crossing it, is the hair's,
  * the lines stay whole and opaque (no sorting, no discard), and a strand's choice holds from frame to
- * frame. The width is taken once per L0 cluster, at its middle control point, so that every vertex of
+ * frame; the hair layer's later samples at rest (frame.viewport.z > 0) choose again, so that their mean
+ * converges to the strands' coverage as Enderton's samples do. The width is taken once per L0 cluster, at its middle control point, so that every vertex of
  * a strand decides alike; frame.counts.y is the control points per strand, frame.shadow.x the
  * strands' radius in world units. */
 
@@ -63,7 +64,11 @@ void main()
                                     : skin_point(cluster_point, position, skin);
   vec3 world = (frame.model * vec4(moved, 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
-  if (frame.counts.z > 0.5 && unit_hash(uint(gl_VertexID) / uint(frame.counts.y)) >= strand_width_px(cluster_point.x)) {
+  /* The first sample of the hair layer after a change keeps each strand's choice; the later ones, while
+   * the view rests, choose again (the golden ratio's 32 bits apart): averaged over the samples, each
+   * strand covers its width. */
+  uint choice = uint(gl_VertexID) / uint(frame.counts.y) + uint(frame.viewport.z) * 0x9E3779B9u;
+  if (frame.counts.z > 0.5 && unit_hash(choice) >= strand_width_px(cluster_point.x)) {
     gl_Position = vec4(0.0, 0.0, -2.0, 1.0);  /* every vertex of the strand, behind the near plane: not drawn */
   }
   v_position = world;
