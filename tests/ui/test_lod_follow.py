@@ -137,6 +137,9 @@ def steps():
 
     window = bpy.context.window_manager.windows[0]
     check(addon_utils.enable("hairlod", default_set=True) is not None, "add-on enabled")
+    # One sample of each drawing (No Anti-Aliasing): the shots compare where lines lie, pixel by pixel,
+    # and a shot taken while the viewport still adds samples would mix two of them.
+    bpy.context.preferences.system.viewport_aa = 'OFF'
     import hairlod
     from hairlod import hairmesh
     from hairlod.blender.curves import strands_to_curves
