@@ -8,12 +8,15 @@ strands generated in examples/data/wavy_cap.hairmesh.json: builds the LoD, previ
 (irradiance 3) and a uniform grey world (0.15) under the Standard view transform, at a mid and a near
 view (the viewport's camera set to hairlod.render.frame_view's), and path-traces the full strands
 (hairlod.render, `pt`, --spp samples per pixel at --scale of the viewport's size) with the same camera,
-sun, world and hair (the preview's, from the panel's defaults). The preview's screenshot is turned back into scene-linear radiance through
-the screen's measured response (a ramp of written values drawn by a POST_VIEW handler, as in
-tests/ui/test_view_transform.py) and the sRGB decoding of Standard; the path-traced hair's own radiance
-is unmixed from the sky in the pixels it covers partly (alpha from a coverage render). Reported per hair
-and view: the mean linear radiance per channel over the hair's pixels of each image (the path-traced
-one weighted by coverage) and their ratio, the luminance spread (5th-95th percentile) of each, and the
+sun, world and hair (the preview's, from the panel's defaults). The preview's hair radiance per pixel is
+read from its hair layer (LodPreview.hair_pixels: the mean over the samples holding hair, which the
+composite mixes with the viewport by their share); the screenshot, turned back into scene-linear
+radiance through the screen's measured response (a ramp of written values drawn by a POST_VIEW
+handler, as in tests/ui/test_view_transform.py) and unmixed from the viewport behind, checks on the
+pixels every sample covers that the screen shows that radiance (screen_over_layer). The path-traced
+hair's own radiance is unmixed from the sky in the pixels it covers partly (alpha from a coverage
+render). Reported per hair and view: the mean linear radiance per channel over the hair's pixels of
+each image (both weighted by coverage) and their ratio, the luminance spread (5th-95th percentile) of each, and the
 coverage ratio (the preview's hair pixels over the path-traced coverage summed over the image, both on
 the viewport's pixel grid), with one JSON object printed at the end. The spread is also given on the
 path-traced image's own pixels (spread_same_pixels, hairlod.render.same_pixels_spread: the preview
@@ -325,19 +328,28 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 # At rest, once the preview holds every sample of the viewport's anti-aliasing.
                 yield from redraws.at_rest(QUIET)
                 with_hair = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_preview.png")
-                coverage, samples = lod_preview.preview_of(holder).hair_coverage(region_3d)
+                layer_colour, coverage, samples = lod_preview.preview_of(holder).hair_pixels(region_3d)
                 settings.enabled = False
                 area.tag_redraw()
                 yield DELAY
                 without = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_off.png")
                 box = (slice(region.y - area.y, region.y - area.y + region.height),
                        slice(region.x - area.x, region.x - area.x + region.width))
-                # The preview's own hair radiance: a pixel shows the mean over its samples that hold hair,
-                # mixed with what lies behind by the share of them that do (its coverage, read from its
-                # layer), as the path-traced image is unmixed below.
+                # The preview's own hair radiance: a pixel shows the mean over its samples that hold hair
+                # (the layer's colour, which under Standard is the scene-linear radiance the screen shows),
+                # mixed with what lies behind by the share of them that do (its coverage). It is read from
+                # the layer, not unmixed from the screenshot: the viewport's 8-bit framebuffer rounds a
+                # blend of dark hair over the grey behind it towards the grey (+0.24 of a step at 1 / 8
+                # coverage, measured), which unmixing divides by the coverage: 1.19x the hair's radiance in
+                # pixels one sample of 8 covers. The screenshot checks, on the pixels every sample covers,
+                # that the screen shows the layer (screen_over_layer, 1 within the 8-bit steps).
                 coverage = coverage[:region.height, :region.width]
-                preview_linear = unmixed(to_linear(with_hair[box]), coverage, to_linear(without[box]))
+                preview_linear = layer_colour[:region.height, :region.width]
                 mask = coverage > 0.05
+                whole = coverage > 0.999
+                screen_linear = unmixed(to_linear(with_hair[box]), coverage, to_linear(without[box]))
+                screen_over_layer = (screen_linear[whole].mean(axis=0) / np.maximum(preview_linear[whole].mean(axis=0), 1e-12)
+                                     if whole.any() else None)
                 # The viewport's projection, so that the path-traced camera sees what the viewport shows.
                 traced_camera = render_camera(region, region_3d, target, scale)
                 lights = {"directional": [(tuple(sun_direction), (sun_irradiance,) * 3)], "points": [],
@@ -357,6 +369,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 background = world if hdri is None else sky_behind(traced_camera, environment)[::-1]
                 hair_radiance = unmixed(traced, alpha, background)
                 entry = {"preview": summary(preview_linear, mask, weights=coverage), "preview_samples": samples,
+                         "screen_over_layer": None if screen_over_layer is None else screen_over_layer.tolist(),
                          "path_traced": summary(hair_radiance, covered, weights=alpha),
                          "render_seconds": time.perf_counter() - start, "spp": spp, "max_bounces": bounces,
                          "segments": lod_preview.preview_of(holder).stats.get("segments")}

@@ -223,9 +223,18 @@ class HairLayer:
     def coverage(self):
         """The share of the samples that hold hair, per pixel: float32 [height, width], rows bottom-up
         (read back from the GPU: for benchmarks and tests)."""
+        return self.pixels()[1]
+
+    def pixels(self):
+        """(the hair's colour per pixel, the mean over the samples holding hair: float32 [height, width, 3],
+        0 where none does; the share of the samples that hold hair, float32 [height, width]), rows
+        bottom-up: what the composite mixes with the viewport, before the framebuffer's 8-bit rounding
+        (read back from the GPU: for benchmarks and tests)."""
         width, height = self.size
         summed = np.array(self.summed.read().to_list(), np.float32).reshape(height, width, 4)
-        return summed[..., 3] / float(max(self.samples, 1))
+        holding = summed[..., 3]
+        colour = summed[..., :3] / np.maximum(holding, 1.0)[..., None]
+        return colour, holding / float(max(self.samples, 1))
 
     def composite(self, fitted):
         """Draws the samples' mean into the bound (viewport) framebuffer: colour over the viewport's by

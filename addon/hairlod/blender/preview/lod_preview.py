@@ -636,10 +636,17 @@ class LodPreview:
     def hair_coverage(self, region_3d):
         """(the share of the hair layer's samples holding hair per pixel, float32 [height, width] with rows
         bottom-up, how many samples) of the viewport `region_3d` as last drawn; None before its first draw."""
+        pixels = self.hair_pixels(region_3d)
+        return None if pixels is None else pixels[1:]
+
+    def hair_pixels(self, region_3d):
+        """(the hair's colour per pixel as the composite writes it, float32 [height, width, 3]; the share of
+        the samples holding hair, float32 [height, width]; how many samples) of the viewport `region_3d` as
+        last drawn (HairLayer.pixels), rows bottom-up; None before its first draw."""
         state = self.views.get(region_3d.as_pointer())
         if state is None or state.hair_layer is None or state.hair_layer.size is None:
             return None
-        return state.hair_layer.coverage(), state.hair_layer.samples
+        return (*state.hair_layer.pixels(), state.hair_layer.samples)
 
     def upload_selection(self, state):
         """The selection as a texture (level per L0 cluster and segment), and per level what to draw:
