@@ -14,8 +14,8 @@ composite mixes with the viewport by their share); the screenshot, turned back i
 radiance through the screen's measured response (a ramp of written values drawn by a POST_VIEW
 handler, as in tests/ui/test_view_transform.py) and unmixed from the viewport behind, checks on the
 pixels every sample covers that the screen shows that radiance (screen_over_layer). The path-traced
-hair's own radiance is unmixed from the sky in the pixels it covers partly (alpha from a coverage
-render). Reported per hair and view: the mean linear radiance per channel over the hair's pixels of
+hair's own radiance is unmixed from the sky in the pixels it covers partly (alpha from a coverage render
+of the same camera rays). Reported per hair and view: the mean linear radiance per channel over the hair's pixels of
 each image (both weighted by coverage) and their ratio, the luminance spread (5th-95th percentile) of each, and the
 coverage ratio (the preview's hair pixels over the path-traced coverage summed over the image, both on
 the viewport's pixel grid), with one JSON object printed at the end. The spread is also given on the
@@ -359,7 +359,12 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 bounces = render.MAX_BOUNCES if max_bounces is None else max_bounces
                 traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
                                        seed=5, max_bounces=bounces)["image"]
-                alpha = render.coverage(strands, "pt", spp=64, camera=traced_camera, seed=5)
+                # The coverage of the same camera rays (the same spp and seed: the renderer draws sample s of
+                # a pixel from (seed, pixel, s)), so that unmixing leaves exactly the mean over the samples
+                # that met hair. With a coverage render of its own (64 spp, as before) the mohawk's sparse
+                # pixels, mostly a quarter covered, were divided by a share off by about a fifth of itself:
+                # the reference's luminance spread read 1.73x that with the same rays (256 spp, --scale 0.5, mid).
+                alpha = render.coverage(strands, "pt", spp=spp, camera=traced_camera, seed=5)
                 # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
                 traced, alpha = traced[::-1], alpha[::-1]
                 # Thin strands cover pixels partly (Ratboy's at a quarter size: a few pixels over 0.5): the
