@@ -1,15 +1,20 @@
 """The LoD preview looks like the render (issue 14; Blender under Xvfb, see scripts/run_ui_tests.sh).
 
-scripts/bench_preview_fidelity.py's measurement at the mid view, on the bundled real hair (Ratboy_mohawk,
+scripts/bench_preview_fidelity.py's measurement at the mid and far views, on the bundled real hair (Ratboy_mohawk,
 2228 strands) and on 20,000 strands generated from the bundled hair mesh: the preview with the panel's
 defaults (Strand Coverage on, the default hair, one sun and a grey world, Standard view transform)
 against the full strands path-traced from the same camera (128 spp at half the viewport's size: the
 ratios move by under 1 % from there to 256 spp at full size; at 64 spp the mohawk's blue reads 4 %
 higher, its rare bright paths missed). Asserted:
-- both hairs' mean radiance within 10 % per channel of the path-traced image, issue 14's target: the
-  mohawk 1.06 / 1.04 / 1.08, the generated hair 0.97 / 1.04 / 1.01 (Blender 3.4; the mohawk 1.07 / 1.05
-  / 1.06 in 4.3 and 1.08 / 1.07 / 1.09 in 5.2), the preview at rest, its hair averaged over the 8
-  samples of the viewport's anti-aliasing (1.03 / 1.03 / 1.02 and 0.96 / 1.03 / 1.00 in one). While a strand's
+- both hairs' mean radiance within 10 % per channel of the path-traced image, issue 14's target: at the
+  mid view the mohawk 1.03 / 1.03 / 1.03, the generated hair 0.97 / 1.04 / 1.01 (Blender 3.4), at the
+  far view 1.04 / 1.04 / 1.05 and 0.95 / 1.03 / 0.97, the preview at rest, its hair averaged over the
+  8 samples of the viewport's anti-aliasing. The preview's radiance is read from its hair layer: unmixed
+  from the screenshot, the 8-bit framebuffer's rounding of partly covered pixels read the mohawk at
+  1.06 / 1.04 / 1.08 (scripts/bench_preview_fidelity.py). While the thick hairs were drawn solid and
+  shaded at the hair's mean free path below their near side, the generated hair's far view read
+  0.98 / 1.07 / 0.99; drawn by their coverage at that depth, 0.90 / 0.96 / 0.89 (the deeper hair they
+  let through is shaded again below it); shaded at the strand the ray meets, as now. While a strand's
   back-scatter took Huang 2025 Eq. 10's A_1+ at n = 1 (the side scattering of a thick hair's own hairs
   behind the shaded one, of which a strand has none, on top of the hair behind's A_1 + A_3) they read
   1.05 / 1.05 / 1.02 and 1.04 / 1.10 / 1.04, the mohawk's sun term alone 1.40 / 1.37 / 1.34. The mohawk
@@ -19,7 +24,9 @@ higher, its rare bright paths missed). Asserted:
   of the path-traced world light and its sun 0.73 / 0.82 / 0.96: the world's transmittance is one
   average over all directions, and the light dense hair scatters several times is missing
   (docs/preview.md, "What is still off");
-- both hairs covering the pixels their path-traced strands cover, within 25 %;
+- both hairs covering the pixels their path-traced strands cover: within 25 % at the mid view (the
+  mohawk 0.94x, the generated hair 1.00x), and at the far view the sky let through between a thick
+  hair's strands (COVERAGE);
 - lit by an HDRI alone (Blender's own courtyard.exr, the bench's --hdri courtyard --sun 0), which the
   preview fits with SRBF lights: both hairs within 15 % per channel of the path-traced image, which
   draws the image by its luminance. Each SRBF light reaches the hair through the hair on its own way
@@ -45,7 +52,12 @@ from harness import check  # noqa: E402
 sys.path.insert(0, os.path.join(harness.REPO_ROOT, "scripts"))
 import bench_preview_fidelity  # noqa: E402  (scripts/bench_preview_fidelity.py)
 
-TOLERANCE = {"generated wavy 20k mid": 0.10, "Ratboy_mohawk mid": 0.10}
+TOLERANCE = {"generated wavy 20k mid": 0.10, "Ratboy_mohawk mid": 0.10, "generated wavy 20k far": 0.10,
+             "Ratboy_mohawk far": 0.10}
+# The preview's hair pixels over the path-traced coverage, per view. At the far view most of the hair is
+# thick hairs, drawn by the share of their strip their strands cover (thick_hair.vert.glsl): the mohawk
+# 0.78x and the generated hair 1.01x (1.75x and 1.11x while every thick hair was drawn solid).
+COVERAGE = {"mid": (0.8, 1.25), "far": (0.6, 1.25)}
 HDRI_TOLERANCE = {"generated wavy 20k mid": 0.15, "Ratboy_mohawk mid": 0.15}
 
 
@@ -61,11 +73,13 @@ def check_mean_ratios(results, tolerance, lit_by):
 
 def steps():
     results = {}
-    yield from bench_preview_fidelity.measure(results, views=("mid",), spp=128, scale=0.5)
+    yield from bench_preview_fidelity.measure(results, views=("mid", "far"), spp=128, scale=0.5)
     check_mean_ratios(results, TOLERANCE, "a sun and a grey world")
     for name, entry in results.items():
-        check(0.8 <= entry["coverage_ratio"] <= 1.25,
-              f"{name}: the preview's hair pixels {entry['coverage_ratio']:.3f}x the path-traced coverage")
+        lowest, highest = COVERAGE[name.split()[-1]]
+        check(lowest <= entry["coverage_ratio"] <= highest,
+              f"{name}: the preview's hair pixels {entry['coverage_ratio']:.3f}x the path-traced coverage, within "
+              f"[{lowest}, {highest}]")
     lit_by_hdri = {}
     yield from bench_preview_fidelity.measure(lit_by_hdri, views=("mid",), spp=128, scale=0.5, sun_irradiance=0.0,
                                               hdri="courtyard")

@@ -40,8 +40,10 @@ class HAIRLOD_PG_lod_preview(bpy.types.PropertyGroup):
                                        default=preview_buffers.PREVIEW_VERTEX_TOLERANCE_PX, min=0.0, soft_max=2.0,
                                        update=_redraw)
     strand_coverage: BoolProperty(name="Strand Coverage", description="Draw each strand thinner than a pixel with the "
-                                  "probability of its width, so that the hair covers as much of the view as in a "
-                                  "render (off: every strand a pixel wide, sparse hair looks denser)",
+                                  "probability of its width, and each sparse thick hair with the share of its "
+                                  "strip its strands cover, so that the hair covers as much of the view as in a "
+                                  "render (off: every strand a pixel wide and every thick hair solid, sparse hair "
+                                  "looks denser)",
                                   default=True, update=_redraw)
     overlay: EnumProperty(name="Overlay", description="How the preview colours the hair",
                           items=(('SHADED', "Shaded", "The aggregated BCSDF under the scene's sun and point lights"),

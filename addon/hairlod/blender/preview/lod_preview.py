@@ -110,7 +110,7 @@ def frame_data(model, view_projection, camera, viewport, ambient, light_count, l
                strands_follow_surface=False):
     """The HairFrame uniform block's values, float32 (matrices column-major, as std140 stores them).
     viewport = (width, height, the hair layer's sample: 0, the first after a change (for_sample), 0);
-    counts = (lights, control points per strand, 1 to draw strands by coverage (strand.vert.glsl), 1 when
+    counts = (lights, control points per strand, 1 to draw strands and thick hairs by coverage (coverage_choice.glsl), 1 when
     the strands move by their surface transforms);
     hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow) of the
     lights without an opacity map; shadow = (the strands' radius in world units, 0, strength, 0) and
@@ -136,7 +136,7 @@ def for_sample(values, sample, viewport):
     """frame_data's values for sample `sample` of the hair layer on a viewport of `viewport` = (width,
     height) pixels: the view-projection moved by hair_layer.SAMPLE_OFFSETS[sample] pixels (clip x and y
     gain 2 offset / size times clip w; the depth is unchanged), and the sample in frame.viewport.z, which
-    draws another choice of the strands by coverage (strand.vert.glsl)."""
+    draws another choice of the strands and thick hairs by coverage (coverage_choice.glsl)."""
     offset = hair_layer.SAMPLE_OFFSETS[sample]
     moved = np.array(values, dtype=np.float32)
     columns = moved[_VIEW_PROJECTION].reshape(4, 4)  # one row per column of the matrix
@@ -237,7 +237,8 @@ def _create_shader(kind, purpose="shade", test_level=True, pulled=False):
     defines = ("" if selection_varyings else "#define HAIRLOD_ALL_AT_DRAW_LEVEL\n") + \
         ("" if kind == "thick" else STRAND_CONSTANTS)
     info.vertex_source(defines + pulled_defines + f"#define SKIN_MAP_TEXELS {lod.SKIN_MAP_TEXELS}\n#define SURFACE_ROW {SURFACE_ROW}\n" +
-                       glsl_source("skinning.glsl", "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
+                       glsl_source("skinning.glsl", "coverage_choice.glsl",
+                                   "thick_hair.vert.glsl" if kind == "thick" else "strand.vert.glsl"))
     if purpose == "shade":
         info.fragment_source(defines + glsl_source("selection.glsl") + shading + glsl_source("hair.frag.glsl"))
     else:

@@ -30,6 +30,16 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     float chord = 2.0 * ellipse.x * ellipse.y / max(ellipse.z, 1e-20) * sqrt(max(1.0 - across * across, 0.0)) / along;
     n = min(hairs_crossed(rho, chord, cluster.x, ellipse.x, ellipse.y), lut_constants.y);
     seen += min(0.5 * chord, ellipse.x) * wo;
+    if (frame.counts.z > 0.5) {
+      /* Drawn by coverage (thick_hair.vert.glsl), the fragment stands for a camera ray that meets a strand
+       * of this hair, as the path tracer's thick hairs are shaded at the first strand the ray meets: the
+       * strands crossed are Poisson along the chord with mean tau, so that strand lies at the mean depth
+       * of an exponential cut at the chord, chord (1 / tau - e^-tau / (1 - e^-tau)) (half the chord in a
+       * sparse hair, 1 / density in a dense one). */
+      float tau = max(rho * chord * sqrt(cluster.x / (HAIRLOD_PI * max(ellipse.x * ellipse.y, 1e-30))), 1e-4);
+      float span = 2.0 * min(0.5 * chord, ellipse.x);  /* from the near side, as far as it was moved */
+      seen -= span * (1.0 / tau - exp(-tau) / max(1.0 - exp(-tau), 1e-8)) * wo;
+    }
   }
   vec3 radiance = vec3(0.0);
   vec3 p_object = (frame.model_inverse * vec4(position, 1.0)).xyz;
@@ -39,9 +49,10 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
    * side, else the volume's). The strands on the way pass a_f of the light on forwards (dual scattering,
    * Zinke et al. 2008): through the volume, a uniform random medium, the mean of a_f^N over the Poisson
    * number N of strands crossed is exp(-tau (1 - a_f)) = T^(1 - a_f) per channel and direction, a_f at
-   * the direction's inclination to the strand (forward_share). Strands drawn by their coverage
-   * (strand.vert.glsl) are the strands the camera sees, at their own depth: there the depth is 0. */
-  bool at_own_depth = frame.counts.z > 0.5 && ellipse.z <= 0.0;
+   * the direction's inclination to the strand (forward_share). Strands and thick hairs drawn by their
+   * coverage (coverage_choice.glsl) are the hair the camera sees, at its own depth (a thick hair's at
+   * the strand the ray meets, above): there the depth is 0. */
+  bool at_own_depth = frame.counts.z > 0.5;
   float first_density = frame.light_shadow[0].w > 0.5 && !at_own_depth ? light_side_density(0, seen) : 0.0;
   float visible_density = frame.light_shadow[0].w > 0.5 || at_own_depth ? first_density : frame.hair_centre.w;
   vec3 into_object = (frame.model_inverse * vec4(-wo, 0.0)).xyz;

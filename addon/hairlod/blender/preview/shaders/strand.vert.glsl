@@ -6,24 +6,9 @@
  * Strands by coverage (frame.counts.z = 1): a line is a pixel wide, a strand often a fifth of that, so
  * drawing every strand covers several times the pixels the hair covers (4.4-4.9x on the real Ratboy
  * mohawk against its path-traced coverage). Each strand is drawn with the probability of its width in
- * pixels (stochastic transparency, Enderton et al. 2010, per strand instead of per fragment): the
- * expected coverage of every pixel, 1 - prod(1 - w_i) over the strands crossing it, is the hair's,
- * the lines stay whole and opaque (no sorting, no discard), and a strand's choice holds from frame to
- * frame; the hair layer's later samples at rest (frame.viewport.z > 0) choose again, so that their mean
- * converges to the strands' coverage as Enderton's samples do. The width is taken once per L0 cluster, at its middle control point, so that every vertex of
- * a strand decides alike; frame.counts.y is the control points per strand, frame.shadow.x the
- * strands' radius in world units. */
-
-/* A uniform number in [0, 1) per integer (an integer hash: xor-shifts and odd multipliers). */
-float unit_hash(uint x)
-{
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return float(x >> 8) * (1.0 / 16777216.0);
-}
+ * pixels (coverage_choice.glsl), the lines whole and opaque. The width is taken once per L0 cluster, at
+ * its middle control point, so that every vertex of a strand decides alike; frame.counts.y is the
+ * control points per strand, frame.shadow.x the strands' radius in world units. */
 
 /* The width in pixels of a strand of L0 cluster `cluster`, at the cluster's skinned origin at its middle
  * control point (skinning.glsl: texels 1-3 hold the map's origin in w). */
@@ -64,11 +49,7 @@ void main()
                                     : skin_point(cluster_point, position, skin);
   vec3 world = (frame.model * vec4(moved, 1.0)).xyz;
   gl_Position = frame.view_projection * vec4(world, 1.0);
-  /* The first sample of the hair layer after a change keeps each strand's choice; the later ones, while
-   * the view rests, choose again (the golden ratio's 32 bits apart): averaged over the samples, each
-   * strand covers its width. */
-  uint choice = uint(gl_VertexID) / uint(frame.counts.y) + uint(frame.viewport.z) * 0x9E3779B9u;
-  if (frame.counts.z > 0.5 && unit_hash(choice) >= strand_width_px(cluster_point.x)) {
+  if (frame.counts.z > 0.5 && !drawn_by_coverage(uint(gl_VertexID) / uint(frame.counts.y), strand_width_px(cluster_point.x))) {
     gl_Position = vec4(0.0, 0.0, -2.0, 1.0);  /* every vertex of the strand, behind the near plane: not drawn */
   }
   v_position = world;

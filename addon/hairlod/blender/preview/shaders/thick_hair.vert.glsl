@@ -3,9 +3,34 @@
  * from the camera, so a switch between levels keeps the drawn width; at least half a pixel either
  * side so that thin hairs do not fall between pixels. Inputs are the rest pose in object space,
  * skinned to the current frame (skinning.glsl); outputs in world space (frame.model is the
- * object's matrix). */
+ * object's matrix).
+ *
+ * By coverage (frame.counts.z = 1, as the strands, coverage_choice.glsl): a sparse thick hair covers
+ * only part of its strip, where a camera ray meets one of its strands, as the path tracer's thick
+ * hairs let the rays between their strands through. Each control point keeps its width in the samples
+ * where hair `hair` is drawn at the strip's coverage there (strip_coverage), and narrows to its centre
+ * line in the others: a segment between a kept and a narrowed point is half drawn, so the strip's
+ * expected area follows the coverage along it. */
+
+/* The share of a strip of half-width w that the camera rays meeting a strand cover: the hair's N strands
+ * of radius r spread over the ellipse's silhouette as its chords are (opacity_map.py's
+ * thick_hair_coverage), so a ray at x in [-1, 1] across crosses tau(x) = tau0 sqrt(1 - x^2) strands on
+ * average, tau0 = 4 r N / (pi w), and meets one with probability 1 - exp(-tau(x)) (Poisson). The mean
+ * over x, with x = sin(phi): the integral over [0, pi/2] of (1 - exp(-tau0 cos phi)) cos phi, by 4-point
+ * Gauss-Legendre (tau0 pi / 4 for sparse hairs, 1 for dense ones). */
+#ifndef HAIRLOD_PI
+#define HAIRLOD_PI 3.14159265358979
+#endif
+float strip_coverage(float tau0)
+{
+  const vec4 nodes = vec4(0.0694318442, 0.3300094782, 0.6699905218, 0.9305681558) * (0.5 * HAIRLOD_PI);
+  const vec4 weights = vec4(0.1739274226, 0.3260725774, 0.3260725774, 0.1739274226) * (0.5 * HAIRLOD_PI);
+  vec4 c = cos(nodes);
+  return dot(weights, (vec4(1.0) - exp(-tau0 * c)) * c);
+}
+
 void thick_vertex(vec3 rest_position, vec3 rest_tangent, vec3 rest_major, vec3 rest_minor, vec2 hair_cluster,
-                  vec2 key, float across)
+                  vec2 key, float across, uint hair)
 {
   ivec2 cluster_point = ivec2(key + 0.5);
   mat3 skin;
@@ -24,6 +49,12 @@ void thick_vertex(vec3 rest_position, vec3 rest_tangent, vec3 rest_major, vec3 r
   vec4 clip_side = frame.view_projection * vec4(side, 0.0);
   float pixels_per_unit = length(clip_side.xy * 0.5 * frame.viewport.xy) / max(abs(clip_centre.w), 1e-20);
   float drawn_half_width = max(half_width, 0.5 / max(pixels_per_unit, 1e-20));
+  if (frame.counts.z > 0.5) {
+    float tau0 = 4.0 * frame.shadow.x * hair_cluster.x / (HAIRLOD_PI * drawn_half_width);
+    if (!drawn_by_coverage(hair, strip_coverage(tau0))) {
+      drawn_half_width = 0.0;
+    }
+  }
 
   gl_Position = clip_centre + across * drawn_half_width * clip_side;
 
@@ -68,11 +99,13 @@ void main()
   ivec2 start = ivec2(texelFetch(pulled_segments, ivec2(slot % SEGMENT_ROW, slot / SEGMENT_ROW), 0).rg + 0.5);
   int point = start.x + (start.y << 16) + ((slot_vertex >> 1) & 1);
   vec4 t0 = point_texel(point, 0), t1 = point_texel(point, 1), t2 = point_texel(point, 2), t3 = point_texel(point, 3);
-  thick_vertex(t0.xyz, vec3(t0.w, t1.xy), vec3(t1.zw, t2.x), t2.yzw, t3.xy, t3.zw, (slot_vertex & 1) == 0 ? -1.0 : 1.0);
+  thick_vertex(t0.xyz, vec3(t0.w, t1.xy), vec3(t1.zw, t2.x), t2.yzw, t3.xy, t3.zw, (slot_vertex & 1) == 0 ? -1.0 : 1.0,
+               uint(point) / uint(frame.counts.y));
 }
 #else
 void main()
 {
-  thick_vertex(position, tangent, major, minor, cluster, select_key, (gl_VertexID & 1) == 0 ? -1.0 : 1.0);
+  thick_vertex(position, tangent, major, minor, cluster, select_key, (gl_VertexID & 1) == 0 ? -1.0 : 1.0,
+               uint(gl_VertexID) / (2u * uint(frame.counts.y)));
 }
 #endif
