@@ -225,9 +225,15 @@ vec3 aggregated_bcsdf(vec3 wi, vec3 wo, vec3 t, float n, float rho)
   return aggregated_bcsdf_behind(wi, wo, t, n, rho, 1.0);
 }
 
-/* Hairs crossed by a ray of length `ray_length` through a thick hair (Sec. 4): n = rho l sqrt(n_total /
- * (pi r_A r_B)), at least 1. */
+/* The mean number of hairs a ray of length `ray_length` through a thick hair crosses
+ * (hair-lod-aggregated-bcsdf.txt Sec. 4): rho l sqrt(n_total / (pi r_A r_B)). */
+float hairs_on_ray(float rho, float ray_length, float n_total, float r_a, float r_b)
+{
+  return rho * ray_length * sqrt(n_total / (HAIRLOD_PI * max(r_a * r_b, 1e-30)));
+}
+
+/* Hairs crossed by a ray that meets the thick hair (Sec. 4's n): hairs_on_ray, at least 1. */
 float hairs_crossed(float rho, float ray_length, float n_total, float r_a, float r_b)
 {
-  return max(1.0, rho * ray_length * sqrt(n_total / (HAIRLOD_PI * max(r_a * r_b, 1e-30))));
+  return max(1.0, hairs_on_ray(rho, ray_length, n_total, r_a, r_b));
 }

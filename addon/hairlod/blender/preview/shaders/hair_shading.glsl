@@ -36,7 +36,7 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
        * strands crossed are Poisson along the chord with mean tau, so that strand lies at the mean depth
        * of an exponential cut at the chord, chord (1 / tau - e^-tau / (1 - e^-tau)) (half the chord in a
        * sparse hair, 1 / density in a dense one). */
-      float tau = max(rho * chord * sqrt(cluster.x / (HAIRLOD_PI * max(ellipse.x * ellipse.y, 1e-30))), 1e-4);
+      float tau = max(hairs_on_ray(rho, chord, cluster.x, ellipse.x, ellipse.y), 1e-4);
       float span = 2.0 * min(0.5 * chord, ellipse.x);  /* from the near side, as far as it was moved */
       seen -= span * (1.0 / tau - exp(-tau) / max(1.0 - exp(-tau), 1e-8)) * wo;
     }
