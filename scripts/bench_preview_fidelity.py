@@ -31,6 +31,8 @@ its SRBF lights (the panel's World: SRBF, the default); the path tracer looks th
 (Blender's equirectangular mapping), and the sky behind each path-traced pixel, which the unmixing takes
 away, is the image along that pixel's camera ray.
 
+--hairs Ratboy_mohawk or generated measures one of the two hairs.
+
 --max-bounces N limits the path tracer to N bounces after the first hit (0: direct light alone), to see
 which orders of scattering between the strands the preview holds.
 """
@@ -78,8 +80,14 @@ def parse_args():
                         help="the path tracer's bounces after the first hit (default: the renderer's, "
                         "every order that matters; 0 is direct light alone): which orders of scattering the "
                         "preview holds")
+    parser.add_argument("--hairs", default="Ratboy_mohawk,generated",
+                        help="which hairs, comma-separated (default both): Ratboy_mohawk, generated")
     parser.add_argument("--out")
-    return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    unknown = [hair for hair in args.hairs.split(",") if hair not in ("Ratboy_mohawk", "generated")]
+    if unknown:
+        parser.error(f"--hairs: no hair named {', '.join(unknown)} (Ratboy_mohawk, generated)")
+    return args
 
 
 def ramp_shader():
@@ -223,12 +231,13 @@ def steps(args):
                        sun_irradiance=args.sun,
                        strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
                        cycles_samples=args.cycles_samples, hdri=args.hdri, hdri_strength=args.hdri_strength,
-                       max_bounces=args.max_bounces)
+                       max_bounces=args.max_bounces, hairs=args.hairs.split(","))
     window_steps.report(results, args.out)
 
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
-            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0, max_bounces=None):
+            cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0, max_bounces=None,
+            hairs=("Ratboy_mohawk", "generated")):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
     and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
@@ -288,11 +297,16 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
 
     tfx = io.read(os.path.join(REPO_ROOT, "examples", "data", "tressfx", "Ratboy_mohawk.tfx"))
     upright = tfx.points @ np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float32).T  # Y up -> Z up
+    chosen = hairs
     hairs = {"Ratboy_mohawk": hairlod.Strands.from_counts(np.ascontiguousarray(upright), np.diff(tfx.offsets),
                                                           tfx.radius),
              "generated wavy 20k": hairlod.generate_strands(
                  hairmesh.read(os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")),
                  count=20000, vertices=17, seed=1)}
+    unknown = [hair for hair in chosen if not any(name.startswith(hair) for name in hairs)]
+    if unknown:
+        raise SystemExit(f"--hairs: no hair named {', '.join(unknown)} (Ratboy_mohawk, generated)")
+    hairs = {name: strands for name, strands in hairs.items() if any(name.startswith(hair) for hair in chosen)}
     redraws = RedrawTimes()
     try:
         for name, strands in hairs.items():
