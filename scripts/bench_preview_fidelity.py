@@ -55,6 +55,8 @@ import window_steps  # noqa: E402  (scripts/window_steps.py)
 from viewport_capture import RedrawTimes, render_camera  # noqa: E402  (scripts/viewport_capture.py)
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
 SUN_IRRADIANCE = 3.0
+# The hairs measured, by the names --hairs takes: the bundled real one, and one generated in a hair mesh.
+HAIRS = ("Ratboy_mohawk", "generated")
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
 DELAY = 1.0
 QUIET = 1.0  # seconds without a redraw: the viewport is at rest
@@ -80,13 +82,13 @@ def parse_args():
                         help="the path tracer's bounces after the first hit (default: the renderer's, "
                         "every order that matters; 0 is direct light alone): which orders of scattering the "
                         "preview holds")
-    parser.add_argument("--hairs", default="Ratboy_mohawk,generated",
-                        help="which hairs, comma-separated (default both): Ratboy_mohawk, generated")
+    parser.add_argument("--hairs", default=",".join(HAIRS),
+                        help=f"which hairs, comma-separated (default all): {', '.join(HAIRS)}")
     parser.add_argument("--out")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
-    unknown = [hair for hair in args.hairs.split(",") if hair not in ("Ratboy_mohawk", "generated")]
+    unknown = [hair for hair in args.hairs.split(",") if hair not in HAIRS]
     if unknown:
-        parser.error(f"--hairs: no hair named {', '.join(unknown)} (Ratboy_mohawk, generated)")
+        parser.error(f"--hairs: no hair named {', '.join(unknown)} ({', '.join(HAIRS)})")
     return args
 
 
@@ -237,7 +239,7 @@ def steps(args):
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
             cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0, max_bounces=None,
-            hairs=("Ratboy_mohawk", "generated")):
+            hairs=HAIRS):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
     and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
@@ -295,18 +297,19 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
         written = np.interp(display, response, RAMP)  # monotonic response: its inverse
         return written  # Standard: the preview writes srgb_decode(srgb_encode(x)) = x
 
-    tfx = io.read(os.path.join(REPO_ROOT, "examples", "data", "tressfx", "Ratboy_mohawk.tfx"))
-    upright = tfx.points @ np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float32).T  # Y up -> Z up
-    chosen = hairs
-    hairs = {"Ratboy_mohawk": hairlod.Strands.from_counts(np.ascontiguousarray(upright), np.diff(tfx.offsets),
-                                                          tfx.radius),
-             "generated wavy 20k": hairlod.generate_strands(
-                 hairmesh.read(os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")),
-                 count=20000, vertices=17, seed=1)}
-    unknown = [hair for hair in chosen if not any(name.startswith(hair) for name in hairs)]
-    if unknown:
-        raise SystemExit(f"--hairs: no hair named {', '.join(unknown)} (Ratboy_mohawk, generated)")
-    hairs = {name: strands for name, strands in hairs.items() if any(name.startswith(hair) for hair in chosen)}
+    def mohawk():
+        tfx = io.read(os.path.join(REPO_ROOT, "examples", "data", "tressfx", "Ratboy_mohawk.tfx"))
+        upright = tfx.points @ np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float32).T  # Y up -> Z up
+        return hairlod.Strands.from_counts(np.ascontiguousarray(upright), np.diff(tfx.offsets), tfx.radius)
+
+    def generated():
+        return hairlod.generate_strands(hairmesh.read(os.path.join(REPO_ROOT, "examples", "data", "wavy_cap.hairmesh.json")),
+                                        count=20000, vertices=17, seed=1)
+
+    # Only the hairs asked for (names of HAIRS, which parse_args checks) are read or generated.
+    chosen = tuple(hairs)
+    hairs = {name: make() for name, make in (("Ratboy_mohawk", mohawk), ("generated wavy 20k", generated))
+             if any(name.startswith(hair) for hair in chosen)}
     redraws = RedrawTimes()
     try:
         for name, strands in hairs.items():
