@@ -33,6 +33,12 @@ away, is the image along that pixel's camera ray.
 
 --hairs Ratboy_mohawk or generated measures one of the two hairs.
 
+The path-traced reference starts at --spp and doubles its samples (independent ones) until two doublings in
+a row each move its luminance spread on the same pixels by at most --spread-tolerance of itself (default
+2 %), or until --max-spp (default 4096): a sparse hair's reference is noisy where strands cover pixels
+partly, and that noise widens its spread. Each view reports the spread at every doubling
+(spread_series). --spread-tolerance 0 renders --spp once. --arrays also writes each view's images as .npz.
+
 --max-bounces N limits the path tracer to N bounces after the first hit (0: direct light alone), to see
 which orders of scattering between the strands the preview holds.
 """
@@ -55,6 +61,13 @@ import window_steps  # noqa: E402  (scripts/window_steps.py)
 from viewport_capture import RedrawTimes, render_camera  # noqa: E402  (scripts/viewport_capture.py)
 sys.path.insert(0, os.path.join(REPO_ROOT, "tests", "ui"))
 SUN_IRRADIANCE = 3.0
+# The path-traced reference takes --spp samples, then twice as many at each step (independent ones, a new
+# seed per batch) until two doublings in a row each move its luminance spread on the same pixels by at most
+# this fraction of itself, or until MAX_SPP: the noise of a sparse hair's unmixed pixels widens the reference's
+# spread (the preview's spread on the mohawk's near view read 0.72 / 0.77 / 0.80 of the reference's at 256 /
+# 1024 / 4096 spp), a bias of the measurement, not of the preview.
+SPREAD_TOLERANCE = 0.02
+MAX_SPP = 4096
 # The hairs measured, by the names --hairs takes: the bundled real one, and one generated in a hair mesh.
 HAIRS = ("Ratboy_mohawk", "generated")
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
@@ -64,7 +77,13 @@ QUIET = 1.0  # seconds without a redraw: the viewport is at rest
 
 def parse_args():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--spp", type=int, default=256)
+    parser.add_argument("--spp", type=int, default=256,
+                        help="the path-traced reference's samples per pixel, doubled until its spread settles")
+    parser.add_argument("--spread-tolerance", type=float, default=SPREAD_TOLERANCE,
+                        help=f"double the reference's samples until two doublings in a row each move its spread by "
+                        f"at most this fraction of itself (default {SPREAD_TOLERANCE:g}; 0 renders --spp once)")
+    parser.add_argument("--max-spp", type=int, default=MAX_SPP,
+                        help=f"the most samples the reference doubles to (default {MAX_SPP})")
     parser.add_argument("--scale", type=float, default=0.25)
     parser.add_argument("--shadowing", type=float, help="the panel's Shadowing (default: the panel's default)")
     parser.add_argument("--views", default="mid,near")
@@ -84,11 +103,18 @@ def parse_args():
                         "preview holds")
     parser.add_argument("--hairs", default=",".join(HAIRS),
                         help=f"which hairs, comma-separated (default all): {', '.join(HAIRS)}")
+    parser.add_argument("--arrays", action="store_true",
+                        help="also write each view's images as fidelity_<hair>_<view>.npz beside the PNGs: the preview's "
+                        "hair radiance and coverage, the path-traced hair's (unmixed from the sky) and its coverage")
     parser.add_argument("--out")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
     unknown = [hair for hair in args.hairs.split(",") if hair not in HAIRS]
     if unknown:
         parser.error(f"--hairs: no hair named {', '.join(unknown)} ({', '.join(HAIRS)})")
+    if args.spp < 1 or args.max_spp < args.spp:
+        parser.error(f"--spp {args.spp} and --max-spp {args.max_spp}: need 1 <= spp <= max-spp")
+    if not 0.0 <= args.spread_tolerance < 1.0:
+        parser.error(f"--spread-tolerance {args.spread_tolerance:g}: need 0 <= tolerance < 1")
     return args
 
 
@@ -233,13 +259,14 @@ def steps(args):
                        sun_irradiance=args.sun,
                        strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
                        cycles_samples=args.cycles_samples, hdri=args.hdri, hdri_strength=args.hdri_strength,
-                       max_bounces=args.max_bounces, hairs=args.hairs.split(","))
+                       max_bounces=args.max_bounces, hairs=args.hairs.split(","),
+                       spread_tolerance=args.spread_tolerance, max_spp=args.max_spp, arrays=args.arrays)
     window_steps.report(results, args.out)
 
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
             cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0, max_bounces=None,
-            hairs=HAIRS):
+            hairs=HAIRS, spread_tolerance=SPREAD_TOLERANCE, max_spp=MAX_SPP, arrays=False):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
     and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
     import addon_utils
@@ -374,30 +401,52 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 start = time.perf_counter()
                 params = object_hair_params(holder)  # the hair the preview shades
                 bounces = render.MAX_BOUNCES if max_bounces is None else max_bounces
-                traced = render.render(strands, "pt", spp=spp, camera=traced_camera, lights=lights, params=params,
-                                       seed=5, max_bounces=bounces)["image"]
-                # The coverage of the same camera rays (the same spp and seed: the renderer draws sample s of
-                # a pixel from (seed, pixel, s)), so that unmixing leaves exactly the mean over the samples
-                # that met hair. With a coverage render of its own (64 spp, as before) the mohawk's sparse
-                # pixels, mostly a quarter covered, were divided by a share off by about a fifth of itself:
-                # the reference's luminance spread read 1.73x that with the same rays (256 spp, --scale 0.5, mid).
-                alpha = render.coverage(strands, "pt", spp=spp, camera=traced_camera, seed=5)
-                # Rows of the render run top-down; the screenshot's bottom-up: flip to compare images.
-                traced, alpha = traced[::-1], alpha[::-1]
-                # Thin strands cover pixels partly (Ratboy's at a quarter size: a few pixels over 0.5): the
-                # hair's own radiance in every pixel it covers by more than 5 %, weighted by coverage, as the
-                # preview's above.
-                covered = alpha > 0.05
+
+                def reference(samples, seed):
+                    """The path-traced image at `samples` spp and the coverage of the same camera rays (the renderer
+                    draws sample s of a pixel from (seed, pixel, s)), so that unmixing leaves exactly the mean over
+                    the samples that met hair; both flipped to the screenshot's rows (the render's run top-down)."""
+                    image = render.render(strands, "pt", spp=samples, camera=traced_camera, lights=lights,
+                                          params=params, seed=seed, max_bounces=bounces)["image"]
+                    # With a coverage render of its own (64 spp, as before) the mohawk's sparse pixels, mostly a
+                    # quarter covered, were divided by a share off by about a fifth of itself: the reference's
+                    # luminance spread read 1.73x that with the same rays (256 spp, --scale 0.5, mid).
+                    alpha = render.coverage(strands, "pt", spp=samples, camera=traced_camera, seed=seed)
+                    return image[::-1], alpha[::-1]
+
+                def hair_of(traced, alpha):
+                    """The hair's own radiance unmixed from the sky in every pixel it covers by more than 5 %
+                    (thin strands cover pixels partly: Ratboy's at a quarter size, a few over 0.5), and those pixels."""
+                    return unmixed(traced, alpha, background), alpha > 0.05
+
                 background = world if hdri is None else sky_behind(traced_camera, environment)[::-1]
-                hair_radiance = unmixed(traced, alpha, background)
+                traced, alpha = reference(spp, 5)
+                total, series = spp, []
+                while True:
+                    hair_radiance, covered = hair_of(traced, alpha)
+                    spread = spread_on_same_pixels(preview_linear, coverage * mask, hair_radiance, alpha, scale)
+                    width = None if spread is None else spread["path_traced"][1] - spread["path_traced"][0]
+                    series.append({"spp": total, "path_traced_width": width,
+                                   "spread_ratio": None if spread is None else spread["ratio"]})
+                    # Settled when each of the last two doublings moved it by at most the tolerance: one small step
+                    # alone can be the noise of the spread itself (the mohawk's mid view: -6.5 %, then +1.2 %).
+                    widths = [step["path_traced_width"] for step in series[-3:]]
+                    settled = len(widths) == 3 and None not in widths and \
+                        all(abs(later - earlier) <= spread_tolerance * width
+                            for earlier, later in zip(widths, widths[1:]))
+                    if spread_tolerance <= 0.0 or width is None or settled or 2 * total > max_spp:
+                        break
+                    # As many samples again, independent of those so far (the next seed): the mean of the two.
+                    more, more_alpha = reference(total, 5 + len(series))
+                    traced, alpha, total = 0.5 * (traced + more), 0.5 * (alpha + more_alpha), 2 * total
                 entry = {"preview": summary(preview_linear, mask, weights=coverage), "preview_samples": samples,
                          "screen_over_layer": None if screen_over_layer is None else screen_over_layer.tolist(),
                          "path_traced": summary(hair_radiance, covered, weights=alpha),
-                         "render_seconds": time.perf_counter() - start, "spp": spp, "max_bounces": bounces,
+                         "render_seconds": time.perf_counter() - start, "spp": total, "max_bounces": bounces,
                          "segments": lod_preview.preview_of(holder).stats.get("segments")}
                 entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
-                entry["spread_same_pixels"] = spread_on_same_pixels(preview_linear, coverage * mask, hair_radiance, alpha,
-                                                                    scale)
+                entry["spread_same_pixels"] = spread
+                entry["spread_series"] = series  # the reference's spread and the ratio at each doubling of its samples
                 # How much of the image the hair covers: the preview's coverage against the path-traced
                 # coverage, each summed over the image (the same pixel grid at --scale 1).
                 entry["coverage_ratio"] = float(coverage[mask].sum() * scale ** 2 / max(float(alpha.sum()), 1e-9))
@@ -409,10 +458,15 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                     entry["path_traced_over_cycles"] = (np.array(entry["path_traced"]["mean"]) /
                                                         np.array(entry["cycles"]["mean"])).tolist()
                 results[f"{name} {view}"] = entry
-                print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio", "spread_same_pixels")}), "preview", entry["preview"],
+                print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio", "spread_same_pixels",
+                                                                   "spread_series")}),
+                      "preview", entry["preview"],
                       "traced", entry["path_traced"], flush=True)
-                render.write_image(os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"),
-                                                f"fidelity_{name.split()[0]}_{view}_traced.png"), traced[::-1])
+                out = os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), f"fidelity_{name.split()[0]}_{view}")
+                render.write_image(out + "_traced.png", traced[::-1])
+                if arrays:  # rows bottom-up, as the screenshots'; the path-traced ones at --scale of the preview's size
+                    np.savez_compressed(out + ".npz", preview=preview_linear, preview_coverage=coverage,
+                                        path_traced=hair_radiance, path_traced_coverage=alpha)
             lod_preview.detach(holder.name)
             bpy.data.objects.remove(holder)
     finally:

@@ -37,6 +37,8 @@ higher, its rare bright paths missed). Asserted:
   1.00 / 0.96), its sun shaded as a sun lamp with an opacity map (1.25 / 1.28 / 1.11 while
   the SRBF lobes carried it). The mohawk's ratio is printed, not asserted: 1.08 / 1.08 / 1.38, the
   fibre's response to a sun at its grazing views (docs/preview.md, "Lit by an HDRI").
+Each reference is one render (spread_tolerance 0): the means are unbiased at 128 spp; the luminance spread, for
+which the benchmark doubles the reference's samples until it settles, is not asserted here.
 Screenshots and the path-traced images go to $HAIRLOD_UI_OUT (default out/ui) as fidelity_*.png.
 """
 
@@ -73,7 +75,8 @@ def check_mean_ratios(results, tolerance, lit_by):
 
 def steps():
     results = {}
-    yield from bench_preview_fidelity.measure(results, views=("mid", "far"), spp=128, scale=0.5)
+    yield from bench_preview_fidelity.measure(results, views=("mid", "far"), spp=128, scale=0.5,
+                                              spread_tolerance=0.0)
     check_mean_ratios(results, TOLERANCE, "a sun and a grey world")
     for name, entry in results.items():
         lowest, highest = COVERAGE[name.split()[-1]]
@@ -81,12 +84,12 @@ def steps():
               f"{name}: the preview's hair pixels {entry['coverage_ratio']:.3f}x the path-traced coverage, within "
               f"[{lowest}, {highest}]")
     lit_by_hdri = {}
-    yield from bench_preview_fidelity.measure(lit_by_hdri, views=("mid",), spp=128, scale=0.5, sun_irradiance=0.0,
-                                              hdri="courtyard")
+    yield from bench_preview_fidelity.measure(lit_by_hdri, views=("mid",), spp=128, scale=0.5, spread_tolerance=0.0,
+                                              sun_irradiance=0.0, hdri="courtyard")
     check_mean_ratios(lit_by_hdri, HDRI_TOLERANCE, "courtyard.exr")
     lit_by_sun = {}
-    yield from bench_preview_fidelity.measure(lit_by_sun, views=("mid",), spp=128, scale=0.5, sun_irradiance=0.0,
-                                              hdri="sunrise")
+    yield from bench_preview_fidelity.measure(lit_by_sun, views=("mid",), spp=128, scale=0.5, spread_tolerance=0.0,
+                                              sun_irradiance=0.0, hdri="sunrise")
     print("Ratboy_mohawk mid, lit by sunrise.exr (not asserted: the fibre, docs/preview.md):",
           np.round(lit_by_sun["Ratboy_mohawk mid"]["mean_ratio"], 3))
     check_mean_ratios({"generated wavy 20k mid": lit_by_sun["generated wavy 20k mid"]},
