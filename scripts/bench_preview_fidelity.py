@@ -414,16 +414,11 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                     alpha = render.coverage(strands, "pt", spp=samples, camera=traced_camera, seed=seed)
                     return image[::-1], alpha[::-1]
 
-                def hair_of(traced, alpha):
-                    """The hair's own radiance unmixed from the sky in every pixel it covers by more than 5 %
-                    (thin strands cover pixels partly: Ratboy's at a quarter size, a few over 0.5), and those pixels."""
-                    return unmixed(traced, alpha, background), alpha > 0.05
-
                 background = world if hdri is None else sky_behind(traced_camera, environment)[::-1]
                 traced, alpha = reference(spp, 5)
                 total, series = spp, []
                 while True:
-                    hair_radiance, covered = hair_of(traced, alpha)
+                    hair_radiance = unmixed(traced, alpha, background)  # the hair's own radiance, unmixed from the sky
                     spread = spread_on_same_pixels(preview_linear, coverage * mask, hair_radiance, alpha, scale)
                     width = None if spread is None else spread["path_traced"][1] - spread["path_traced"][0]
                     series.append({"spp": total, "path_traced_width": width,
@@ -439,6 +434,9 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                     # As many samples again, independent of those so far (the next seed): the mean of the two.
                     more, more_alpha = reference(total, 5 + len(series))
                     traced, alpha, total = 0.5 * (traced + more), 0.5 * (alpha + more_alpha), 2 * total
+                # Thin strands cover pixels partly (Ratboy's at a quarter size: a few over 0.5): the hair's pixels are
+                # those it covers by more than 5 %, weighted by coverage, as the preview's above.
+                covered = alpha > 0.05
                 entry = {"preview": summary(preview_linear, mask, weights=coverage), "preview_samples": samples,
                          "screen_over_layer": None if screen_over_layer is None else screen_over_layer.tolist(),
                          "path_traced": summary(hair_radiance, covered, weights=alpha),
