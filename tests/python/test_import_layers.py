@@ -65,6 +65,7 @@ LAYERS = {
     # Reads the scene's world, but to upload it as GPU blocks and textures for the LoD preview's shaders.
     "hairlod.blender.preview.world_srbf": PREVIEWS,
     "hairlod.blender.preview.pulled_strips": PREVIEWS,
+    "hairlod.blender.preview.world_occlusion_texture": PREVIEWS,
 
     "hairlod.blender.operators": UI,
     "hairlod.blender.hair_mesh_operators": UI,

@@ -16,6 +16,10 @@ strand with no hair behind it is C++'s R, TT, D fibre ("fiber_rtd", the toleranc
 The deep opacity maps' optical depth between layers (shaders/opacity_map.glsl, layered_optical_depth)
 against hairlod.opacity_map.optical_depth, on and between the layer boundaries (1e-5).
 
+The world's occlusion by the hair on a grid: shaders/world_occlusion.glsl's depths (a 3D texture read
+with linear filtering) against hairlod.world_occlusion's float64 lookup, at points in, around and outside
+a hollow shell of strands, moved and stretched from rest (1 % of the largest depth; about 1e-5 on llvmpipe).
+
 Self-shadowing: shaders/self_shadow.glsl against hairlod.self_shadow.transmittance (the same formula
 in float64) for points in and around a flattened ellipsoid lit by suns and point lights, inside and
 outside it. The GLSL runs in float32, whose rounding in the ray-ellipsoid chord grows as the ray
@@ -195,6 +199,83 @@ def check_self_shadowing():
     check(0.2 < shadowed.mean() < 0.9 and reference.min() < 0.05,
           "self-shadowing: the configurations cover lit, partly and deeply shadowed points")
     check((error <= 1e-4).all(), "self-shadowing: GLSL agrees with the reference within 1e-4")
+
+
+def world_grid_on_gpu(occlusion, strength, points):
+    """world_occlusion.glsl's world_grid_depths per pixel, three directions a pass, and its
+    world_grid_transmittance with WORLD_KEEP: [N, 17]."""
+    import gpu
+
+    from hairlod.blender.preview import world_occlusion_texture
+    from hairlod.blender.preview.shaders import glsl_source
+
+    info = full_screen_shader_info()
+    info.sampler(0, 'FLOAT_2D', "point_data")
+    info.sampler(2, 'FLOAT_3D', "world_depths")
+    info.push_constant('VEC4', "lower_scale")
+    info.push_constant('VEC3', "extent")
+    info.push_constant('INT', "first")
+    keeps = ", ".join(f"vec3{keep}" for keep in WORLD_KEEP)
+    info.fragment_source(glsl_source("self_shadow.glsl", "world_occlusion.glsl") +
+                         f"const vec3 WORLD_KEEP[14] = vec3[]({keeps});\n" + """
+void main()
+{
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  float tau[14];
+  world_grid_depths(texelFetch(point_data, pixel, 0).xyz, lower_scale, extent, tau);
+  vec3 values = world_grid_transmittance(tau, WORLD_KEEP);
+  for (int c = 0; c < 3 && first + c < 14; ++c) {
+    values[c] = tau[first + c];
+  }
+  fragColor = vec4(values, 1.0);
+}
+""")
+    shader = gpu.shader.create_from_info(info)
+    point_texture = data_texture(points, np.zeros(len(points)))
+    depths_texture = world_occlusion_texture.texture(occlusion)
+    passes = []
+    for first in (0, 3, 6, 9, 12, 14):
+        def bind(program, first=first):
+            program.uniform_sampler("point_data", point_texture)
+            program.uniform_sampler("world_depths", depths_texture)
+            program.uniform_float("lower_scale", (*occlusion.lower, strength * occlusion.depth_factor))
+            program.uniform_float("extent", tuple(occlusion.extent))
+            program.uniform_int("first", first)
+        passes.append(draw_full_screen(shader, bind))
+    return np.concatenate(passes[:-2] + [passes[-2][:, :2], passes[-1]], axis=1)
+
+
+def check_world_occlusion():
+    """The grid's depths in GLSL (a 3D texture, linear filtering) against world_occlusion's float64 lookup,
+    at points in, around and outside a hollow shell of strands, moved and stretched from rest."""
+    from hairlod import world_occlusion
+
+    rng = np.random.default_rng(14)
+    count = SIZE * SIZE
+    # Radial strands of a shell from radius 0.5 to 1 about (0.2, -0.1, 1), flattened in z.
+    directions_ = rng.normal(size=(3000, 3))
+    directions_ /= np.linalg.norm(directions_, axis=1, keepdims=True)
+    points = (directions_[:, None, :] * np.linspace(0.5, 1.0, 9)[None, :, None] * (1.0, 1.0, 0.6)).reshape(-1, 3)
+    rest = world_occlusion.world_occlusion(points + (0.2, -0.1, 1.0), np.arange(0, len(points) + 1, 9),
+                                           np.full(len(points), 0.002))
+    box = (rest.lower, rest.lower + rest.extent)
+    occlusion = world_occlusion.moved_occlusion(rest, box, (box[0] + (0.1, 0.0, -0.2), box[1] * (1.0, 1.2, 1.0) + (0.1, 0.0, -0.2)))
+    probe = occlusion.lower + rng.uniform(-0.1, 1.1, (count, 3)) * occlusion.extent
+    strength = 0.8
+    on_gpu = world_grid_on_gpu(occlusion, strength, probe)
+    reference = strength * world_occlusion.optical_depths(occlusion, probe)
+    reference_light = world_occlusion.world_transmittance(probe, occlusion, strength, keep=WORLD_KEEP)
+    # Linear filtering's weights are fixed-point on some GPUs (8 bits a texel): 1 % of the largest depth.
+    tolerance = 1e-2 * reference.max()
+    error = np.abs(on_gpu[:, :14] - reference).max()
+    error_light = np.abs(on_gpu[:, 14:] - reference_light).max()
+    print(f"world occlusion grid: max |tau_glsl - tau_ref| = {error:.2e}, tau up to {reference.max():.3f}; the world's "
+          f"light through it max |T_glsl - T_ref| = {error_light:.2e}")
+    check(np.isfinite(on_gpu).all() and reference.max() > 0.1 and reference.min() < 1e-3,
+          "world occlusion grid: the probes reach empty and dense parts of the grid")
+    check(error <= tolerance and error_light <= 1e-3,
+          "world occlusion grid: GLSL's depths (within 1 % of the largest) and the world's light through them "
+          "(within 1e-3) agree with the reference")
 
 
 def check_layered_optical_depth():
@@ -450,6 +531,7 @@ def steps():
     check_forward_share()
     check_self_shadowing()
     check_layered_optical_depth()
+    check_world_occlusion()
     check_srbf_world()
     yield from ()
 

@@ -36,10 +36,10 @@ from bpy.app.handlers import persistent
 import numpy as np
 from mathutils import Vector
 
-from ... import depth_range, lod, opacity_map, preview_buffers, self_shadow
+from ... import depth_range, lod, opacity_map, preview_buffers, self_shadow, world_occlusion
 from .shaders import glsl_source
 from ..principled_hair import material_params, object_hair_params
-from . import hair_layer, opacity_maps, pulled_strips, view_transform, world_srbf
+from . import hair_layer, opacity_maps, pulled_strips, view_transform, world_occlusion_texture, world_srbf
 from .strand_batch import attribute_buffer
 
 # Level colours of the "Levels" overlay: coarsest first; the strands (finest level) are the last.
@@ -92,6 +92,8 @@ struct HairFrame {{
   vec4 shadow;
   mat4 light_view_projection[{opacity_map.MAX_SHADOWED_LIGHTS}];
   vec4 light_shadow[{opacity_map.MAX_SHADOWED_LIGHTS}];
+  vec4 world_grid_lower;
+  vec4 world_grid_extent;
 }};
 """
 
@@ -107,14 +109,17 @@ def _uniform_block(data):
 
 def frame_data(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours,
                hair_volume, shadow_strength, strand_radius, shadows, control_points=0, strand_coverage=False,
-               strands_follow_surface=False):
+               strands_follow_surface=False, occlusion=None):
     """The HairFrame uniform block's values, float32 (matrices column-major, as std140 stores them).
     viewport = (width, height, the hair layer's sample: 0, the first after a change (for_sample), 0);
     counts = (lights, control points per strand, 1 to draw strands and thick hairs by coverage (coverage_choice.glsl), 1 when
     the strands move by their surface transforms);
     hair_centre.w carries the self-shadowing sigma = strength x extinction (hairlod.self_shadow) of the
     lights without an opacity map; shadow = (the strands' radius in world units, 0, strength, 0) and
-    the mapped lights' views (opacity_maps.LightShadows) those of the maps."""
+    the mapped lights' views (opacity_maps.LightShadows) those of the maps; world_grid_lower = (the
+    world occlusion grid's lower corner, strength x its depth factor; 0: no grid, the world through the
+    ellipsoid) and world_grid_extent = (its extent, 0) place `occlusion`
+    (hairlod.world_occlusion.WorldOcclusion, the texture of world_depths)."""
     model = np.asarray(model, np.float64)
     data = np.concatenate([model.T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
                            np.linalg.inv(model).T.ravel(), np.asarray(camera, np.float32), (*viewport, 0.0, 0.0),
@@ -122,8 +127,16 @@ def frame_data(model, view_projection, camera, viewport, ambient, light_count, l
                             float(strands_follow_surface)),
                            (*hair_volume.centre, shadow_strength * hair_volume.extinction), (*hair_volume.semi_axes, 0.0),
                            light_vectors.ravel(), light_colours.ravel(), (strand_radius, 0.0, shadow_strength, 0.0),
-                           np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel()])
+                           np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel(),
+                           _grid_placement(occlusion, shadow_strength)])
     return np.ascontiguousarray(data, dtype=np.float32)
+
+
+def _grid_placement(occlusion, strength):
+    """frame_data's world_grid_lower and world_grid_extent."""
+    if occlusion is None:
+        return np.zeros(8)
+    return np.concatenate([occlusion.lower, (strength * occlusion.depth_factor,), occlusion.extent, (0.0,)])
 
 
 # Where the view-projection matrix and the viewport's (width, height, sample) lie in frame_data's values
@@ -176,11 +189,12 @@ def _declare_shading(info):
     from . import bcsdf_textures
 
     world_srbf.declare(info)
+    world_occlusion_texture.declare(info)
     bcsdf_textures.declare(info)
     view_transform.declare(info)
     opacity_maps.declare(info)
     return (view_transform.GLSL_CONSTANTS + opacity_maps.glsl_constants() +
-            glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl", "opacity_map.glsl",
+            glsl_source("aggregated_bcsdf.glsl", "srbf_world.glsl", "self_shadow.glsl", "world_occlusion.glsl", "opacity_map.glsl",
                         "view_transform.glsl", "hair_shading.glsl"))
 
 
@@ -435,6 +449,9 @@ class LodPreview:
         self.surface_transforms = None  # the transforms of the texture
         self.surface_arrays = None  # the two arrays the transforms are written into (_surface_target)
         self.rest_volume = None     # (HairVolume of the rest strands, bounding box of the rest clusters)
+        self.occlusion = None       # world_occlusion.WorldOcclusion of the strands at the pose drawn
+        self.rest_occlusion = None  # ... at rest
+        self.occlusion_texture = None  # world_occlusion_texture of rest_occlusion, made at the first shaded draw
         self.follow_status = ""     # why the preview does not follow the hair, when it does not
         self.follow_stats = {}
         self.pose_version = 0       # counts the poses skinned to (the opacity maps are drawn per pose)
@@ -475,6 +492,8 @@ class LodPreview:
         self.pending_skinned = False  # a new skinning: any pending guides are skinned again
         self.cluster_bounds = self.skinning.cluster_bounds
         self.rest_volume = (self.hair_volume, _spheres_box(self.cluster_bounds))
+        self.occlusion = self.rest_occlusion = world_occlusion.strands_occlusion(strands)
+        self.occlusion_texture = None
         self.skin_texture = skin_texture(self._skin_maps())
         if self.pending_guides is None and self.guides is not None:
             self.pending_guides, self.guides = self.guides, None  # buffers rebuilt: skin them again
@@ -618,6 +637,7 @@ class LodPreview:
         self.cluster_bounds = self.skinning.cluster_bounds
         rest_volume, rest_box = self.rest_volume
         self.hair_volume = self_shadow.moved_volume(rest_volume, rest_box, _spheres_box(self.cluster_bounds))
+        self.occlusion = world_occlusion.moved_occlusion(self.rest_occlusion, rest_box, _spheres_box(self.cluster_bounds))
         self.guides = guides
         self.pose_version += 1
         self.follow_stats.update(upload_ms=1e3 * (uploaded - skinned))
@@ -928,7 +948,10 @@ class LodPreview:
         values = frame_data(obj.matrix_world, fitted.projection @ view_array, camera,
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
                             light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows,
-                            self.asset.control_points, settings.strand_coverage, self.surface_texture is not None)
+                            self.asset.control_points, settings.strand_coverage, self.surface_texture is not None,
+                            self.occlusion)
+        if self.occlusion_texture is None:
+            self.occlusion_texture = world_occlusion_texture.texture(self.rest_occlusion)
         if state.hair_layer is None:
             state.hair_layer = hair_layer.HairLayer()
         # The hair layer already holds this hair when nothing it is drawn from changed: the frame's values
@@ -962,6 +985,7 @@ class LodPreview:
             program.uniform_block("hair_world", world_block)
             program.uniform_sampler("srbf_lut", world_texture)
             program.uniform_sampler("view_lut", view_lut)
+            program.uniform_sampler("world_depths", self.occlusion_texture)
 
         with layer.drawing((region.width, region.height)):
             self._draw_levels(state, frame, bind_shading, shaded)
