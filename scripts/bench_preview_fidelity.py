@@ -104,7 +104,7 @@ def parse_args():
     parser.add_argument("--hairs", default=",".join(HAIRS),
                         help=f"which hairs, comma-separated (default all): {', '.join(HAIRS)}")
     parser.add_argument("--arrays", action="store_true",
-                        help="also write each view's images as fidelity_<hair>_<view>.npz beside the PNGs: the preview's "
+                        help="also write each view's images as fidelity_<hair>_<view>[_<hdri>].npz beside the PNGs: the preview's "
                         "hair radiance and coverage, the path-traced hair's (unmixed from the sky) and its coverage")
     parser.add_argument("--out")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
@@ -281,6 +281,12 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
     from hairlod.blender.preview import lod_preview
     from hairlod.blender.principled_hair import object_hair_params
 
+    def image_name(name, view):
+        """The images' names: fidelity_<hair>_<view>, then _<the HDRI's name> where one lights the scene (the
+        UI test measures under three lightings into one folder)."""
+        lighting = "" if hdri is None else "_" + os.path.splitext(os.path.basename(hdri))[0]
+        return f"fidelity_{name.split()[0]}_{view}{lighting}"
+
     window = bpy.context.window_manager.windows[0]
     area = next(a for a in window.screen.areas if a.type == 'VIEW_3D')
     region = next(r for r in area.regions if r.type == 'WINDOW')
@@ -371,12 +377,12 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 yield DELAY
                 # At rest, once the preview holds every sample of the viewport's anti-aliasing.
                 yield from redraws.at_rest(QUIET)
-                with_hair = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_preview.png")
+                with_hair = screenshot(window, area, f"{image_name(name, view)}_preview.png")
                 layer_colour, coverage, samples = lod_preview.preview_of(holder).hair_pixels(region_3d)
                 settings.enabled = False
                 area.tag_redraw()
                 yield DELAY
-                without = screenshot(window, area, f"fidelity_{name.split()[0]}_{view}_off.png")
+                without = screenshot(window, area, f"{image_name(name, view)}_off.png")
                 box = (slice(region.y - area.y, region.y - area.y + region.height),
                        slice(region.x - area.x, region.x - area.x + region.width))
                 # The preview's own hair radiance: a pixel shows the mean over its samples that hold hair
@@ -460,7 +466,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                                                                    "spread_series")}),
                       "preview", entry["preview"],
                       "traced", entry["path_traced"], flush=True)
-                out = os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), f"fidelity_{name.split()[0]}_{view}")
+                out = os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), image_name(name, view))
                 render.write_image(out + "_traced.png", traced[::-1])
                 if arrays:  # rows bottom-up, as the screenshots'; the path-traced ones at --scale of the preview's size
                     np.savez_compressed(out + ".npz", preview=preview_linear, preview_coverage=coverage,

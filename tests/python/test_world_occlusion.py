@@ -199,3 +199,20 @@ def test_hair_in_one_place_occludes_nothing():
 def test_bad_strands_are_named(points, offsets, radius, message):
     with pytest.raises(ValueError, match=message):
         world_occlusion.world_occlusion(points, offsets, radius)
+
+
+def test_strands_occlusion_equals_the_occlusion_of_the_arrays():
+    # The preview's path (the core's float32 arrays and bounding box) against the arrays', thinned alike.
+    import hairlod
+
+    rng = np.random.default_rng(4)
+    counts = rng.integers(2, 9, 3000)
+    points = rng.normal(size=(int(counts.sum()), 3)).astype(np.float32) * [1.0, 2.0, 0.5]
+    radius = rng.uniform(0.001, 0.01, len(points)).astype(np.float32)
+    strands = hairlod.Strands.from_counts(points, counts, radius)
+    fast = world_occlusion.strands_occlusion(strands, max_samples=5000)
+    reference = world_occlusion.world_occlusion(points, strands.offsets, radius, max_samples=5000)
+    np.testing.assert_allclose(fast.lower, reference.lower, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(fast.extent, reference.extent, rtol=1e-6)
+    np.testing.assert_allclose(fast.optical_depths, reference.optical_depths, rtol=1e-4, atol=1e-6)
+    assert reference.optical_depths.max() > 0.0

@@ -39,7 +39,7 @@ higher, its rare bright paths missed). Asserted:
   fibre's response to a sun at its grazing views (docs/preview.md, "Lit by an HDRI").
 Each reference is one render (spread_tolerance 0): the means are unbiased at 128 spp; the luminance spread, for
 which the benchmark doubles the reference's samples until it settles, is not asserted here.
-Screenshots and the path-traced images go to $HAIRLOD_UI_OUT (default out/ui) as fidelity_*.png.
+Screenshots and the path-traced images go to $HAIRLOD_UI_OUT (default out/ui) as fidelity_<hair>_<view>[_<hdri>]_*.png.
 """
 
 import os
