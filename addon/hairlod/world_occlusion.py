@@ -39,8 +39,8 @@ __all__ = ["GRID_RESOLUTION", "MAX_SAMPLES", "SAMPLE_SPACING", "WorldOcclusion",
 # of 16 depths: 5.9 MB in float32).
 GRID_RESOLUTION = 48
 # The samples splatted, each at most SAMPLE_SPACING voxels from the next along its strand: at most
-# MAX_SAMPLES of them, from every k-th strand (each standing for k), which keeps the splat (0.1 us a
-# sample) off the first frame's time; 250k samples put tens in every voxel a dense head of hair fills.
+# MAX_SAMPLES of them, from every k-th strand (each standing for k), which keeps the grid of 100k
+# strands to 0.16 s of the first frame; 250k samples put tens in every voxel a dense head of hair fills.
 SAMPLE_SPACING = 0.5
 MAX_SAMPLES = 250_000
 
