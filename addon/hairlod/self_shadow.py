@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HairVolume", "WORLD_DIRECTIONS", "hair_volume", "strands_volume", "transmittance", "world_transmittance"]
+__all__ = ["HairVolume", "WORLD_DIRECTIONS", "hair_volume", "strand_arrays", "strands_volume", "transmittance",
+           "world_transmittance"]
 
 # Semi-axes are at least this share of the largest one, so flat hair (all in a plane) keeps a
 # finite volume and the ellipsoid test stays well conditioned.
@@ -41,22 +42,29 @@ class HairVolume:
 def hair_volume(points, offsets, radius):
     """The HairVolume of strands given as points [N, 3], offsets [C + 1] and radius [N] (the layout
     of hairlod.Strands)."""
-    points = np.asarray(points, dtype=np.float64)
-    offsets = np.asarray(offsets, dtype=np.int64)
-    radius = np.asarray(radius, dtype=np.float64)
-    if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
-        raise ValueError(f"hair volume: points must have shape [N >= 2, 3], got {list(points.shape)}")
-    if radius.shape != (len(points),):
-        raise ValueError(f"hair volume: radius must have shape [{len(points)}], got {list(radius.shape)}")
-    if offsets.ndim != 1 or len(offsets) < 2 or offsets[0] != 0 or offsets[-1] != len(points):
-        raise ValueError(f"hair volume: offsets must run from 0 to {len(points)}")
-    if not (np.isfinite(points).all() and np.isfinite(radius).all()):
-        raise ValueError("hair volume: points and radius must be finite")
+    points, offsets, radius = strand_arrays(points, offsets, radius, "hair volume")
     # Segments within a strand only: drop the step from one strand's tip to the next one's root.
     steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
     within = np.ones(len(steps), bool)
     within[offsets[1:-1] - 1] = False
     return _volume(points.min(axis=0), points.max(axis=0), float(steps[within].sum()), float(radius.mean()))
+
+
+def strand_arrays(points, offsets, radius, what):
+    """points [N >= 2, 3], offsets [C + 1] from 0 to N and radius [N], finite, as float64 / int64 arrays;
+    ValueError naming `what` and the array at fault otherwise."""
+    points = np.asarray(points, dtype=np.float64)
+    offsets = np.asarray(offsets, dtype=np.int64)
+    radius = np.asarray(radius, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
+        raise ValueError(f"{what}: points must have shape [N >= 2, 3], got {list(points.shape)}")
+    if radius.shape != (len(points),):
+        raise ValueError(f"{what}: radius must have shape [{len(points)}], got {list(radius.shape)}")
+    if offsets.ndim != 1 or len(offsets) < 2 or offsets[0] != 0 or offsets[-1] != len(points):
+        raise ValueError(f"{what}: offsets must run from 0 to {len(points)}")
+    if not (np.isfinite(points).all() and np.isfinite(radius).all()):
+        raise ValueError(f"{what}: points and radius must be finite")
+    return points, offsets, radius
 
 
 def strands_volume(strands):

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .self_shadow import WORLD_DIRECTIONS
+from .self_shadow import WORLD_DIRECTIONS, strand_arrays
 
 __all__ = ["GRID_RESOLUTION", "MAX_SAMPLES", "SAMPLE_SPACING", "WorldOcclusion", "moved_occlusion", "optical_depths",
            "strands_occlusion", "world_occlusion", "world_transmittance"]
@@ -62,17 +62,9 @@ def world_occlusion(points, offsets, radius, resolution=GRID_RESOLUTION, max_sam
     layout of hairlod.Strands), on a grid of `resolution` voxels along their largest extent (plus
     one on every side, which takes the density the points on the box's faces spread outwards), from
     at most `max_samples` samples along the strands."""
-    points = np.asarray(points, dtype=np.float64)
-    offsets = np.asarray(offsets, dtype=np.int64)
-    radius = np.asarray(radius, dtype=np.float64)
-    if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
-        raise ValueError(f"world occlusion: points must have shape [N >= 2, 3], got {list(points.shape)}")
-    if radius.shape != (len(points),):
-        raise ValueError(f"world occlusion: radius must have shape [{len(points)}], got {list(radius.shape)}")
-    if offsets.ndim != 1 or len(offsets) < 2 or offsets[0] != 0 or offsets[-1] != len(points) or np.any(np.diff(offsets) < 1):
-        raise ValueError(f"world occlusion: offsets must rise from 0 to {len(points)}")
-    if not (np.isfinite(points).all() and np.isfinite(radius).all()):
-        raise ValueError("world occlusion: points and radius must be finite")
+    points, offsets, radius = strand_arrays(points, offsets, radius, "world occlusion")
+    if np.any(np.diff(offsets) < 1):
+        raise ValueError("world occlusion: offsets must rise (every strand holds a point)")
     return _occlusion(points, offsets, radius, points.min(axis=0), points.max(axis=0), resolution, max_samples)
 
 

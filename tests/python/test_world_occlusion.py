@@ -192,7 +192,7 @@ def test_hair_in_one_place_occludes_nothing():
     (np.zeros((1, 3)), [0, 1], np.ones(1), "points must have shape"),
     (np.zeros((4, 2)), [0, 4], np.ones(4), "points must have shape"),
     (np.zeros((4, 3)), [0, 4], np.ones(3), "radius must have shape"),
-    (np.zeros((4, 3)), [0, 3], np.ones(4), "offsets must rise"),
+    (np.zeros((4, 3)), [0, 3], np.ones(4), "offsets must run from 0 to 4"),
     (np.zeros((4, 3)), [0, 2, 2, 4], np.ones(4), "offsets must rise"),
     (np.full((4, 3), np.nan), [0, 4], np.ones(4), "finite"),
 ])
