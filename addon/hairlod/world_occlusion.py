@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _core
 from .self_shadow import WORLD_DIRECTIONS, strand_arrays
 
 __all__ = ["GRID_RESOLUTION", "MAX_SAMPLES", "SAMPLE_SPACING", "WorldOcclusion", "moved_occlusion", "optical_depths",
@@ -39,8 +40,9 @@ __all__ = ["GRID_RESOLUTION", "MAX_SAMPLES", "SAMPLE_SPACING", "WorldOcclusion",
 # of 16 depths: 5.9 MB in float32).
 GRID_RESOLUTION = 48
 # The samples splatted, each at most SAMPLE_SPACING voxels from the next along its strand: at most
-# MAX_SAMPLES of them, from every k-th strand (each standing for k), which keeps the grid of 100k
-# strands to 0.16 s of the first frame; 250k samples put tens in every voxel a dense head of hair fills.
+# MAX_SAMPLES of them, from every k-th strand (each standing for k): 250k samples put tens in every voxel a
+# dense head of hair fills, and keep the grid of 100k strands of 17 points to 45 ms of the first frame (15
+# ms of it the samples' splat in C++; numpy's took 0.15 s in all).
 SAMPLE_SPACING = 0.5
 MAX_SAMPLES = 250_000
 
@@ -61,7 +63,7 @@ def world_occlusion(points, offsets, radius, resolution=GRID_RESOLUTION, max_sam
     """The WorldOcclusion of strands given as points [N, 3], offsets [C + 1] and radius [N] (the
     layout of hairlod.Strands), on a grid of `resolution` voxels along their largest extent (plus
     one on every side, which takes the density the points on the box's faces spread outwards), from
-    at most `max_samples` samples along the strands."""
+    at most `max_samples` samples along the strands (taken in float32, as hairlod.Strands holds points)."""
     points, offsets, radius = strand_arrays(points, offsets, radius, "world occlusion")
     if np.any(np.diff(offsets) < 1):
         raise ValueError("world occlusion: offsets must rise (every strand holds a point)")
@@ -70,7 +72,7 @@ def world_occlusion(points, offsets, radius, resolution=GRID_RESOLUTION, max_sam
 
 def strands_occlusion(strands, resolution=GRID_RESOLUTION, max_samples=MAX_SAMPLES):
     """The WorldOcclusion of a hairlod.Strands (validated, finite): world_occlusion of its arrays, with
-    the core's bounding box (numpy's passes over every point took a quarter of the time)."""
+    the core's bounding box and no copy of them."""
     lower, upper = strands.bounding_box()
     return _occlusion(strands.points, np.asarray(strands.offsets, np.int64), strands.radius,
                       np.asarray(lower, np.float64), np.asarray(upper, np.float64), resolution, max_samples)
@@ -80,36 +82,12 @@ def _occlusion(points, offsets, radius, lower, upper, resolution, max_samples):
     """world_occlusion of valid arrays (float32 or float64) whose points lie in the box [lower, upper]."""
     if int(resolution) < 1 or int(max_samples) < 1:
         raise ValueError(f"world occlusion: resolution and max_samples must be >= 1, got {resolution}, {max_samples}")
-    largest = float((upper - lower).max())
-    # Hair with no extent (every point in one place) occludes nothing measurable: one voxel, no depth.
-    voxel = largest / int(resolution) if largest > 0.0 else 1.0
-    # Every k-th strand stands for k: first k to keep the points to max_samples (the segments' arrays
-    # below cost more than the splat), then to keep the samples to it.
-    stride = max(-(-len(points) // int(max_samples)), 1)
-    if stride > 1:
-        points, offsets, radius = _every_kth_strand(points, offsets, radius, stride)
-    points, radius = np.asarray(points, np.float64), np.asarray(radius, np.float64)  # the core's are float32
-    # Each segment (within a strand) as samples at most half a voxel apart, each its share of the
-    # segment's projected area 2 r l: a strand's segments are often longer than a voxel (2.5 cm of
-    # 17-point strands against voxels of 0.8 cm), and its points alone pile the density into planes.
-    within = np.ones(len(points) - 1, bool)
-    within[offsets[1:-1] - 1] = False
-    first = np.flatnonzero(within)
-    start, step = points[first], points[first + 1] - points[first]
-    length = np.sqrt(np.einsum("ij,ij->i", step, step))
-    area = (radius[first] + radius[first + 1]) * length * stride
-    samples = np.maximum(np.ceil(length / (SAMPLE_SPACING * voxel)).astype(np.int64), 1)
-    more = -(-int(samples.sum()) // int(max_samples))
-    if more > 1:
-        kept = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets) - 1) % more == 0
-        start, step, length, area, samples = start[kept], step[kept], length[kept], area[kept] * more, samples[kept]
-    segment = np.repeat(np.arange(len(samples)), samples)
-    along = (np.arange(len(segment)) - np.repeat(np.cumsum(samples) - samples, samples) + 0.5) / samples[segment]
-    # Each sample's area and its tangent's second moments t t^T (xx, yy, zz, xy, xz, yz), weighted by it.
-    tangent = step / np.maximum(length, 1e-300)[:, None]
-    moments = tangent[:, [0, 1, 2, 0, 0, 1]] * tangent[:, [0, 1, 2, 1, 2, 2]]
-    weighted = (area / samples / voxel ** 3)[:, None] * np.concatenate([np.ones((len(samples), 1)), moments], axis=1)
-    fields = _splat(start[segment] + along[:, None] * step[segment], weighted[segment], lower, voxel, upper)
+    # The strands' density and their tangents' second moments (C++ core/strand_density.h): each segment
+    # sampled at most half a voxel apart, each sample its share of the segment's projected area 2 r l (a
+    # strand's segments are often longer than a voxel, 2.5 cm of 17-point strands against voxels of 0.8 cm,
+    # and its points alone pile the density into planes), from every k-th strand, each standing for k.
+    fields, voxel, _ = _core.strand_density(points, offsets, radius, lower, upper, int(resolution), int(max_samples),
+                                            SAMPLE_SPACING)
     density, m = fields[0], fields[1:]
     mean_moments = m / np.where(density > 0.0, density, 1.0)
     depths = []
@@ -176,40 +154,8 @@ def world_transmittance(points, occlusion, strength, keep=None):
     return np.exp(-tau[:, :, None] * keep[None, :, :]).mean(axis=1)
 
 
-def _every_kth_strand(points, offsets, radius, k):
-    """(points, offsets, radius) of strands 0, k, 2 k, ..."""
-    counts = np.diff(offsets)
-    kept_strands = np.arange(len(counts)) % k == 0
-    kept = np.repeat(kept_strands, counts)
-    return points[kept], np.concatenate([[0], np.cumsum(counts[kept_strands])]), radius[kept]
-
-
 # WORLD_DIRECTIONS as steps between neighbouring voxels: the axes and the cube diagonals.
 _GRID_STEPS = np.rint(WORLD_DIRECTIONS / np.abs(WORLD_DIRECTIONS).max(axis=1, keepdims=True)).astype(np.int64)
-
-
-def _splat(points, weights, lower, voxel, upper):
-    """Fields [C, nx + 2, ny + 2, nz + 2] of weights [N, C]: each point's spread over the 8 voxels around
-    it by trilinear weights, the voxels' centres at lower + (i - 0.5) voxel (the voxel on each side of
-    the box holds what the points at its faces spread outwards)."""
-    inner = np.maximum(np.ceil((upper - lower) / voxel - 1e-9).astype(np.int64), 1)
-    shape = inner + 2
-    cell = np.clip((points - lower) * (1.0 / voxel) + 0.5, 0.5, inner + 0.5)  # in centres' units, margin centre at 0
-    base = np.minimum(cell.astype(np.int64), inner)
-    frac = cell - base
-    flat = (base[:, 0] * shape[1] + base[:, 1]) * shape[2] + base[:, 2]
-    size = int(np.prod(shape))
-    fields = np.zeros((weights.shape[1], size))
-    for dx in (0, 1):
-        wx = frac[:, 0] if dx else 1.0 - frac[:, 0]
-        for dy in (0, 1):
-            wxy = wx * (frac[:, 1] if dy else 1.0 - frac[:, 1])
-            for dz in (0, 1):
-                corner = wxy * (frac[:, 2] if dz else 1.0 - frac[:, 2])
-                index = flat + (dx * shape[1] + dy) * shape[2] + dz
-                for c in range(weights.shape[1]):
-                    fields[c] += np.bincount(index, weights=corner * weights[:, c], minlength=size)[:size]
-    return fields.reshape(-1, *shape)
 
 
 def _sweep(sigma, step, voxel):

@@ -8,6 +8,7 @@
 #include "bindings.h"
 #include "numpy_arrays.h"
 #include "hairlod/core/error.h"
+#include "hairlod/core/strand_density.h"
 #include "hairlod/core/strand_metrics.h"
 #include "hairlod/core/strand_set.h"
 #include "hairlod/curves/resample.h"
@@ -196,6 +197,35 @@ len(strands) is the number of curves C.)doc")
         .def("require_float_range", &StrandSet::require_float_range, py::arg("what"),
              "Raises ValueError ('what: ...') when coordinates or radii exceed 1e13 in magnitude or the hair "
              "is less than 1e-10 across: the range hairlod's float32 geometry handles.");
+
+    m.def("strand_density",
+          [](const FloatArray& points, const IndexArray& offsets, const FloatArray& radius, const DoubleArray& lower,
+             const DoubleArray& upper, int resolution, int64_t max_samples, double sample_spacing) {
+              const std::span<const glm::vec3> point_rows = rows_of<glm::vec3>(points, 3, "points");
+              if (offsets.ndim() != 1) throw Error("offsets must be one-dimensional");
+              if (radius.ndim() != 1) throw Error("radius must be one-dimensional");
+              if (lower.size() != 3 || upper.size() != 3) throw Error("lower and upper must hold 3 values each");
+              StrandDensityOptions options;
+              options.lower = {lower.data()[0], lower.data()[1], lower.data()[2]};
+              options.upper = {upper.data()[0], upper.data()[1], upper.data()[2]};
+              options.resolution = resolution;
+              options.max_samples = max_samples;
+              options.sample_spacing = sample_spacing;
+              StrandDensity density;
+              {
+                  py::gil_scoped_release release;
+                  density = strand_density(point_rows, {offsets.data(), static_cast<size_t>(offsets.size())},
+                                           {radius.data(), static_cast<size_t>(radius.size())}, options);
+              }
+              py::array_t<double> fields = to_numpy<double>(
+                  density.fields, {kStrandDensityFields, density.shape[0], density.shape[1], density.shape[2]});
+              return py::make_tuple(fields, density.voxel, density.strand_step);
+          },
+          py::arg("points"), py::arg("offsets"), py::arg("radius"), py::arg("lower"), py::arg("upper"),
+          py::arg("resolution"), py::arg("max_samples"), py::arg("sample_spacing"),
+          "(fields float64 [7, nx, ny, nz], voxel, strand_step): the strands' projected area per unit volume and "
+          "its tangent-weighted second moments on a grid over the box [lower, upper] with one voxel of margin "
+          "on every side (core/strand_density.h).");
 }
 
 }  // namespace hairlod::python
