@@ -149,6 +149,17 @@ TEST(StrandDensity, BadInputIsNamed) {
     bad = options;
     bad.sample_spacing = 0.0;
     EXPECT_NE(message(hair.offsets, hair.radius, bad).find("sample_spacing"), std::string::npos);
+    Hair not_finite = hair;
+    not_finite.points[1].y = std::nanf("");
+    try {
+        strand_density(not_finite.points, not_finite.offsets, not_finite.radius, options);
+        ADD_FAILURE() << "a point that is not finite was splatted";
+    } catch (const Error& error) {
+        EXPECT_NE(std::string(error.what()).find("must be finite"), std::string::npos);
+    }
+    not_finite = hair;
+    not_finite.radius[0] = INFINITY;
+    EXPECT_THROW(strand_density(not_finite.points, not_finite.offsets, not_finite.radius, options), Error);
     bad = options;
     bad.upper.x = std::nan("");
     EXPECT_NE(message(hair.offsets, hair.radius, bad).find("the box must be finite"), std::string::npos);

@@ -216,3 +216,20 @@ def test_strands_occlusion_equals_the_occlusion_of_the_arrays():
     np.testing.assert_allclose(fast.extent, reference.extent, rtol=1e-6)
     np.testing.assert_allclose(fast.optical_depths, reference.optical_depths, rtol=1e-4, atol=1e-6)
     assert reference.optical_depths.max() > 0.0
+
+
+def test_the_cores_splat_names_bad_input():
+    # The core's function behind the grid checks what it splats itself (world_occlusion checks first).
+    from hairlod import _core
+
+    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [np.nan, 0.0, 0.0]], np.float32)
+    args = ([0, 2, 3], np.full(3, RADIUS, np.float32), np.zeros(3), np.ones(3), 8, 1000, 0.5)
+    with pytest.raises(ValueError, match="points and radii must be finite"):
+        _core.strand_density(points, *args)
+    with pytest.raises(ValueError, match="offsets must run from 0 to 2"):
+        _core.strand_density(points[:2], *args)
+    fields, voxel, step = _core.strand_density(points[:2], [0, 2], np.full(2, RADIUS, np.float32), np.zeros(3),
+                                               np.ones(3), 8, 1000, 0.5)
+    # One segment of length 1 and radius RADIUS: its projected area 2 r l, all of it on the grid.
+    assert fields.shape[0] == 7 and step == 1
+    assert fields[0].sum() * voxel ** 3 == pytest.approx(2.0 * RADIUS, rel=1e-6)

@@ -1,6 +1,7 @@
 #include "hairlod/core/strand_density.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -63,18 +64,27 @@ StrandDensity strand_density(std::span<const glm::vec3> points, std::span<const 
 
     // Every k-th strand stands for k: first k to keep the points to max_samples, then to keep the
     // samples of those strands to it.
+    // The strands sampled below are among these, whose points and radii are checked here: a point that
+    // is not finite has no voxel.
     const int64_t point_step = std::max<int64_t>(ceil_div(static_cast<int64_t>(points.size()), options.max_samples), 1);
+    std::atomic<bool> finite{true};
     const int64_t total_samples = tbb::parallel_reduce(
         tbb::blocked_range<int64_t>(0, ceil_div(strand_count, point_step)), int64_t{0},
         [&](const tbb::blocked_range<int64_t>& range, int64_t sum) {
             for (int64_t kept = range.begin(); kept != range.end(); ++kept) {
                 const int64_t c = kept * point_step;
-                for (int64_t i = offsets[c]; i + 1 < offsets[c + 1]; ++i)
-                    sum += segment_samples(glm::length(glm::dvec3(points[i + 1]) - glm::dvec3(points[i])), spacing);
+                for (int64_t i = offsets[c]; i < offsets[c + 1]; ++i) {
+                    if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y) || !std::isfinite(points[i].z) ||
+                        !std::isfinite(radius[i]))
+                        finite = false;
+                    else if (i + 1 < offsets[c + 1])
+                        sum += segment_samples(glm::length(glm::dvec3(points[i + 1]) - glm::dvec3(points[i])), spacing);
+                }
             }
             return sum;
         },
         [](int64_t a, int64_t b) { return a + b; });
+    if (!finite) throw Error("strand density: points and radii must be finite");
     result.strand_step = point_step * std::max<int64_t>(ceil_div(total_samples, options.max_samples), 1);
 
     const std::array<size_t, 3> stride{static_cast<size_t>(result.shape[1]) * result.shape[2],

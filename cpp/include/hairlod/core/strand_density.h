@@ -39,7 +39,8 @@ struct StrandDensity {
 // max(1, ceil(l / (sample_spacing voxel))) equal pieces, each sample adding its piece's share of the
 // segment's area (times strand_step) to the 8 voxels around it by trilinear weights. Hair with no
 // extent gets voxels of 1. Throws hairlod::Error for offsets that do not run from 0 to the point count
-// through rising values, a radius per point missing, or options out of range.
+// through rising values, a radius per point missing, a point or radius of a strand it samples that is
+// not finite, or options out of range.
 StrandDensity strand_density(std::span<const glm::vec3> points, std::span<const int64_t> offsets,
                              std::span<const float> radius, const StrandDensityOptions& options);
 
