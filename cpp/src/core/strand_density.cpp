@@ -63,9 +63,8 @@ StrandDensity strand_density(std::span<const glm::vec3> points, std::span<const 
     const double spacing = options.sample_spacing * result.voxel;
 
     // Every k-th strand stands for k: first k to keep the points to max_samples, then to keep the
-    // samples of those strands to it.
-    // The strands sampled below are among these, whose points and radii are checked here: a point that
-    // is not finite has no voxel.
+    // samples of those strands to it. The strands splatted below are among those counted here, whose
+    // points and radii are checked on the way: a point that is not finite has no voxel.
     const int64_t point_step = std::max<int64_t>(ceil_div(static_cast<int64_t>(points.size()), options.max_samples), 1);
     std::atomic<bool> finite{true};
     const int64_t total_samples = tbb::parallel_reduce(
