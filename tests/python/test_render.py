@@ -77,6 +77,26 @@ def test_render_is_deterministic_and_writes_images(shared_data, tmp_path):
         render.write_image(tmp_path / "x.jpg", a["image"])
 
 
+def test_direct_light_alone_keeps_the_environments_bcsdf_sampled_share():
+    # One strand alone under a white sky: nothing else to scatter from, so its direct light (max_bounces 0)
+    # is all of its light (max_bounces 1), up to the two renders' noise (8 %: blue moves by 3-6 % from
+    # seed to seed). Next-event estimation weights the sky by MIS against BCSDF sampling; stopped before
+    # that sample, the strand read 0.16 of 0.66 in red.
+    t = np.linspace(0.0, 1.0, 17)
+    points = np.stack([0.3 * np.sin(1.5 * t), t, 0.1 * t], axis=1).astype(np.float32)
+    strand = render._core.Strands(points, np.array([0, 17], np.int64), np.full(17, 0.02, np.float32))
+    camera = render.frame_view(strand.points, "near", 32)
+    sky = {"directional": [], "points": [], "environment": np.ones(3, np.float32)}
+    alpha = 1.0 - render.render(strand, width=32, spp=256, camera=camera, coverage_only=True)["image"][..., 0]
+    hair = alpha > 0.3
+    assert hair.sum() >= 10
+    means = [((render.render(strand, width=32, spp=512, camera=camera, max_bounces=bounces, lights=sky, seed=seed)["image"]
+               - (1.0 - alpha)[..., None])[hair] / alpha[hair][:, None]).mean(axis=0)
+             for bounces, seed in ((0, 1), (1, 2))]
+    assert np.all(means[1] > 0.1)
+    np.testing.assert_allclose(means[0], means[1], rtol=0.08)
+
+
 def test_views_cover_decreasing_fractions(shared_data):
     strands = io.read(shared_data / "Bangs_100.hair")
     lights = {"directional": [], "points": [], "environment": np.zeros(3, np.float32)}

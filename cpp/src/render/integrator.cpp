@@ -358,6 +358,11 @@ struct Tracer {
         // anything closer along the ray comes first.
         SurfaceHit own_strand;
         bool meets_own_strand = false;
+        // Past max_bounces the path still takes one BCSDF sample: next-event estimation weighted the
+        // environment's light by MIS against it, so without it an environment-lit hit would keep only
+        // the light sample's share (an isolated strand read 0.16 of its light under a white sky at
+        // max_bounces 0, 0.66 at 1). That ray adds the environment if it escapes, nothing if it hits.
+        bool escape_only = false;
         for (int bounce = 0;; ++bounce) {
             SurfaceHit hit;
             ++rays;
@@ -384,8 +389,12 @@ struct Tracer {
                 --bounce;
                 continue;
             }
+            if (escape_only) break;
             radiance += throughput * direct(v, hit, rng, rays);
-            if (bounce >= options.max_bounces) break;
+            if (bounce >= options.max_bounces) {
+                if (!environment_lit) break;
+                escape_only = true;
+            }
             const BcsdfSample s = shader.sample(v, rng, [&](const glm::dvec3& wi) {
                 // Scattering inside, the path meets the own hair's strands itself (below).
                 return shader.scatters_inside() ? 0.0 : shader.light_crossings(v, scene, hit, v.frame.world(wi));
