@@ -21,7 +21,9 @@ coverage ratio (the preview's hair pixels over the path-traced coverage summed o
 the viewport's pixel grid), with one JSON object printed at the end. The spread is also given on the
 path-traced image's own pixels (spread_same_pixels, hairlod.render.same_pixels_spread: the preview
 averaged onto them, the pixels both images cover, weighted by coverage), where the whole-image
-spreads compare different pixels. --strand-coverage off draws every strand a pixel wide (the panel's
+spreads compare different pixels. The mean luminance on those pixels in six bands of rows, bottom to top
+(rows_same_pixels, hairlod.render.same_pixels_rows), shows the hair's shading across the image: a
+mohawk's roots against its tips. --strand-coverage off draws every strand a pixel wide (the panel's
 Strand Coverage).
 
 --hdri NAME lights both with an equirectangular image instead of the uniform world: one of Blender's
@@ -144,16 +146,30 @@ def summary(linear, mask, weights=None):
             "spread": [float(np.percentile(lum, 5)), float(np.percentile(lum, 95))]}
 
 
+def nested_step(scale):
+    """Screen pixels per path-traced pixel a side (1 / --scale), None where the two grids do not nest."""
+    step = int(round(1.0 / scale))
+    return step if abs(step * scale - 1.0) <= 1e-6 else None
+
+
+def rows_on_same_pixels(preview, mask, hair_radiance, alpha, scale):
+    """hairlod.render.same_pixels_rows of the screenshot's hair against the path-traced hair, bottom to
+    top of the screen (the arrays' rows run bottom-up), None as spread_on_same_pixels."""
+    from hairlod import render
+
+    step = nested_step(scale)
+    rows = None if step is None else render.same_pixels_rows(preview, mask, hair_radiance, alpha, step)
+    return None if rows is None else {"pixels": rows["pixels"], "preview": rows["image"], "path_traced": rows["reference"]}
+
+
 def spread_on_same_pixels(preview, mask, hair_radiance, alpha, scale):
     """hairlod.render.same_pixels_spread of the screenshot's hair against the path-traced hair on the
     path-traced image's pixels (1 / scale screen pixels a side), None where the grids do not nest or
     too few pixels are covered by both."""
     from hairlod import render
 
-    step = int(round(1.0 / scale))
-    if abs(step * scale - 1.0) > 1e-6:
-        return None
-    spread = render.same_pixels_spread(preview, mask, hair_radiance, alpha, step)
+    step = nested_step(scale)
+    spread = None if step is None else render.same_pixels_spread(preview, mask, hair_radiance, alpha, step)
     return None if spread is None else {"pixels": spread["pixels"], "preview": spread["image"],
                                         "path_traced": spread["reference"], "ratio": spread["ratio"]}
 
@@ -450,6 +466,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                          "segments": lod_preview.preview_of(holder).stats.get("segments")}
                 entry["mean_ratio"] = (np.array(entry["preview"]["mean"]) / np.array(entry["path_traced"]["mean"])).tolist()
                 entry["spread_same_pixels"] = spread
+                entry["rows_same_pixels"] = rows_on_same_pixels(preview_linear, coverage * mask, hair_radiance, alpha, scale)
                 entry["spread_series"] = series  # the reference's spread and the ratio at each doubling of its samples
                 # How much of the image the hair covers: the preview's coverage against the path-traced
                 # coverage, each summed over the image (the same pixel grid at --scale 1).
@@ -463,7 +480,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                                                         np.array(entry["cycles"]["mean"])).tolist()
                 results[f"{name} {view}"] = entry
                 print(name, view, json.dumps({k: entry[k] for k in ("mean_ratio", "coverage_ratio", "spread_same_pixels",
-                                                                   "spread_series")}),
+                                                                   "rows_same_pixels", "spread_series")}),
                       "preview", entry["preview"],
                       "traced", entry["path_traced"], flush=True)
                 out = os.path.join(os.environ.get("HAIRLOD_UI_OUT", "out/ui"), image_name(name, view))

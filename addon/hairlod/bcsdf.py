@@ -115,6 +115,33 @@ def white_furnace(model, params, wo=(0.0, 1.0, 0.0), h=None, tolerance=1e-6, tt=
     return np.array(_core.bcsdf_white_furnace(model, as_params(params), wo, h=h, tolerance=float(tolerance), tt=tt))
 
 
+def sphere_kernels(model, params, directions, solid_angles, tangents, views):
+    """For each fibre (world-space unit ``tangents`` [M, 3]) seen along ``views`` [M, 3] (unit, towards the
+    viewer), S(wi, wo) cos(theta_i) dw_i at radiance samples along ``directions`` [P, 3] (unit, world
+    space) of ``solid_angles`` [P]: float64 [M, P, 3]. Summed against radiance [P, 3] over the samples it is
+    the fibre's single scattering under that light, by brute force; scripts/bench_world_fit.py holds a
+    world's SRBF fit against its image so. A view along the tangent takes any normal-plane azimuth."""
+    tangents = np.asarray(tangents, np.float64).reshape(-1, 3)
+    views = np.asarray(views, np.float64).reshape(-1, 3)
+    directions = np.asarray(directions, np.float64).reshape(-1, 3)
+    solid_angles = np.asarray(solid_angles, np.float64).reshape(-1)
+    if tangents.shape != views.shape:
+        raise ValueError(f"tangents and views must have the same shape, got {tangents.shape} and {views.shape}")
+    if solid_angles.shape != (len(directions),):
+        raise ValueError(f"solid_angles must have shape [{len(directions)}], got {solid_angles.shape}")
+    kernels = np.empty((len(tangents), len(directions), 3))
+    for k, (tangent, wo) in enumerate(zip(tangents, views)):
+        across = wo - (wo @ tangent) * tangent
+        if np.linalg.norm(across) < 1e-9:
+            across = np.cross(tangent, [1.0, 0.0, 0.0] if abs(tangent[0]) < 0.9 else [0.0, 1.0, 0.0])
+        across /= np.linalg.norm(across)
+        frame = np.stack([tangent, across, np.cross(tangent, across)])  # rows: the fibre frame's axes
+        wi_local = directions @ frame.T
+        fibre = evaluate(model, params, wi_local, np.ascontiguousarray(np.broadcast_to(frame @ wo, wi_local.shape)))
+        kernels[k] = fibre * (np.sqrt(np.maximum(1.0 - wi_local[:, 0] ** 2, 0.0)) * solid_angles)[:, None]
+    return kernels
+
+
 def huang_sample(params, wo, u):
     """Directions drawn from the Huang fibre for the views wo (float [N, 3], fibre frame) with uniforms u
     (float [N, 11] in [0, 1)): (wi [N, 3], weight [N, 3] = S cos(theta_i) / pdf, 0 where no path leaves;

@@ -121,6 +121,32 @@ def test_same_pixels_spread_compares_the_same_pixels():
     assert render.same_pixels_spread(image, hair, reference, little, 2) is None
 
 
+def test_same_pixels_rows_follow_the_shading_from_row_to_row():
+    # A reference brightening row by row (roots to tips), and an image at twice its resolution: holding
+    # the same radiance it reads the same bands; flat at the reference's mean it reads flat bands.
+    rows = np.linspace(0.2, 0.5, 24)
+    reference = np.repeat(rows[:, None, None], 30, axis=1) * np.ones(3)
+    coverage = np.ones((24, 30))
+    hair = np.ones((48, 60), bool)
+    same = render.same_pixels_rows(np.repeat(np.repeat(reference, 2, axis=0), 2, axis=1), hair, reference, coverage, 2)
+    assert same["pixels"] == 24 * 30 and len(same["image"]) == 6
+    np.testing.assert_allclose(same["image"], same["reference"], rtol=1e-12)
+    assert np.all(np.diff(same["reference"]) > 0.0)
+    np.testing.assert_allclose(same["reference"], rows.reshape(6, 4).mean(axis=1), rtol=1e-12)
+    flat = np.full((48, 60, 3), reference.mean())
+    bands = render.same_pixels_rows(flat, hair, reference, coverage, 2, bands=3)
+    np.testing.assert_allclose(bands["image"], reference.mean(), rtol=1e-12)
+    assert bands["reference"][2] / bands["reference"][0] == pytest.approx(rows[16:].mean() / rows[:8].mean())
+    # Only the rows that hold pixels both cover are split into bands.
+    coverage[:12] = 0.0
+    upper = render.same_pixels_rows(np.repeat(np.repeat(reference, 2, axis=0), 2, axis=1), hair, reference, coverage, 2,
+                                    bands=2)
+    np.testing.assert_allclose(upper["reference"], [rows[12:18].mean(), rows[18:].mean()], rtol=1e-12)
+    assert render.same_pixels_rows(flat, hair, reference, np.zeros_like(coverage), 2) is None
+    with pytest.raises(ValueError, match="bands"):
+        render.same_pixels_rows(flat, hair, reference, coverage, 2, bands=0)
+
+
 def test_hair_radiance_error_leaves_coverage_out():
     # Hair of radiance L over a sky of radiance S: a pixel covered by alpha shows alpha L + (1 - alpha) S.
     rng = np.random.default_rng(5)

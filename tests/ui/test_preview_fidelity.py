@@ -28,15 +28,17 @@ higher, its rare bright paths missed). Asserted:
   mohawk 0.94x, the generated hair 1.00x), and at the far view the sky let through between a thick
   hair's strands (COVERAGE);
 - lit by an HDRI alone (Blender's own courtyard.exr, the bench's --hdri courtyard --sun 0), which the
-  preview fits with SRBF lights: both hairs within 15 % per channel of the path-traced image, which
-  draws the image by its luminance. Each SRBF light reaches the hair through the hair on its own way
+  preview fits with SRBF lights: the mohawk within 15 % per channel of the path-traced image, which
+  draws the image by its luminance, the generated hair within 20 % (HDRI_TOLERANCE), and the mohawk
+  brighter at its tips than at its roots as the path-traced image is (GRADIENT_SHARE). Each SRBF light reaches the hair through the hair on its own way
   (Xu 2011 Eq. 2's effective transmittance): with the uniform world's one transmittance for every
   lobe the generated hair read 1.54 / 1.46 / 0.88 (the lobes behind it let through as much as those
   in front);
-- lit by sunrise.exr alone, whose sun holds 59 % of its light: the generated hair within 15 % (0.94 /
-  1.00 / 0.96), its sun shaded as a sun lamp with an opacity map (1.25 / 1.28 / 1.11 while
-  the SRBF lobes carried it). The mohawk's ratio is printed, not asserted: 1.08 / 1.08 / 1.38, the
-  fibre's response to a sun at its grazing views (docs/preview.md, "Lit by an HDRI").
+- lit by sunrise.exr alone, whose sun holds 59 % of its light: the generated hair within 20 % (0.89 /
+  0.96 / 0.93; 0.94 / 1.00 / 0.96 with the Fibonacci fit of the world), its sun shaded as a sun lamp
+  with an opacity map (1.25 / 1.28 / 1.11 while the SRBF lobes carried it). The mohawk's ratio is
+  printed, not asserted: 1.06 / 1.14 / 1.19 (1.08 / 1.08 / 1.38 with the Fibonacci fit), the fibre's
+  response to a sun at its grazing views (docs/preview.md, "Lit by an HDRI").
 Each reference is one render (spread_tolerance 0): the means are unbiased at 128 spp; the luminance spread, for
 which the benchmark doubles the reference's samples until it settles, is not asserted here.
 Screenshots and the path-traced images go to $HAIRLOD_UI_OUT (default out/ui) as fidelity_<hair>_<view>[_<hdri>]_*.png.
@@ -60,7 +62,15 @@ TOLERANCE = {"generated wavy 20k mid": 0.10, "Ratboy_mohawk mid": 0.10, "generat
 # thick hairs, drawn by the share of their strip their strands cover (thick_hair.vert.glsl): the mohawk
 # 0.78x and the generated hair 1.01x (1.75x and 1.11x while every thick hair was drawn solid).
 COVERAGE = {"mid": (0.8, 1.25), "far": (0.6, 1.25)}
-HDRI_TOLERANCE = {"generated wavy 20k mid": 0.15, "Ratboy_mohawk mid": 0.15}
+# The dense generated hair's world light falls short under an HDRI: 0.92 / 0.90 / 0.85 of the path tracer's
+# under courtyard.exr, 0.89 / 0.96 / 0.93 under sunrise.exr. The light it scatters several times is missing
+# (docs/preview.md, "The world's lobes where its light is"); the world's fit had hidden it while it held
+# 10-20 % more light than the image (1.00 / 1.02 / 0.94 then).
+HDRI_TOLERANCE = {"generated wavy 20k mid": 0.2, "Ratboy_mohawk mid": 0.15}
+# The mohawk under courtyard.exr is brighter at its tips than at its roots: its top band of rows over its
+# bottom band reads 1.36 in a path-traced image at 1024 spp (same_pixels_rows). The preview holds at least
+# this share of that rise (1.35: all of it; 1.03 while the world's 16 lobes were a fixed Fibonacci set).
+GRADIENT_SHARE = 0.5
 
 
 def check_mean_ratios(results, tolerance, lit_by):
@@ -87,6 +97,11 @@ def steps():
     yield from bench_preview_fidelity.measure(lit_by_hdri, views=("mid",), spp=128, scale=0.5, spread_tolerance=0.0,
                                               sun_irradiance=0.0, hdri="courtyard")
     check_mean_ratios(lit_by_hdri, HDRI_TOLERANCE, "courtyard.exr")
+    rows = lit_by_hdri["Ratboy_mohawk mid"]["rows_same_pixels"]
+    rise = {image: rows[image][-1] / rows[image][0] for image in ("preview", "path_traced")}
+    check(rise["preview"] - 1.0 >= GRADIENT_SHARE * (rise["path_traced"] - 1.0),
+          f"Ratboy_mohawk mid, lit by courtyard.exr: tips over roots {rise['preview']:.3f} in the preview, "
+          f"{rise['path_traced']:.3f} path-traced; the preview holds at least {GRADIENT_SHARE:.0%} of the rise")
     lit_by_sun = {}
     yield from bench_preview_fidelity.measure(lit_by_sun, views=("mid",), spp=128, scale=0.5, spread_tolerance=0.0,
                                               sun_irradiance=0.0, hdri="sunrise")
