@@ -17,11 +17,12 @@ Lloyd's iterations of spherical k-means over the samples weighted by their light
 angle), starting from the Fibonacci set, and the bandwidth is chosen from the Fibonacci spacing down
 to MIN_LOBE_BANDWIDTH: of the fits with either set of centres, the one of least residual is kept.
 Its amplitudes are then scaled per channel so that the fit holds the world's light (the integral of
-the radiance over the sphere), which the least-squares fit misses by up to 20-30 % (the hair's mean
-response follows it). On Blender's eight studio worlds (suns taken out) the response of the Chiang
-fibre at 300 random (tangent, view) pairs to the fit is within 6-31 % RMS of its response to the
-image, against 25-67 % for the Fibonacci fit (scripts/bench_world_fit.py; docs/preview.md, "The
-world's lobes where its light is").
+the radiance over the sphere). The least-squares fit holds it exactly only while its uniform term
+is above 0 (its residual then sums to 0): studio.exr's held 1.55x, the Fibonacci fits 1.06-1.28x,
+and the hair's mean response follows. On Blender's eight studio worlds (suns taken out) the
+response of the Chiang fibre at 300 random (tangent, view) pairs to the fit is within 6-31 % RMS of
+its response to the image, against 25-67 % for the Fibonacci fit (scripts/bench_world_fit.py;
+docs/preview.md, "The world's lobes where its light is").
 
 A sun in an environment map is a few texels thousands of times the sky's radiance (Blender's
 sunrise.exr: 59 % of its light in 4e-4 sr). Lobes of bandwidth 0.89 (16 of them) would spread it over
@@ -161,7 +162,8 @@ def fit_world(directions, solid_angles, radiance, count=DEFAULT_LOBE_COUNT, adap
         amplitudes, centres, lam = min(fits, key=lambda fit: fit[0])[1:]
     basis = _basis(directions, centres, lam)
     if adaptive:
-        # The fit holds the world's light, per channel: the least-squares amplitudes miss it by up to 20-30 %.
+        # The fit holds the world's light, per channel: the least-squares amplitudes with the uniform term at
+        # 0 do not (studio.exr's 1.55x).
         held = np.sum(basis * solid_angles[:, None], axis=0) @ amplitudes
         light = solid_angles @ radiance
         amplitudes = amplitudes * np.where(held > 0.0, light / np.maximum(held, 1e-300), 1.0)
