@@ -208,13 +208,10 @@ def hdri_world(scene, path, strength):
     background = nodes["Background"]
     links.new(texture.outputs["Color"], background.inputs["Color"])
     background.inputs["Strength"].default_value = strength
-    width, height = image.size
-    pixels = np.empty(width * height * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    # Blender's pixels run bottom-up; the renderer's rows top-down. Real images hold texels a little
-    # below 0 (compression; -0.003 in courtyard.exr), which the renderer refuses and the preview's fit
-    # clamps (world_srbf.py): clamped here too.
-    return np.ascontiguousarray(np.maximum(pixels.reshape(height, width, 4)[::-1, :, :3], 0.0) * strength)
+    from hairlod.blender.preview.world_srbf import image_radiance
+
+    # Blender's pixels run bottom-up; the renderer's rows top-down.
+    return np.ascontiguousarray(image_radiance(image)[::-1].astype(np.float32) * strength)
 
 
 def sky_behind(camera, environment):

@@ -25,6 +25,7 @@ import numpy as np
 REPO_ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), os.pardir))
 sys.path.insert(0, os.path.join(REPO_ROOT, "addon"))
 from hairlod import bcsdf, world_lighting  # noqa: E402
+from hairlod.blender.preview.world_srbf import image_radiance  # noqa: E402
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 FITS = (("fibonacci", False), ("light", True))  # (name, fit_world's adaptive)
@@ -42,19 +43,8 @@ def parse_args():
 
 
 def studio_worlds():
-    folder = os.path.join(bpy.utils.resource_path('LOCAL'), "datafiles", "studiolights", "world")
-    if not os.path.isdir(folder):
-        folder = os.path.join(bpy.utils.system_resource('DATAFILES'), "studiolights", "world")
+    folder = bpy.utils.system_resource('DATAFILES', path=os.path.join("studiolights", "world"))
     return {os.path.splitext(os.path.basename(path))[0]: path for path in sorted(glob.glob(os.path.join(folder, "*.exr")))}
-
-
-def image_radiance(path):
-    """The image at `path` as radiance [H, W, 3], Blender's pixel layout, negatives clamped as the preview does."""
-    image = bpy.data.images.load(path, check_existing=True)
-    width, height = image.size
-    pixels = np.empty(width * height * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    return np.maximum(pixels.reshape(height, width, 4)[..., :3].astype(np.float64), 0.0)
 
 
 def main():
@@ -71,7 +61,8 @@ def main():
         path = known.get(name, name)
         if not os.path.isfile(path):
             raise SystemExit(f"--worlds: no studio-light world or file {name!r} (Blender has: {', '.join(known)})")
-        directions, solid_angles, radiance, sun, _ = world_lighting.equirectangular_samples(image_radiance(path))
+        image = bpy.data.images.load(path, check_existing=True)
+        directions, solid_angles, radiance, sun, _ = world_lighting.equirectangular_samples(image_radiance(image))
         if kernels is None or kernels.shape[1] != len(directions):
             kernels = bcsdf.sphere_kernels("chiang", None, directions, solid_angles, tangents, views)
         truth = np.einsum("pnc,nc->pc", kernels, radiance) @ LUMINANCE

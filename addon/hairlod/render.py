@@ -271,7 +271,7 @@ def same_pixels_spread(image, hair, reference, coverage, step, least=0.25, perce
     paired = _same_pixels(image, hair, reference, coverage, step, least)
     if paired is None:
         return None
-    averaged, reference, weights = paired
+    averaged, reference, weights, _ = paired
     low_high = [weighted_percentiles(luminance(picture), weights, percents) for picture in (averaged, reference)]
     width = low_high[1][-1] - low_high[1][0]
     return {"pixels": int(len(weights)), "image": low_high[0].tolist(), "reference": low_high[1].tolist(),
@@ -288,7 +288,7 @@ def same_pixels_rows(image, hair, reference, coverage, step, bands=6, least=0.25
     bands = int(bands)
     if bands < 1:
         raise ValueError(f"bands must be >= 1, got {bands}")
-    paired = _same_pixels(image, hair, reference, coverage, step, least, rows=True)
+    paired = _same_pixels(image, hair, reference, coverage, step, least)
     if paired is None:
         return None
     averaged, reference, weights, rows = paired
@@ -302,10 +302,10 @@ def same_pixels_rows(image, hair, reference, coverage, step, bands=6, least=0.25
     return {"pixels": int(len(weights)), **means}
 
 
-def _same_pixels(image, hair, reference, coverage, step, least, rows=False):
+def _same_pixels(image, hair, reference, coverage, step, least):
     """The pixels of the reference's grid that `image` (averaged over its hair pixels per step x step
     block) and `reference` both cover by more than `least`: (image's RGB [N, 3], reference's [N, 3],
-    reference coverage [N][, their rows [N]]), or None where fewer than SPREAD_LEAST_PIXELS."""
+    reference coverage [N], their rows [N]), or None where fewer than SPREAD_LEAST_PIXELS."""
     step = int(step)
     hair = np.asarray(hair, np.float64)
     covered = box_average(hair, step)
@@ -316,9 +316,8 @@ def _same_pixels(image, hair, reference, coverage, step, least, rows=False):
     both = (covered[:height, :width] > least) & (coverage[:height, :width] > least)
     if both.sum() < SPREAD_LEAST_PIXELS:
         return None
-    paired = (averaged[:height, :width][both], np.asarray(reference, np.float64)[:height, :width, :3][both],
-              coverage[:height, :width][both])
-    return (*paired, np.nonzero(both)[0]) if rows else paired
+    return (averaged[:height, :width][both], np.asarray(reference, np.float64)[:height, :width, :3][both],
+            coverage[:height, :width][both], np.nonzero(both)[0])
 
 
 def mean_radiance_error(image, reference, hair):

@@ -130,12 +130,18 @@ def world_lights(world, count=MAX_LOBES):
     image = source.image
     if image is None or image.size[0] < 1 or image.size[1] < 1:
         return None, "the Environment Texture has no image"
+    return world_lighting.blender_equirectangular_world(np.maximum(image_radiance(image) * strength, 0.0), count), None
+
+
+def image_radiance(image):
+    """The radiance of a bpy image, float64 [H, W, 3] in Blender's pixel layout (rows bottom-up), texels
+    below 0 clamped to 0: real images hold some (compression; -0.003 in courtyard.exr), which neither the
+    fit nor the path tracer takes."""
     width, height = image.size
     pixels = np.empty(width * height * 4, np.float32)
     image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(height, width, 4)[..., :3]
+    rgb = pixels.reshape(height, width, 4)[..., :3].astype(np.float64)
     if not image.is_float and image.colorspace_settings.name == 'sRGB':
         # Byte images read back sRGB-encoded; the fit wants radiance.
         rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-    rgb = np.maximum(rgb * strength, 0.0)
-    return world_lighting.blender_equirectangular_world(rgb, count), None
+    return np.maximum(rgb, 0.0)
