@@ -21,8 +21,8 @@ from . import _core
 from .bcsdf_bake import DEFAULT_TABLE_SAMPLES
 from .hair_params import as_params, params_to_dict
 
-__all__ = ["ShaderTables", "SrbfTables", "forward_share", "lobe_responses", "shader_tables", "srbf_lookup", "srbf_tables",
-           "theta_nodes", "uniform_world_response"]
+__all__ = ["ShaderTables", "SrbfTables", "forward_share", "lobe_responses", "scattering_albedo", "shader_tables", "srbf_lookup",
+           "srbf_tables", "theta_nodes", "uniform_world_response"]
 
 _ROWS = {
     "fiber_attenuation": ("A_R", "A_TT", "A_D"),
@@ -132,6 +132,24 @@ def forward_share(tables, sin_theta):
     theta = np.arcsin(np.clip(np.asarray(sin_theta, np.float64), -1.0, 1.0))
     nodes = np.linspace(-0.5 * np.pi, 0.5 * np.pi, len(a_f))
     return np.clip(np.stack([np.interp(theta, nodes, a_f[:, c]) for c in range(3)], axis=-1), 1e-4, 1.0)
+
+
+def scattering_albedo(tables):
+    """The share of the light a strand does not pass on forwards that it scatters rather than absorbs,
+    per channel, over every direction in the dual table: rho = int a_b cos(theta) / int (1 - a_f) cos(theta),
+    theta over [-pi/2, pi/2] (the inclinations of directions uniform over the sphere), a_f and a_b the shares
+    a strand scatters into the forward and the backward half-space (Zinke et al. 2008 Sec. 4.2), trapezoids
+    over the table's nodes; float64 [3]. 1 for a fibre that absorbs nothing (a_f + a_b = 1), 0 for one that
+    scatters only forwards. The preview's world term takes it as the albedo of the hair around a point
+    (self_shadow.scattered_share)."""
+    dual = np.asarray(tables.dual, np.float64)
+    theta = np.linspace(-0.5 * np.pi, 0.5 * np.pi, dual.shape[1])
+    # Trapezoid weights of the uniform nodes times cos(theta) (numpy 2 renamed trapz; this needs neither).
+    weight = np.cos(theta)[:, None] * np.gradient(theta)[:, None]
+    weight[[0, -1]] *= 0.5
+    back = np.sum(weight * dual[1, :, :3], axis=0)
+    lost = np.sum(weight * (1.0 - dual[0, :, :3]), axis=0)
+    return np.where(lost > 1e-12, back / np.maximum(lost, 1e-12), 1.0).clip(0.0, 1.0)
 
 
 def srbf_lookup(tables, sin_o, sin_j=None, phi=None):

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HairVolume", "WORLD_DIRECTIONS", "hair_volume", "strand_arrays", "strands_volume", "transmittance",
-           "world_transmittance"]
+__all__ = ["HairVolume", "WORLD_DIRECTIONS", "hair_volume", "scattered_share", "strand_arrays", "strands_volume",
+           "transmittance", "world_transmittance"]
 
 # Semi-axes are at least this share of the largest one, so flat hair (all in a plane) keeps a
 # finite volume and the ellipsoid test stays well conditioned.
@@ -130,6 +130,27 @@ def world_transmittance(points, volume, strength, keep=None):
                          f"got {list(keep.shape)}")
     keep = np.broadcast_to(keep, (len(WORLD_DIRECTIONS), 3))
     return np.mean(per_direction[:, :, None] ** keep[:, None, :], axis=0)
+
+
+def scattered_share(transmittance, albedo):
+    """The world's light the hair around a point scatters to it, as a share of the light that reaches the
+    point straight from the world: (1 - T) rho / (1 - rho (1 - T)), per channel (self_shadow.glsl's
+    hair_scattered_share).
+
+    T is the share of a uniform world's light that reaches the point through the hair (world_transmittance
+    with keep = 1 - a_f), rho the share of the rest that the strands scatter rather than absorb
+    (preview_luts.scattering_albedo). The directions the hair blocks (1 - T of them) are not dark: the hair
+    there sends on rho of the light it receives, and the hair around a point receives about what the point
+    does (the neighbours' light taken as the point's own, as the multiple-bounce ambient occlusion of
+    Jimenez et al. 2016 does for surfaces). So the light arriving, E = T L + (1 - T) rho E, is T L / (1 -
+    rho (1 - T)): the direct light times 1 + this share. A fibre that absorbs nothing (rho = 1) then keeps
+    a uniform world's light everywhere inside the hair, the white furnace; rho = 0 or T = 1 adds nothing.
+    Dense hair passes light on by scattering it many times: under interior.exr the path tracer's bounces
+    nearly doubled the dense generated hair's red (docs/preview.md)."""
+    transmittance = np.clip(np.asarray(transmittance, np.float64), 0.0, 1.0)
+    albedo = np.clip(np.asarray(albedo, np.float64), 0.0, 1.0)
+    blocked = 1.0 - transmittance
+    return blocked * albedo / np.maximum(1.0 - albedo * blocked, 1e-4)
 
 
 def transmittance(points, light_vectors, volume, strength):

@@ -38,7 +38,7 @@ import numpy as np
 
 __all__ = ["DEFAULT_LOBE_COUNT", "LLOYD_ITERATIONS", "MIN_LOBE_BANDWIDTH", "SUN_CONTRAST", "SUN_MIN_SHARE", "SUN_RADIUS",
            "UNIFORM_BANDWIDTH", "WorldLights", "blender_equirectangular_directions", "blender_equirectangular_world",
-           "equirectangular_samples", "extract_sun", "fit_world", "fibonacci_directions", "lobe_bandwidth", "srbf",
+           "equirectangular_samples", "extract_sun", "fit_world", "fibonacci_directions", "lobe_bandwidth", "srbf", "srbf_mean",
            "uniform_world", "world_radiance"]
 
 DEFAULT_LOBE_COUNT = 16
@@ -99,6 +99,13 @@ def fibonacci_directions(count):
 def srbf(w, centre, lam):
     """Xu et al. 2011, Sec. 3: G(w; w_j, lambda) = exp(2 (w . w_j - 1) / lambda^2) for unit vectors."""
     return np.exp(2.0 * (np.asarray(w) @ np.asarray(centre) - 1.0) / (lam * lam))
+
+
+def srbf_mean(lam):
+    """The mean over the sphere of G(w; w_j, lambda) (srbf): with kappa = 2 / lambda^2, G integrates to
+    2 pi (1 - exp(-2 kappa)) / kappa, so the mean is (1 - exp(-2 kappa)) / (2 kappa) (1 as lambda grows)."""
+    kappa = 2.0 / (float(lam) * float(lam))
+    return float(-np.expm1(-2.0 * kappa) / (2.0 * kappa))
 
 
 def lobe_bandwidth(count):

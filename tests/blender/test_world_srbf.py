@@ -72,7 +72,7 @@ def test_world_block_holds_only_the_lobes_that_carry_light():
     """The shader loops over every lobe the block gives it: a uniform world (the default world) gives
     none, and lobes of coefficient 0 are left out of any fit, the others kept in order."""
     from hairlod.blender.preview import world_srbf
-    from hairlod.world_lighting import WorldLights, uniform_world
+    from hairlod.world_lighting import WorldLights, srbf_mean, uniform_world
 
     uniform = uniform_world((0.2, 0.3, 0.4), world_srbf.MAX_LOBES)
     data = world_srbf.world_block_data(uniform)
@@ -89,6 +89,8 @@ def test_world_block_holds_only_the_lobes_that_carry_light():
     block_colours = data[8 + 4 * world_srbf.MAX_LOBES:].reshape(-1, 4)
     np.testing.assert_array_equal(block_directions[:2, :3], directions[[1, 3]])
     np.testing.assert_array_equal(block_colours[:2, :3], coefficients[[1, 3]])
+    # Each lobe's mean over the sphere, the light the hair around a point scatters on (hair_shading.glsl).
+    np.testing.assert_allclose(block_colours[:2, 3], srbf_mean(4.0), rtol=1e-6)
     assert not block_colours[2:].any()
     assert world_srbf.world_block_data(None)[3] == 0.0  # the ambient path
 

@@ -165,3 +165,35 @@ def test_world_transmittance_takes_a_keep_per_direction():
     with pytest.raises(ValueError, match="keep must have shape"):
         self_shadow.world_transmittance(off_centre, volume, 1.0, keep=np.ones((13, 3)))
 
+
+
+def test_scattered_light_keeps_a_uniform_world_inside_hair_that_absorbs_nothing():
+    """The white furnace: a uniform world around hair whose strands absorb nothing (rho = 1) lights every
+    point inside it fully, however deep (the direct light T plus what the hair around scatters on)."""
+    from hairlod import preview_luts
+
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.array([1.0, 0.8, 0.6]), extinction=4.0)
+    points = np.random.default_rng(5).uniform(-1.0, 1.0, (300, 3)) * volume.semi_axes
+    keep = np.full(3, 0.4)
+    transmittance = self_shadow.world_transmittance(points, volume, 1.0, keep=keep)
+    assert transmittance.min() < 0.3  # deep points, where the direct light alone is far from the furnace
+    lossless = preview_luts.scattering_albedo(preview_luts.shader_tables({"sigma_a": (0.0, 0.0, 0.0)}))
+    np.testing.assert_allclose(transmittance * (1.0 + self_shadow.scattered_share(transmittance, lossless)), 1.0,
+                               atol=1e-5)
+    # Absorbing hair: more than the direct light, less than the furnace, more the more the strands scatter.
+    brown = preview_luts.scattering_albedo(preview_luts.shader_tables({"sigma_a": (0.2, 0.4, 0.8)}))
+    lit = transmittance * (1.0 + self_shadow.scattered_share(transmittance, brown))
+    assert (lit >= transmittance - 1e-12).all() and (lit < 1.0).all()
+    assert (lit[:, 0] >= lit[:, 2]).all()
+
+
+def test_scattered_light_needs_hair_in_the_way_and_strands_that_scatter():
+    transmittance = np.array([[1.0, 1.0, 1.0], [0.5, 0.5, 0.5], [0.0, 0.0, 0.0]])
+    np.testing.assert_array_equal(self_shadow.scattered_share(transmittance[0], [0.3, 0.6, 1.0]), 0.0)
+    np.testing.assert_array_equal(self_shadow.scattered_share(transmittance, np.zeros(3)), 0.0)
+    # T = 1/2, rho = 1/2: the light arriving is T / (1 - rho (1 - T)) = 2/3, one third more than T.
+    assert self_shadow.scattered_share(0.5, 0.5) == pytest.approx(1.0 / 3.0)
+    # Fully blocked and lossless (a point no light reaches in a furnace): finite, capped.
+    assert np.isfinite(self_shadow.scattered_share(0.0, 1.0))
+    # Out of range inputs are clamped to [0, 1].
+    assert self_shadow.scattered_share(1.5, 0.5) == 0.0 and self_shadow.scattered_share(0.5, 2.0) == pytest.approx(1.0)

@@ -353,3 +353,12 @@ def test_the_lobes_go_where_the_light_is_and_hold_all_of_it():
     elevations = np.degrees(np.arcsin(lights.directions[np.any(lights.coefficients > 0.0, axis=1), 2]))
     assert np.median(elevations) == pytest.approx(10.0, abs=15.0)
     assert world_lighting.MIN_LOBE_BANDWIDTH <= lights.lam <= world_lighting.lobe_bandwidth(len(lights.directions))
+
+
+@pytest.mark.parametrize("lam", [0.2, 0.45, 0.89, 3.0])
+def test_srbf_mean_is_the_lobes_mean_over_the_sphere(lam):
+    # Quadrature in the angle from the lobe's centre (G depends on it alone): cos(gamma) uniform on [-1, 1].
+    cosines = (np.arange(200000) + 0.5) / 200000 * 2.0 - 1.0
+    lobe = world_lighting.srbf(np.stack([np.zeros_like(cosines), np.sqrt(1 - cosines ** 2), cosines], axis=1),
+                               np.array([0.0, 0.0, 1.0]), lam)
+    assert world_lighting.srbf_mean(lam) == pytest.approx(lobe.mean(), rel=1e-4)

@@ -20,6 +20,9 @@ The world's occlusion by the hair on a grid: shaders/world_occlusion.glsl's dept
 with linear filtering) against hairlod.world_occlusion's float64 lookup, at points in, around and outside
 a hollow shell of strands, moved and stretched from rest (1 % of the largest depth; about 1e-5 on llvmpipe).
 
+The world's light the hair around a point scatters on to it: self_shadow.glsl's hair_scattered_share
+against hairlod.self_shadow.scattered_share (1e-5 relative).
+
 Self-shadowing: shaders/self_shadow.glsl against hairlod.self_shadow.transmittance (the same formula
 in float64) for points in and around a flattened ellipsoid lit by suns and point lights, inside and
 outside it. The GLSL runs in float32, whose rounding in the ray-ellipsoid chord grows as the ray
@@ -199,6 +202,48 @@ def check_self_shadowing():
     check(0.2 < shadowed.mean() < 0.9 and reference.min() < 0.05,
           "self-shadowing: the configurations cover lit, partly and deeply shadowed points")
     check((error <= 1e-4).all(), "self-shadowing: GLSL agrees with the reference within 1e-4")
+
+
+def check_scattered_share():
+    """self_shadow.glsl's hair_scattered_share against hairlod.self_shadow.scattered_share, over
+    transmittances and albedos from 0 to 1 (the ends included) per channel (1e-5)."""
+    import gpu
+
+    from hairlod import self_shadow
+    from hairlod.blender.preview.shaders import glsl_source
+
+    rng = np.random.default_rng(15)
+    count = SIZE * SIZE
+    transmittance = rng.uniform(0.0, 1.0, (count, 3))
+    albedo = rng.uniform(0.0, 1.0, (count, 3))
+    transmittance[:64], albedo[64:128] = rng.choice([0.0, 1.0], (64, 3)), rng.choice([0.0, 1.0], (64, 3))
+    info = full_screen_shader_info()
+    info.sampler(0, 'FLOAT_2D', "transmittance_data")
+    info.sampler(1, 'FLOAT_2D', "albedo_data")
+    info.fragment_source(glsl_source("self_shadow.glsl") + """
+void main()
+{
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  fragColor = vec4(hair_scattered_share(texelFetch(transmittance_data, pixel, 0).rgb,
+                                        texelFetch(albedo_data, pixel, 0).rgb), 1.0);
+}
+""")
+    shader = gpu.shader.create_from_info(info)
+    transmittance_texture = data_texture(transmittance, np.zeros(count))
+    albedo_texture = data_texture(albedo, np.zeros(count))
+
+    def bind(program):
+        program.uniform_sampler("transmittance_data", transmittance_texture)
+        program.uniform_sampler("albedo_data", albedo_texture)
+
+    on_gpu = draw_full_screen(shader, bind)
+    reference = self_shadow.scattered_share(transmittance, albedo)
+    finite = reference < 1e3  # T = 0 with rho = 1: the cap (1e4), which float32 rounds differently
+    error = (np.abs(on_gpu - reference) / np.maximum(reference, 1.0))[finite].max()
+    print(f"scattered world light: max |share_glsl - share_ref| / max(share_ref, 1) = {error:.2e}, share up to "
+          f"{reference[finite].max():.2f}")
+    check(np.isfinite(on_gpu).all() and error <= 1e-5,
+          "scattered world light: GLSL's share of the light the hair around scatters on agrees with the reference")
 
 
 def world_grid_on_gpu(occlusion, strength, points):
@@ -530,6 +575,7 @@ def steps():
     run()
     check_forward_share()
     check_self_shadowing()
+    check_scattered_share()
     check_layered_optical_depth()
     check_world_occlusion()
     check_srbf_world()

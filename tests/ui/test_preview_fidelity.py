@@ -7,8 +7,8 @@ against the full strands path-traced from the same camera (128 spp at half the v
 ratios move by under 1 % from there to 256 spp at full size; at 64 spp the mohawk's blue reads 4 %
 higher, its rare bright paths missed). Asserted:
 - both hairs' mean radiance within 10 % per channel of the path-traced image, issue 14's target: at the
-  mid view the mohawk 1.03 / 1.03 / 1.03, the generated hair 0.97 / 1.04 / 1.01 (Blender 3.4), at the
-  far view 1.04 / 1.04 / 1.05 and 0.95 / 1.03 / 0.97, the preview at rest, its hair averaged over the
+  mid view the mohawk 1.00 / 0.99 / 0.97, the generated hair 1.03 / 1.05 / 0.99 (Blender 3.4), at the
+  far view 1.01 / 1.00 / 0.99 and 1.02 / 1.05 / 0.95, the preview at rest, its hair averaged over the
   8 samples of the viewport's anti-aliasing. The preview's radiance is read from its hair layer: unmixed
   from the screenshot, the 8-bit framebuffer's rounding of partly covered pixels read the mohawk at
   1.06 / 1.04 / 1.08 (scripts/bench_preview_fidelity.py). While the thick hairs were drawn solid and
@@ -28,16 +28,17 @@ higher, its rare bright paths missed). Asserted:
   mohawk 0.94x, the generated hair 1.00x), and at the far view the sky let through between a thick
   hair's strands (COVERAGE);
 - lit by an HDRI alone (Blender's own courtyard.exr, the bench's --hdri courtyard --sun 0), which the
-  preview fits with SRBF lights: the mohawk within 15 % per channel of the path-traced image, which
-  draws the image by its luminance, the generated hair within 20 % (HDRI_TOLERANCE), and the mohawk
+  preview fits with SRBF lights: both hairs within 15 % per channel of the path-traced image, which
+  draws the image by its luminance (HDRI_TOLERANCE; the mohawk 0.93 / 0.97 / 1.02, the generated hair
+  1.02 / 0.98 / 0.92), and the mohawk
   brighter at its tips than at its roots as the path-traced image is (GRADIENT_SHARE). Each SRBF light reaches the hair through the hair on its own way
   (Xu 2011 Eq. 2's effective transmittance): with the uniform world's one transmittance for every
   lobe the generated hair read 1.54 / 1.46 / 0.88 (the lobes behind it let through as much as those
   in front);
-- lit by sunrise.exr alone, whose sun holds 59 % of its light: the generated hair within 20 % (0.89 /
-  0.96 / 0.93; 0.94 / 1.00 / 0.96 with the Fibonacci fit of the world), its sun shaded as a sun lamp
+- lit by sunrise.exr alone, whose sun holds 59 % of its light: the generated hair within 15 % (0.96 /
+  1.01 / 0.96; 0.89 / 0.96 / 0.93 without the light the hair around scatters on), its sun shaded as a sun lamp
   with an opacity map (1.25 / 1.28 / 1.11 while the SRBF lobes carried it). The mohawk's ratio is
-  printed, not asserted: 1.06 / 1.14 / 1.19 (1.08 / 1.08 / 1.38 with the Fibonacci fit), the fibre's
+  printed, not asserted: 1.09 / 1.17 / 1.21 (1.08 / 1.08 / 1.38 with the Fibonacci fit), the fibre's
   response to a sun at its grazing views (docs/preview.md, "Lit by an HDRI").
 Each reference is one render (spread_tolerance 0): the means are unbiased at 128 spp; the luminance spread, for
 which the benchmark doubles the reference's samples until it settles, is not asserted here.
@@ -62,11 +63,11 @@ TOLERANCE = {"generated wavy 20k mid": 0.10, "Ratboy_mohawk mid": 0.10, "generat
 # thick hairs, drawn by the share of their strip their strands cover (thick_hair.vert.glsl): the mohawk
 # 0.78x and the generated hair 1.01x (1.75x and 1.11x while every thick hair was drawn solid).
 COVERAGE = {"mid": (0.8, 1.25), "far": (0.6, 1.25)}
-# The dense generated hair's world light falls short under an HDRI: 0.92 / 0.90 / 0.85 of the path tracer's
-# under courtyard.exr, 0.89 / 0.96 / 0.93 under sunrise.exr. The light it scatters several times is missing
-# (docs/preview.md, "The world's lobes where its light is"); the world's fit had hidden it while it held
-# 10-20 % more light than the image (1.00 / 1.02 / 0.94 then).
-HDRI_TOLERANCE = {"generated wavy 20k mid": 0.2, "Ratboy_mohawk mid": 0.15}
+# Both hairs within 15 % per channel under an HDRI. The dense generated hair's world light needs what the
+# hair around each strand scatters on to it (self_shadow.scattered_share): without it the hair read 0.92 /
+# 0.90 / 0.85 of the path tracer's under courtyard.exr (0.84 in blue in Blender 4.3) and 0.89 / 0.96 / 0.93
+# under sunrise.exr (docs/preview.md, "The world's light the hair around scatters on").
+HDRI_TOLERANCE = {"generated wavy 20k mid": 0.15, "Ratboy_mohawk mid": 0.15}
 # The mohawk under courtyard.exr is brighter at its tips than at its roots: its top band of rows over its
 # bottom band reads 1.36 in a path-traced image at 1024 spp (same_pixels_rows). The preview holds at least
 # this share of that rise (1.35: all of it; 1.03 while the world's 16 lobes were a fixed Fibonacci set).

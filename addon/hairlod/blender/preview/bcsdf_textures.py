@@ -4,6 +4,8 @@ them, for shaders that include shaders/aggregated_bcsdf.glsl."""
 import gpu
 import numpy as np
 
+from ...preview_luts import scattering_albedo
+
 
 def rgba_texture(rows):
     """An RGBA32F GPUTexture of float rows [height, width, 4]."""
@@ -34,6 +36,8 @@ class BcsdfTextures:
         # a strand's (n = 1), which its fragments would otherwise take again (aggregated_bcsdf.glsl).
         self.lut_constants = (*(float(c) for c in tables.lut_constants),
                               deon_log_normalisation(tables.lobe_shapes[1]), deon_log_normalisation(tables.lobe_shapes[3]))
+        # What the hair around a point scatters of the world's light (the HairFrame's scattering).
+        self.scattering_albedo = tuple(float(c) for c in scattering_albedo(tables))
 
     def bind(self, shader):
         shader.uniform_sampler("fiber_lut", self.fiber)

@@ -94,6 +94,7 @@ struct HairFrame {{
   vec4 light_shadow[{opacity_map.MAX_SHADOWED_LIGHTS}];
   vec4 world_grid_lower;
   vec4 world_grid_extent;
+  vec4 scattering;
 }};
 """
 
@@ -109,7 +110,7 @@ def _uniform_block(data):
 
 def frame_data(model, view_projection, camera, viewport, ambient, light_count, light_vectors, light_colours,
                hair_volume, shadow_strength, strand_radius, shadows, control_points=0, strand_coverage=False,
-               strands_follow_surface=False, occlusion=None):
+               strands_follow_surface=False, occlusion=None, scattering_albedo=(0.0, 0.0, 0.0)):
     """The HairFrame uniform block's values, float32 (matrices column-major, as std140 stores them).
     viewport = (width, height, the hair layer's sample: 0, the first after a change (for_sample), 0);
     counts = (lights, control points per strand, 1 to draw strands and thick hairs by coverage (coverage_choice.glsl), 1 when
@@ -119,7 +120,9 @@ def frame_data(model, view_projection, camera, viewport, ambient, light_count, l
     the mapped lights' views (opacity_maps.LightShadows) those of the maps; world_grid_lower = (the
     world occlusion grid's lower corner, strength x its depth factor; 0: no grid, the world through the
     ellipsoid) and world_grid_extent = (its extent, 0) place `occlusion`
-    (hairlod.world_occlusion.WorldOcclusion, the texture of world_depths)."""
+    (hairlod.world_occlusion.WorldOcclusion, the texture of world_depths); scattering = (the hair's
+    scattering albedo rho, 0: hairlod.preview_luts.scattering_albedo, for the share of the world's light
+    the hair around a point scatters on to it, hairlod.self_shadow.scattered_share)."""
     model = np.asarray(model, np.float64)
     data = np.concatenate([model.T.ravel(), np.asarray(view_projection, np.float32).T.ravel(),
                            np.linalg.inv(model).T.ravel(), np.asarray(camera, np.float32), (*viewport, 0.0, 0.0),
@@ -128,7 +131,7 @@ def frame_data(model, view_projection, camera, viewport, ambient, light_count, l
                            (*hair_volume.centre, shadow_strength * hair_volume.extinction), (*hair_volume.semi_axes, 0.0),
                            light_vectors.ravel(), light_colours.ravel(), (strand_radius, 0.0, shadow_strength, 0.0),
                            np.transpose(shadows.view_projection, (0, 2, 1)).ravel(), shadows.light_shadow.ravel(),
-                           _grid_placement(occlusion, shadow_strength)])
+                           _grid_placement(occlusion, shadow_strength), (*np.asarray(scattering_albedo, np.float64), 0.0)])
     return np.ascontiguousarray(data, dtype=np.float32)
 
 
@@ -949,7 +952,7 @@ class LodPreview:
                             (float(region.width), float(region.height)), ambient, light_count, light_vectors,
                             light_colours, self.hair_volume, settings.self_shadowing, strand_radius, shadows,
                             self.asset.control_points, settings.strand_coverage, self.surface_texture is not None,
-                            self.occlusion)
+                            self.occlusion, textures.scattering_albedo)
         if self.occlusion_texture is None:
             self.occlusion_texture = world_occlusion_texture.texture(self.rest_occlusion)
         if state.hair_layer is None:

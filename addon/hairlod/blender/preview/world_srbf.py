@@ -43,7 +43,9 @@ def world_block_data(lights):
     """The HairWorld block's floats for `lights` (hairlod.world_lighting.WorldLights), or for the
     ambient path (uniform_part.w = 0) when `lights` is None. Only the lobes that carry light go in: every
     fragment loops over those it is given, and a uniform world (the default one) fits lobes of
-    coefficient 0, 16 of them, which took a third of a near view's redraw on llvmpipe for nothing."""
+    coefficient 0, 16 of them, which took a third of a near view's redraw on llvmpipe for nothing. A lobe's
+    colour's w is the mean of its G over the sphere (world_lighting.srbf_mean): its light spread over every
+    direction, which the hair around a point scatters on to it (hair_shading.glsl)."""
     data = np.zeros(8 + 8 * MAX_LOBES, np.float32)
     if lights is not None:
         if len(lights.directions) > MAX_LOBES:
@@ -56,6 +58,7 @@ def world_block_data(lights):
         colours = data[8 + 4 * MAX_LOBES:].reshape(MAX_LOBES, 4)
         directions[:count, :3] = np.asarray(lights.directions)[lit]
         colours[:count, :3] = np.asarray(lights.coefficients)[lit]
+        colours[:count, 3] = world_lighting.srbf_mean(lights.lam)
     return data
 
 

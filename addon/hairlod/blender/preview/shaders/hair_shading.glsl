@@ -15,8 +15,9 @@
  * through the mean over 14 directions (hair_world_transmittance) and each lobe through the hair on its
  * own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional albedo,
  * the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform world
- * reads the same either way) through the mean over 14 directions; either attenuated
- * by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7). */
+ * reads the same either way) through the mean over 14 directions; either with the light the hair around
+ * scatters on from the directions it blocks (hair_scattered_share, frame.scattering.rgb its albedo) and
+ * attenuated by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7). */
 vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, vec2 cluster)
 {
   float n = 1.0, rho = cluster.y;
@@ -125,6 +126,9 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     float node_o = srbf_theta_node(sin_o);
     vec3 po = wo - sin_o * t;
     vec3 world = srbf_uniform(wo, t) * world_shadow;
+    /* The world's light that reaches p straight, averaged over the sphere: a lobe's mean radiance is
+     * L_j (1 - e^(-2 kappa)) / (2 kappa) (lobe_colours[j].w, world_srbf.py), times its transmittance. */
+    vec3 reaching = hair_world.uniform_part.rgb * world_shadow;
     for (int k = 0; k < int(hair_world.counts.x); ++k) {
       vec3 towards_object = (frame.model_inverse * vec4(hair_world.lobe_directions[k].xyz, 0.0)).xyz;
       vec3 lobe_keep = vec3(1.0) - forward_share(normalize(hair_world.lobe_directions[k].xyz), t);
@@ -135,14 +139,23 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
       vec3 through = exp(-lobe_keep * hair_optical_depth(world_point, towards_object, 1e30, frame.hair_centre.xyz,
                                                           frame.hair_axes.xyz, frame.hair_centre.w));
       world += hair_world.lobe_colours[k].rgb * srbf_lobe_response(k, t, node_o, po) * through;
+      reaching += hair_world.lobe_colours[k].rgb * hair_world.lobe_colours[k].w * through;
     }
+    /* The hair around p scatters the world's light on to it from the directions it blocks, as from a
+     * uniform world (hair_scattered_share, self_shadow.glsl): the response to a uniform unit world
+     * (srbf_lut's last row) times that light. */
+    int samples = textureSize(srbf_lut, 0).x;
+    world += lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1)) * reaching *
+             hair_scattered_share(world_shadow, frame.scattering.rgb);
     radiance += world * forward_attenuation(0.0, n);
   }
   else {
     float theta_o = abs(asin(clamp(dot(wo, t), -1.0, 1.0)));
     vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
                   lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
-    radiance += frame.ambient.rgb * albedo * forward_attenuation(0.0, n) * world_shadow;
+    /* With what the hair around p scatters on to it (hair_scattered_share): T / (1 - rho (1 - T)) of it. */
+    radiance += frame.ambient.rgb * albedo * forward_attenuation(0.0, n) * world_shadow *
+                (vec3(1.0) + hair_scattered_share(world_shadow, frame.scattering.rgb));
   }
   return radiance;
 }

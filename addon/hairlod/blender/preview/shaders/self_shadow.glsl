@@ -58,3 +58,15 @@ vec3 hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma, 
   }
   return sum / 14.0;
 }
+
+/* The world's light the hair around a point scatters on to it, as a share of the light that reaches the
+ * point straight from the world (hairlod.self_shadow.scattered_share says why): (1 - T) rho / (1 - rho
+ * (1 - T)), T the world's transmittance to the point (hair_world_transmittance, or the grid's), rho the
+ * share of the light the strands do not pass on forwards that they scatter (preview_luts.scattering_albedo);
+ * per channel. */
+vec3 hair_scattered_share(vec3 transmittance, vec3 albedo)
+{
+  vec3 blocked = vec3(1.0) - clamp(transmittance, 0.0, 1.0);
+  vec3 rho = clamp(albedo, 0.0, 1.0);
+  return blocked * rho / max(vec3(1.0) - rho * blocked, vec3(1e-4));
+}
