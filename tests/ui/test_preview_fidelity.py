@@ -20,10 +20,11 @@ higher, its rare bright paths missed). Asserted:
   1.05 / 1.05 / 1.02 and 1.04 / 1.10 / 1.04, the mohawk's sun term alone 1.40 / 1.37 / 1.34. The mohawk
   was 0.97 / 0.94 / 0.90 while the uniform world's response was Xu's closed form on the Marschner fibre
   (0.94-0.96 of the material's directional albedo at normal incidence, down to 0.4 at grazing views,
-  most of all in blue), not the albedo itself. The generated hair's world term reads 1.24 / 1.28 / 1.08
-  of the path-traced world light and its sun 0.73 / 0.82 / 0.96: the world's transmittance is one
-  average over all directions, and the light dense hair scatters several times is missing
-  (docs/preview.md, "What is still off");
+  most of all in blue), not the albedo itself. The generated hair's world term reads 1.36 / 1.29 / 1.00
+  of the path-traced world light and its sun 0.73 / 0.85 / 1.00 (quick protocol, 512 spp): the world's
+  transmittance is one average over all directions, which lets the TT light from behind through too much
+  hair, and the sun's R / TT / D fibre is short in red (docs/preview.md, "The world's light the hair
+  around scatters on");
 - both hairs covering the pixels their path-traced strands cover: within 25 % at the mid view (the
   mohawk 0.94x, the generated hair 1.00x), and at the far view the sky let through between a thick
   hair's strands (COVERAGE);
