@@ -125,7 +125,9 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     float sin_o = clamp(dot(wo, t), -1.0, 1.0);
     float node_o = srbf_theta_node(sin_o);
     vec3 po = wo - sin_o * t;
-    vec3 world = srbf_uniform(wo, t) * world_shadow;
+    /* The response to a uniform unit world, for the uniform part and for the light scattered on below. */
+    vec3 uniform_response = srbf_uniform_response(node_o);
+    vec3 world = hair_world.uniform_part.rgb * uniform_response * world_shadow;
     /* The world's light that reaches p straight, averaged over the sphere: a lobe's mean radiance is
      * L_j (1 - e^(-2 kappa)) / (2 kappa) (lobe_colours[j].w, world_srbf.py), times its transmittance. */
     vec3 reaching = hair_world.uniform_part.rgb * world_shadow;
@@ -142,11 +144,9 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
       reaching += hair_world.lobe_colours[k].rgb * hair_world.lobe_colours[k].w * through;
     }
     /* The hair around p scatters the world's light on to it from the directions it blocks, as from a
-     * uniform world (hair_scattered_share, self_shadow.glsl): the response to a uniform unit world
-     * (srbf_lut's last row) times that light. */
-    int samples = textureSize(srbf_lut, 0).x;
-    world += lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1)) * reaching *
-             hair_scattered_share(world_shadow, frame.scattering.rgb);
+     * uniform world (hair_scattered_share, self_shadow.glsl): the response to a uniform unit world times
+     * that light. */
+    world += uniform_response * reaching * hair_scattered_share(world_shadow, frame.scattering.rgb);
     radiance += world * forward_attenuation(0.0, n);
   }
   else {

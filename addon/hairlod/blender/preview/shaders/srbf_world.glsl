@@ -43,12 +43,12 @@ vec3 srbf_lobe_response(int k, vec3 t, float node_o, vec3 po)
   return srbf_response(node_o, srbf_theta_node(sin_j), acos(cos_phi));
 }
 
-/* The uniform part c_0 alone. */
-vec3 srbf_uniform(vec3 wo, vec3 t)
+/* The response to a uniform unit world at theta_o in node units (srbf_lut's last row): the material's
+ * directional albedo. */
+vec3 srbf_uniform_response(float node_o)
 {
   int samples = textureSize(srbf_lut, 0).x;
-  float node_o = srbf_theta_node(clamp(dot(wo, t), -1.0, 1.0));
-  return hair_world.uniform_part.rgb * lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1));
+  return lut_row(srbf_lut, samples * samples, node_o, 0.0, float(samples - 1));
 }
 
 vec3 srbf_world(vec3 wo, vec3 t)
@@ -56,7 +56,7 @@ vec3 srbf_world(vec3 wo, vec3 t)
   float sin_o = clamp(dot(wo, t), -1.0, 1.0);
   float node_o = srbf_theta_node(sin_o);
   vec3 po = wo - sin_o * t;
-  vec3 radiance = srbf_uniform(wo, t);
+  vec3 radiance = hair_world.uniform_part.rgb * srbf_uniform_response(node_o);
   for (int k = 0; k < int(hair_world.counts.x); ++k) {
     radiance += hair_world.lobe_colours[k].rgb * srbf_lobe_response(k, t, node_o, po);
   }
