@@ -3,7 +3,8 @@ with the Python reference (Blender under Xvfb, see scripts/run_ui_tests.sh).
 
 Draws one full-screen pass into a float offscreen buffer where every pixel evaluates
 shaders/aggregated_bcsdf.glsl for its own (wi, wo, n, rho), read from data textures; reads the pixels
-back and compares them with hairlod.bcsdf.evaluate("aggregated", ...) for the same inputs.
+back and compares them with hairlod.bcsdf.evaluate("aggregated", ..., aggregated_fibre="material") for the
+same inputs (the aggregated BCSDF on the material's own fibre, as the preview shades).
 Configurations: random directions over the sphere plus grazing ones (|theta| up to 1.55), 8 hair
 counts n from 1 to n_max (on and between table nodes) times 4 densities from 0.05 to 1, for a light
 and a dark hair. Tolerance: the tables'
@@ -11,7 +12,8 @@ interpolation error, which `python3 -m hairlod bench bcsdf` reports (about 2% at
 resolution), so |S_glsl - S_cpp| <= 0.05 S_cpp + 0.01 max(S_cpp) per channel. The strands' build of
 the same file (HAIRLOD_SINGLE_HAIR) reads the general build's values at n = 1, rho = 1 towards the back
 (1e-5); towards the front it leaves out A_1+ (a strand has no hairs of its own behind it), so that a
-strand with no hair behind it is C++'s R, TT, D fibre ("fiber_rtd", the tolerance above).
+strand with no hair behind it is the material's Chiang fibre in the far field (C++ "chiang", the
+tolerance above).
 
 The deep opacity maps' optical depth between layers (shaders/opacity_map.glsl, layered_optical_depth)
 against hairlod.opacity_map.optical_depth, on and between the layer boundaries (1e-5).
@@ -489,7 +491,8 @@ def run():
         size = count // len(groups)
         for g, (n, rho) in enumerate(groups):
             rows = slice(g * size, (g + 1) * size)
-            reference[rows] = bcsdf.evaluate("aggregated", params, wi[rows], wo[rows], hair_count=n, density=rho)
+            reference[rows] = bcsdf.evaluate("aggregated", params, wi[rows], wo[rows], hair_count=n, density=rho,
+                                             aggregated_fibre="material")
         bad = ~np.isfinite(shader_values).all(axis=1) | (shader_values < 0).any(axis=1)
         for k in np.flatnonzero(bad)[:5]:
             print("bad:", wi[k], wo[k], hair_count[k], density[k], shader_values[k], reference[k])
@@ -506,7 +509,7 @@ def run():
         # n = 1, rho = 1: the same function towards the back (float32 rounding apart, 1e-5 relative, well
         # under the tables' interpolation error). Towards the front it leaves out A_1+, the back-scatter of a
         # thick hair's own hairs behind the shaded one (Huang 2025 Eq. 10), of which a strand has none: with
-        # no hair behind it, a strand is the R, TT, D fibre of Huang 2025 Eq. 1 (C++ "fiber_rtd", 5 % + 1 %
+        # no hair behind it, a strand is the material's Chiang fibre in the far field (C++ "chiang", 5 % + 1 %
         # of peak as above), and with hair behind it that fibre plus the hair behind's A_1 + A_3.
         ones = np.ones(count)
         cos_phi = np.einsum("ij,ij->i", wi[:, 1:], wo[:, 1:]) / (np.linalg.norm(wi[:, 1:], axis=1) *
@@ -516,7 +519,7 @@ def run():
         single = evaluate_on_gpu(tables, wi, wo, ones, ones, single_hair=True)
         general = evaluate_on_gpu(tables, wi, wo, ones, ones)
         alone = evaluate_on_gpu(tables, wi, wo, ones, ones, single_hair=True, behind=0.0)
-        fibre = bcsdf.evaluate("fiber_rtd", params, wi, wo)
+        fibre = bcsdf.evaluate("chiang", params, wi, wo)
         single_scale = fibre.max()
         gap = np.abs(single - general)[back] / np.maximum(np.abs(general[back]), 1e-3 * single_scale)
         print(f"{name}, single hair: max |S_single - S_general| / S_general towards the back = {gap.max():.2e}")
@@ -529,7 +532,7 @@ def run():
               f"{name}: the strands' shader leaves out the general shader's A_1+ towards the front, and only that")
         check(np.isfinite(alone).all() and
               (np.abs(alone - fibre) <= 0.05 * fibre + 0.01 * single_scale).all(),
-              f"{name}: a strand with no hair behind it is Huang 2025 Eq. 1's fibre (C++ fiber_rtd) within 5% + 1% of peak")
+              f"{name}: a strand with no hair behind it is the material's fibre (C++ chiang, far field) within 5% + 1% of peak")
         check(bool(np.all(single >= alone - 1e-6 * single_scale)), f"{name}: the hair behind a strand adds light, never takes it")
 
         # The hair behind: all of it is aggregated_bcsdf; less of it takes only B^'s A_1 + A_3 away,

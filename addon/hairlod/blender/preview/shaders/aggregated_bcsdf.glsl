@@ -135,6 +135,32 @@ float wrapped_gaussian(float x, float variance)
   return sum / (2.0 * HAIRLOD_PI);
 }
 
+/* Lobe `lobe`'s (R, TT, TRT, TRRT+) azimuthal part N_p of the material's fibre at |theta_o| and phi in [0, pi]
+ * (material_lut: preview_luts.material_fibre_rows), bilinear between the nodes; `keep` in (0, 1] takes it
+ * towards its mean over phi (the row's last texel), as forward scatterings spread it, keeping its integral. */
+vec3 material_azimuthal(int lobe, float abs_theta_o, float phi, float keep)
+{
+  ivec2 size = textureSize(material_lut, 0);
+  int phi_samples = size.x - 1, theta_samples = size.y / 4;
+  float y = clamp(abs_theta_o / (0.5 * HAIRLOD_PI), 0.0, 1.0) * float(theta_samples - 1);
+  int j = min(int(y), theta_samples - 2);
+  float v = y - float(j);
+  float x = clamp(phi / HAIRLOD_PI, 0.0, 1.0) * float(phi_samples - 1);
+  int k = min(int(x), phi_samples - 2);
+  float u = x - float(k);
+  int row = lobe * theta_samples + j;
+  vec3 low = mix(texelFetch(material_lut, ivec2(k, row), 0).rgb, texelFetch(material_lut, ivec2(k + 1, row), 0).rgb, u);
+  vec3 high = mix(texelFetch(material_lut, ivec2(k, row + 1), 0).rgb,
+                  texelFetch(material_lut, ivec2(k + 1, row + 1), 0).rgb, u);
+  vec3 value = mix(low, high, v);
+  if (keep < 1.0) {
+    vec3 mean = mix(texelFetch(material_lut, ivec2(phi_samples, row), 0).rgb,
+                    texelFetch(material_lut, ivec2(phi_samples, row + 1), 0).rgb, v);
+    value = mean + keep * (value - mean);
+  }
+  return value;
+}
+
 /* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15); built with
  * HAIRLOD_SINGLE_HAIR, of a strand: the single fibre of Huang 2025 Eq. 1 and the back-scatter of the hair
  * behind it. `behind` in [0, 1] is the share of the light that
@@ -159,7 +185,7 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
 #ifdef HAIRLOD_SINGLE_HAIR
   /* A strand: the lobes keep their own widths, whose normalisations come as uniforms (lut_constants.zw)
    * instead of being taken again in every fragment. */
-  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w, azimuthal_tt = lut_constants.x;
+  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w;
   float normalisation_r = lut_constants.z, normalisation_tt = lut_constants.w;
 #else
   /* Across the fibre the forward scatterings widen by sigma_f^2 each, along it by Zinke's beta_f^2
@@ -168,22 +194,30 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
   vec3 beta_f2 = lut_row(dual_lut, 7, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
   float spread = (n - 1.0) * (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
   float along = 4.0 * (n - 1.0) * (beta_f2.r + beta_f2.g + beta_f2.b) / 3.0;
-  float v_r = lobe_shapes.y + along, v_tt = lobe_shapes.w + along, azimuthal_tt = lut_constants.x + spread;
+  float v_r = lobe_shapes.y + along, v_tt = lobe_shapes.w + along;
   float normalisation_r = deon_log_normalisation(v_r), normalisation_tt = deon_log_normalisation(v_tt);
 #endif
 
-  /* A_p at theta_o (fiber_rtd.cpp): the lossless fibre then returns A_R + A_TT + A_D. */
+  /* The material's fibre (Chiang et al. 2016) in the far field: sum_p M_p N_p / cos(theta_i) over R, TT, TRT and
+   * TRRT+, N_p tabulated (material_azimuthal), M_p the tilted d'Eon lobes; TRRT+ takes TRT's variance unshifted. */
+#ifdef HAIRLOD_SINGLE_HAIR
+  float v_trt = trt_lobe.z, normalisation_trt = trt_lobe.w, keep = 1.0;
+#else
+  float v_trt = trt_lobe.z + along, normalisation_trt = deon_log_normalisation(v_trt);
+  /* Eq. 9's azimuthal spread of the n - 1 forward scatterings, a wrapped Gaussian of variance `spread`
+   * convolved with each lobe, on the lobes' first harmonic: exp(-spread / 2) of their departure from the mean. */
+  float keep = exp(-0.5 * spread);
+#endif
   float abs_theta_o = abs(theta_o);
-  vec3 a_r = lut_row(fiber_lut, 0, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
-  vec3 a_tt = lut_row(fiber_lut, 1, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
-  vec3 a_d = lut_row(fiber_lut, 2, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
   float inv_cos_i = 1.0 / max(cos_i, 1e-6);
-
   float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.xy, v_r, normalisation_r);
   float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.zw, v_tt, normalisation_tt);
-  float n_tt = wrapped_gaussian(phi - HAIRLOD_PI, azimuthal_tt);
-  vec3 value = attenuation * (a_r * (m_r * inv_cos_i / (2.0 * HAIRLOD_PI)) + a_tt * (m_tt * n_tt * inv_cos_i) +
-                              a_d / (HAIRLOD_PI * HAIRLOD_PI));
+  float m_trt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, trt_lobe.xy, v_trt, normalisation_trt);
+  float m_rest = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, vec2(0.0, 1.0), v_trt, normalisation_trt);
+  vec3 value = attenuation * inv_cos_i * (m_r * material_azimuthal(0, abs_theta_o, phi, keep) +
+                                          m_tt * material_azimuthal(1, abs_theta_o, phi, keep) +
+                                          m_trt * material_azimuthal(2, abs_theta_o, phi, keep) +
+                                          m_rest * material_azimuthal(3, abs_theta_o, phi, keep));
 
   vec3 shadowing = vec3(1.0);
   if (phi < 0.5 * HAIRLOD_PI) {
