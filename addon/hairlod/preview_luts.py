@@ -215,7 +215,9 @@ def srbf_tables(params, lam, samples=20, lobes=True):
     """Tabulates the hair's response to one unit SRBF light of bandwidth `lam` (Xu et al. 2011, Eq. 2:
     the integral over the sphere of G(wi; w_j, lam) S(wi, wo) cos(theta_i)) over the light's and the
     view's angles in the fibre frame, integrated numerically (lobe_responses) for the R / TT / D fibre
-    the preview shades its lights with (Huang et al. 2025, Eq. 1 with the Chiang fibre's energies):
+    (Huang et al. 2025, Eq. 1 with the Chiang fibre's energies; the lights are shaded with the material's
+    own fibre, whose far field C++ evaluates 11x slower: 0.24 s against 0.021 s for 20,000 pairs of brown
+    hair of roughness 0.3):
     the response depends only on theta_o, theta_j and |phi_o - phi_j| (the fibre is symmetric about its
     normal plane's azimuth), so any lobe direction is a lookup (srbf_lookup, as the shader reads it).
     Against the same integral of the material's Chiang fibre it reads within 5 % of the peak response

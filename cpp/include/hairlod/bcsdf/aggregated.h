@@ -94,7 +94,7 @@ AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples = 33,
                                  double backscatter_density = kDefaultBackscatterDensity);
 
 // The fibre whose lobes the aggregated BCSDF attenuates and widens (Huang 2025 Eq. 7 and 9): the R, TT, D
-// fibre of Eq. 1 (the renderer's thick hairs, the baked tables), or the material's own Chiang fibre in the
+// fibre of Huang 2025 Eq. 1 (the renderer's thick hairs, the baked tables), or the material's own Chiang fibre in the
 // far field (ChiangBcsdf, its TRT and TRRT+ in D^'s place), as the viewport preview shades strands and
 // thick hairs (docs/preview.md, "The material's fibre in the preview"). The per-hair terms (a_F, a_B,
 // A_1, A_3, sigma_f^2) are the R, TT, D fibre's either way: both have the material's albedo at every theta.

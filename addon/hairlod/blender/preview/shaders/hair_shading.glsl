@@ -12,12 +12,14 @@
  * through the hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the
  * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
  * as the lights: as SRBF lights (srbf_world.glsl) when hair_world.uniform_part.w = 1, its uniform part
- * through the mean over 14 directions (hair_world_transmittance) and each lobe through the hair on its
- * own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional albedo,
- * the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform world
- * reads the same either way) through the mean over 14 directions; either with the light the hair around
+ * through 14 directions split by side (hair_world_transmittance, world_by_side) and each lobe through the
+ * hair on its own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional
+ * albedo, the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform
+ * world reads the same either way) through the same 14 directions; either with the light the hair around
  * scatters on from the directions it blocks (hair_scattered_share, frame.scattering.rgb its albedo) and
- * attenuated by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7). */
+ * attenuated by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7).
+ * The lights are shaded with the material's own fibre (aggregated_bcsdf.glsl). */
+
 /* The uniform world's transmittance as the fibre gathers it at |theta_o| (Chiang et al. 2016's lobes): its
  * R share (A_R of the albedo) from the directions on the camera's side, its TT share from the far side,
  * the rest (TRT and beyond, D of the fibre's albedo) from every direction. */
@@ -82,32 +84,21 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
    * hair's hollow inside and its tips below as they are, the strands passing the light that runs along
    * them), else through the hair-volume ellipsoid. */
   bool world_grid = frame.world_grid_lower.w > 0.0;
-  float world_tau[14];
+  float world_tau[14], facing[14];
   if (world_grid) {
     world_grid_depths(world_point, frame.world_grid_lower, frame.world_grid_extent.xyz, world_tau);
   }
   else {
-    for (int k = 0; k < 14; ++k) {
-      world_tau[k] = hair_optical_depth(world_point, HAIR_WORLD_DIRECTIONS[k], 1e30, frame.hair_centre.xyz,
-                                        frame.hair_axes.xyz, frame.hair_centre.w);
-    }
+    hair_world_depths(world_point, frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w, world_tau);
   }
-  /* The mean transmittance over the 14 directions, and over those on the camera's side and the far side
-   * apart (a direction across the view counts half to each): a strand on the outside of dense hair takes
-   * its R light from the camera's side, through little hair, its TT light from behind, through the hair. */
-  vec3 world_near = vec3(0.0), world_far = vec3(0.0);
-  float near_count = 0.0;
+  /* Over all 14 directions, and over those on the camera's side and the far side apart: a strand on the
+   * outside of dense hair takes its R light from the camera's side, through little hair, its TT light from
+   * behind, through the hair (world_by_side). */
   for (int k = 0; k < 14; ++k) {
-    vec3 through = exp(-world_keep[k] * world_tau[k]);
-    float facing = dot(mat3(frame.model) * HAIR_WORLD_DIRECTIONS[k], wo);
-    float near_weight = facing > 1e-4 ? 1.0 : (facing < -1e-4 ? 0.0 : 0.5);
-    world_near += near_weight * through;
-    world_far += (1.0 - near_weight) * through;
-    near_count += near_weight;
+    facing[k] = dot(mat3(frame.model) * HAIR_WORLD_DIRECTIONS[k], wo);
   }
-  vec3 world_shadow = (world_near + world_far) / 14.0;
-  world_near /= max(near_count, 1e-4);
-  world_far /= max(14.0 - near_count, 1e-4);
+  vec3 world_near, world_far;
+  vec3 world_shadow = hair_world_transmittance(world_tau, world_keep, facing, world_near, world_far);
   vec3 world_sides = world_by_side(abs(asin(clamp(dot(wo, t), -1.0, 1.0))), world_near, world_far, world_shadow);
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - position * frame.light_vectors[k].w;
