@@ -28,7 +28,7 @@ _MODEL_INPUTS = {
     "marschner_cg": {"caustic_width", "caustic_fade_range", "caustic_max_window"},
     "fiber_rtd": set(),
     "realtime": {"tt"},
-    "aggregated": {"hair_count", "density"},
+    "aggregated": {"hair_count", "density", "aggregated_fibre"},
 }
 
 def cluster_density(hair_total, hair_radius, major_axis, minor_axis):
@@ -84,7 +84,9 @@ def evaluate(model, params, wi, wo, **model_inputs):
     chiang ``h`` (float [N] offsets in [-1, 1]: near field; default far field, averaged over h);
     marschner ``caustic_width``, ``caustic_fade_range``, ``caustic_max_window``;
     realtime ``tt`` ('tafuri' or 'karis');
-    aggregated ``hair_count`` (n >= 1 hairs crossed) and ``density`` (rho in (0, 1]), see cluster_density();
+    aggregated ``hair_count`` (n >= 1 hairs crossed) and ``density`` (rho in (0, 1]), see cluster_density(),
+    and ``aggregated_fibre``, the fibre it widens: 'rtd' (Huang et al. 2025 Eq. 1, the renderer's, default) or
+    'material' (the material's Chiang fibre in the far field, the viewport preview's);
     huang ``residual_samples`` (visible normals per width node of its TT / TRT quadrature, default 8).
     """
     _check_model(model)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["HairVolume", "WORLD_DIRECTIONS", "hair_volume", "scattered_share", "strand_arrays", "strands_volume",
-           "transmittance", "world_transmittance"]
+           "transmittance", "world_depths", "world_transmittance", "world_transmittance_by_side"]
 
 # Semi-axes are at least this share of the largest one, so flat hair (all in a plane) keeps a
 # finite volume and the ellipsoid test stays well conditioned.
@@ -105,9 +105,26 @@ def _volume(lower, upper, length, mean_radius):
 
 
 # Directions the world's light is averaged over (the 6 axes and the 8 cube diagonals, unit length):
-# self_shadow.glsl's hair_world_transmittance uses the same.
+# self_shadow.glsl's HAIR_WORLD_DIRECTIONS are the same.
 WORLD_DIRECTIONS = np.concatenate([np.vstack([np.eye(3), -np.eye(3)]),
                                    np.array([(x, y, z) for x in (1, -1) for y in (1, -1) for z in (1, -1)]) / np.sqrt(3.0)])
+
+
+def world_depths(points, volume, strength):
+    """The optical depths from points [N, 3] out to the world along WORLD_DIRECTIONS through the hair
+    volume, each direction taken as a sun (transmittance): float64 [N, 14] (self_shadow.glsl's
+    hair_world_depths)."""
+    points = np.atleast_2d(np.asarray(points, dtype=np.float64))
+    return np.stack([-np.log(transmittance(points, np.append(direction, 0.0), volume, strength))
+                     for direction in WORLD_DIRECTIONS], axis=1)
+
+
+def _world_keep(keep):
+    keep = np.asarray(keep, dtype=np.float64)
+    if keep.shape not in ((3,), (len(WORLD_DIRECTIONS), 3)):
+        raise ValueError(f"world transmittance: keep must have shape [3] or [{len(WORLD_DIRECTIONS)}, 3], "
+                         f"got {list(keep.shape)}")
+    return np.broadcast_to(keep, (len(WORLD_DIRECTIONS), 3))
 
 
 def world_transmittance(points, volume, strength, keep=None):
@@ -119,17 +136,31 @@ def world_transmittance(points, volume, strength, keep=None):
     WORLD_DIRECTIONS and channel [14, 3], as the preview takes a_f at each direction's inclination to
     the strand) each direction's T is raised to it before the average, [N, 3], as self_shadow.glsl's
     hair_world_transmittance does."""
-    points = np.atleast_2d(np.asarray(points, dtype=np.float64))
-    per_direction = np.array([transmittance(points, np.append(direction, 0.0), volume, strength)
-                              for direction in WORLD_DIRECTIONS])
+    tau = world_depths(points, volume, strength)
     if keep is None:
-        return per_direction.mean(axis=0)
-    keep = np.asarray(keep, dtype=np.float64)
-    if keep.shape not in ((3,), (len(WORLD_DIRECTIONS), 3)):
-        raise ValueError(f"world transmittance: keep must have shape [3] or [{len(WORLD_DIRECTIONS)}, 3], "
-                         f"got {list(keep.shape)}")
-    keep = np.broadcast_to(keep, (len(WORLD_DIRECTIONS), 3))
-    return np.mean(per_direction[:, :, None] ** keep[:, None, :], axis=0)
+        return np.exp(-tau).mean(axis=1)
+    return np.exp(-tau[:, :, None] * _world_keep(keep)[None, :, :]).mean(axis=1)
+
+
+def world_transmittance_by_side(tau, keep, facing):
+    """self_shadow.glsl's hair_world_transmittance: from optical depths tau [N, 14] along WORLD_DIRECTIONS
+    (world_depths, or world_occlusion.optical_depths times the strength), keep [3] or [14, 3] (1 - a_f) and
+    facing [N, 14] (the cosine between each direction and the direction towards the camera), each
+    direction's exp(-keep tau) averaged over all 14 directions, over those on the camera's side (facing >
+    1e-4) and over those on the far side (facing < -1e-4), a direction across the view counting half to
+    each; (all, near, far), float64 [N, 3] each. A side without directions takes the mean over all. The
+    preview's uniform world lights a strand's R share from the camera's side, its TT share from the far
+    side (hair_shading.glsl's world_by_side)."""
+    tau = np.atleast_2d(np.asarray(tau, dtype=np.float64))
+    facing = np.broadcast_to(np.asarray(facing, dtype=np.float64), tau.shape)
+    through = np.exp(-tau[:, :, None] * _world_keep(keep)[None, :, :])
+    near_weight = np.where(facing > 1e-4, 1.0, np.where(facing < -1e-4, 0.0, 0.5))[:, :, None]
+    near_count, far_count = near_weight.sum(axis=1), (1.0 - near_weight).sum(axis=1)
+    all_directions = through.mean(axis=1)
+    near = np.where(near_count > 0.0, (near_weight * through).sum(axis=1) / np.maximum(near_count, 1e-30), all_directions)
+    far = np.where(far_count > 0.0, ((1.0 - near_weight) * through).sum(axis=1) / np.maximum(far_count, 1e-30),
+                   all_directions)
+    return all_directions, near, far
 
 
 def scattered_share(transmittance, albedo):

@@ -219,7 +219,8 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
         "bcsdf_evaluate",
         [](const std::string& model, const HairParams& params, const FloatArray& wi, const FloatArray& wo,
            const std::optional<FloatArray>& h, const std::string& tt, double caustic_width, double caustic_fade_range,
-           double caustic_max_window, double hair_count, double density, int residual_samples) {
+           double caustic_max_window, double hair_count, double density, int residual_samples,
+           const std::string& aggregated_fibre) {
             const std::span<const glm::vec3> in = rows_of<glm::vec3>(wi, 3, "wi");
             const std::span<const glm::vec3> out_dirs = rows_of<glm::vec3>(wo, 3, "wo");
             if (in.size() != out_dirs.size()) throw Error("wi and wo must have the same number of directions");
@@ -234,6 +235,9 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
             options.realtime_tt = parse_realtime_tt(tt);
             options.marschner_caustic = {caustic_width, caustic_fade_range, caustic_max_window};
             options.cluster = {hair_count, density};
+            if (aggregated_fibre == "material") options.aggregated_fibre = AggregatedFibre::Material;
+            else if (aggregated_fibre != "rtd")
+                throw Error("aggregated_fibre must be 'rtd' or 'material', got '" + aggregated_fibre + "'");
             if (residual_samples < 1) throw Error("residual_samples must be >= 1, got " + std::to_string(residual_samples));
             options.huang_residual_samples = residual_samples;
             const BcsdfModel kind = parse_bcsdf_model(model);
@@ -253,7 +257,7 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
         py::arg("caustic_fade_range") = MarschnerCaustic{}.fade_range,
         py::arg("caustic_max_window") = MarschnerCaustic{}.max_window, py::arg("hair_count") = 1.0,
         py::arg("density") = 1.0, py::arg("residual_samples") = HuangBcsdf::kDefaultResidualSamples,
-        "S(wi, wo) as float32 [N, 3]; directions in the fibre frame (tangent +x).");
+        py::arg("aggregated_fibre") = "rtd", "S(wi, wo) as float32 [N, 3]; directions in the fibre frame (tangent +x).");
 
     m.attr("DEFAULT_FORWARD_DENSITY") = kDefaultForwardDensity;
     m.attr("DEFAULT_BACKSCATTER_DENSITY") = kDefaultBackscatterDensity;
@@ -455,6 +459,32 @@ microfacet_roughness, aspect_ratio, huang_sigma_a   the Huang fibre's GGX roughn
         },
         py::arg("model"), py::arg("params"), py::arg("theta_d"), py::arg("backscatter_density") = kDefaultBackscatterDensity,
         py::arg("tolerance") = 1e-6, "Zinke et al. 2008 dual-scattering terms tabulated over theta_d ([K] and [K, 3]).");
+
+    m.def(
+        "chiang_far_field_table",
+        [](const HairParams& params, int theta_samples, int phi_samples) {
+            std::vector<glm::dvec3> table;
+            std::array<LongitudinalLobe, 4> lobes{};
+            {
+                py::gil_scoped_release release;
+                const ChiangBcsdf bcsdf(params);
+                table = far_field_azimuthal_table(bcsdf, theta_samples, phi_samples);
+                const auto shapes = bcsdf.lobe_shapes();
+                std::copy(shapes.begin(), shapes.end(), lobes.begin());
+            }
+            py::array_t<double> values({py::ssize_t(4), py::ssize_t(theta_samples), py::ssize_t(phi_samples), py::ssize_t(3)});
+            double* out = values.mutable_data();
+            for (std::size_t k = 0; k < table.size(); ++k)
+                for (int c = 0; c < 3; ++c) out[3 * k + c] = table[k][c];
+            py::list shapes;
+            for (const LongitudinalLobe& lobe : lobes) shapes.append(py::make_tuple(lobe.shift, lobe.variance));
+            return py::make_tuple(values, shapes);
+        },
+        py::arg("params"), py::arg("theta_samples") = 64, py::arg("phi_samples") = 64,
+        "The material's Chiang fibre in the far field for a shader: (values [4, theta_samples, phi_samples, 3], "
+        "the lobes' (shift, variance)). values[p, j, k] is lobe p's (R, TT, TRT, TRRT+) weight times its "
+        "azimuthal part N_p at theta_o = (pi / 2) j / (theta_samples - 1) and phi = pi k / (phi_samples - 1); "
+        "the fibre is sum_p M_p(theta_i, theta_o) values[p] / cos(theta_i).");
 
     m.def("fiber_rtd_lobes", [](const HairParams& params) {
         const FiberRtdBcsdf fiber(params);

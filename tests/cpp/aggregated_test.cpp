@@ -67,6 +67,43 @@ TEST(Aggregated, EvaluationAtAnyStateEqualsTheModelBuiltForIt) {
     EXPECT_THROW(shared.eval_lobes(glm::dvec3(0, 0, 1), glm::dvec3(0, 0, 1), {2.0, 0.0}), Error);
 }
 
+// On the material's fibre (the preview's): through the back it is the Chiang far field; towards the front
+// it adds the same B^ as on the R, TT, D fibre; lossless, the energy stays bounded as on that fibre.
+TEST(Aggregated, OnTheMaterialsFibre) {
+    const ChiangBcsdf material(brown());
+    const AggregatedBcsdf on_rtd(brown(), {1.0, 1.0}, brown_table());
+    const AggregatedBcsdf on_material(brown(), {1.0, 1.0}, brown_table(), AggregatedFibre::Material);
+    std::mt19937_64 rng(19);
+    int back = 0, front = 0;
+    for (int k = 0; k < 400; ++k) {
+        const glm::dvec3 wi = test::random_direction(rng), wo = test::random_direction(rng);
+        const LobeValues a = on_material.eval_lobes(wi, wo), fibre = material.eval_lobes(wi, wo);
+        const glm::dvec3 direct = a.value[0] + a.value[1] + a.value[2], expected = fibre.sum();
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(direct[c], expected[c], 1e-12 * std::max(1.0, expected[c]));
+        const glm::dvec3 b_material = a.value[3], b_rtd = on_rtd.eval_lobes(wi, wo).value[3];
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(b_material[c], b_rtd[c], 1e-12 * std::max(1.0, b_rtd[c]));
+        (std::abs(half_angles(fiber_direction(wi), fiber_direction(wo)).phi) < 0.5 * kPi ? front : back) += 1;
+    }
+    EXPECT_GT(front, 100);
+    EXPECT_GT(back, 100);
+
+    HairParams lossless;
+    lossless.sigma_a = glm::dvec3(0.0);
+    const auto table = std::make_shared<const AggregatedTable>(aggregated_table(FiberRtdBcsdf(lossless)));
+    for (double n : {1.0, 3.0, 40.0}) {
+        // Both fibres hold the material's energy: the same furnace within the quadrature's and the R, TT, D
+        // fibre's tabulated attenuations' error.
+        const AggregatedBcsdf aggregated(lossless, {n, 0.5}, table, AggregatedFibre::Material);
+        const AggregatedBcsdf reference(lossless, {n, 0.5}, table);
+        const glm::dvec3 wo = fiber_frame_direction(0.3, 0.0);
+        const double e = white_furnace(aggregated, wo, {3e-4, 3e-4, 16}).x;
+        const double e_rtd = white_furnace(reference, wo, {3e-4, 3e-4, 16}).x;
+        RecordProperty("lossless_energy_n_" + std::to_string(n), std::to_string(e) + " (rtd " + std::to_string(e_rtd) + ")");
+        EXPECT_LE(e, 1.0 + 2e-3) << n;
+        EXPECT_NEAR(e, e_rtd, 0.02) << n;
+    }
+}
+
 TEST(Aggregated, ShadowingMaskingEq12To15) {
     const AggregatedBcsdf aggregated(brown(), {2.0, 0.25}, brown_table());
     const glm::dvec3 a_f{0.5, 0.3, 0.1};

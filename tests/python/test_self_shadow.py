@@ -197,3 +197,33 @@ def test_scattered_light_needs_hair_in_the_way_and_strands_that_scatter():
     assert np.isfinite(self_shadow.scattered_share(0.0, 1.0))
     # Out of range inputs are clamped to [0, 1].
     assert self_shadow.scattered_share(1.5, 0.5) == 0.0 and self_shadow.scattered_share(0.5, 2.0) == pytest.approx(1.0)
+
+
+def test_world_transmittance_by_side_splits_the_directions_by_the_camera():
+    """The world's light split by side (hair_world_transmittance in self_shadow.glsl): the mean over all
+    directions is the count-weighted mean of the two sides; the camera's side holds the directions
+    facing it, a direction across the view counts half to each side; no hair passes everything; with
+    the hair behind the point (seen from the camera), the far side is the darker one."""
+    volume = self_shadow.HairVolume(centre=np.zeros(3), semi_axes=np.array([1.0, 1.0, 1.0]), extinction=1.5)
+    # A point on the sphere's camera-facing side, the camera towards +x.
+    point = np.array([[0.9, 0.0, 0.0]])
+    tau = self_shadow.world_depths(point, volume, 1.0)
+    np.testing.assert_allclose(np.exp(-tau).mean(axis=1), self_shadow.world_transmittance(point, volume, 1.0), rtol=1e-12)
+    facing = self_shadow.WORLD_DIRECTIONS @ np.array([1.0, 0.0, 0.0])
+    keep = np.array([0.3, 0.5, 0.8])
+    everything, near, far = self_shadow.world_transmittance_by_side(tau, keep, facing[None, :])
+    np.testing.assert_allclose(everything, self_shadow.world_transmittance(point, volume, 1.0, keep=keep), rtol=1e-12)
+    near_count = np.sum(np.where(facing > 1e-4, 1.0, np.where(facing < -1e-4, 0.0, 0.5)))
+    assert near_count == 7.0  # +x, four diagonals, and +-y, +-z across the view counting half
+    np.testing.assert_allclose((near_count * near + (14.0 - near_count) * far) / 14.0, everything, rtol=1e-12)
+    assert np.all(far < near) and np.all(near > everything) and np.all(everything > far)
+    # By hand, in red: the near side's weighted mean of each direction's own T^keep.
+    weight = np.where(facing > 1e-4, 1.0, np.where(facing < -1e-4, 0.0, 0.5))
+    assert near[0, 0] == pytest.approx(np.sum(weight * np.exp(-keep[0] * tau[0])) / weight.sum(), rel=1e-12)
+    clear = self_shadow.world_transmittance_by_side(np.zeros((1, 14)), keep, facing[None, :])
+    for part in clear:
+        np.testing.assert_allclose(part, 1.0)
+    # Every direction across the view: both sides hold them all, each half.
+    _, near_across, far_across = self_shadow.world_transmittance_by_side(tau, keep, np.zeros((1, 14)))
+    np.testing.assert_allclose(near_across, everything, rtol=1e-12)
+    np.testing.assert_allclose(far_across, everything, rtol=1e-12)

@@ -3,7 +3,8 @@ with the Python reference (Blender under Xvfb, see scripts/run_ui_tests.sh).
 
 Draws one full-screen pass into a float offscreen buffer where every pixel evaluates
 shaders/aggregated_bcsdf.glsl for its own (wi, wo, n, rho), read from data textures; reads the pixels
-back and compares them with hairlod.bcsdf.evaluate("aggregated", ...) for the same inputs.
+back and compares them with hairlod.bcsdf.evaluate("aggregated", ..., aggregated_fibre="material") for the
+same inputs (the aggregated BCSDF on the material's own fibre, as the preview shades).
 Configurations: random directions over the sphere plus grazing ones (|theta| up to 1.55), 8 hair
 counts n from 1 to n_max (on and between table nodes) times 4 densities from 0.05 to 1, for a light
 and a dark hair. Tolerance: the tables'
@@ -11,7 +12,8 @@ interpolation error, which `python3 -m hairlod bench bcsdf` reports (about 2% at
 resolution), so |S_glsl - S_cpp| <= 0.05 S_cpp + 0.01 max(S_cpp) per channel. The strands' build of
 the same file (HAIRLOD_SINGLE_HAIR) reads the general build's values at n = 1, rho = 1 towards the back
 (1e-5); towards the front it leaves out A_1+ (a strand has no hairs of its own behind it), so that a
-strand with no hair behind it is C++'s R, TT, D fibre ("fiber_rtd", the tolerance above).
+strand with no hair behind it is the material's Chiang fibre in the far field (C++ "chiang", the
+tolerance above).
 
 The deep opacity maps' optical depth between layers (shaders/opacity_map.glsl, layered_optical_depth)
 against hairlod.opacity_map.optical_depth, on and between the layer boundaries (1e-5).
@@ -25,7 +27,8 @@ against hairlod.self_shadow.scattered_share (1e-5 relative).
 
 Self-shadowing: shaders/self_shadow.glsl against hairlod.self_shadow.transmittance (the same formula
 in float64) for points in and around a flattened ellipsoid lit by suns and point lights, inside and
-outside it. The GLSL runs in float32, whose rounding in the ray-ellipsoid chord grows as the ray
+outside it; the world's light through it, over all 14 directions and split by the camera's side
+(hair_world_transmittance against self_shadow.world_transmittance_by_side, 1e-4). The GLSL runs in float32, whose rounding in the ray-ellipsoid chord grows as the ray
 grazes the surface: |T_glsl - T_ref| <= 1e-4 (we measure about 4e-6 on llvmpipe).
 """
 
@@ -129,9 +132,10 @@ void main()
     return draw_full_screen(shader, bind)
 
 
-def transmittance_on_gpu(points, light_vectors, volume, strength):
+def transmittance_on_gpu(points, light_vectors, volume, strength, sides=0):
     """self_shadow.glsl's hair_transmittance per pixel, the light vector turned into the path to the
-    light as hair.frag.glsl does."""
+    light as hair.frag.glsl does, and its hair_world_transmittance with the camera towards the light
+    vector: (T, the world's red, its blue; with `sides` 1 the near side's green, 2 the far side's blue)."""
     import gpu
 
     from hairlod.blender.preview.shaders import glsl_source
@@ -141,6 +145,7 @@ def transmittance_on_gpu(points, light_vectors, volume, strength):
     info.sampler(1, 'FLOAT_2D', "light_data")
     info.push_constant('VEC4', "centre_sigma")
     info.push_constant('VEC3', "semi_axes")
+    info.push_constant('INT', "sides")
     keeps = ", ".join(f"vec3{keep}" for keep in WORLD_KEEP)
     info.fragment_source(glsl_source("self_shadow.glsl") + f"const vec3 WORLD_KEEP[14] = vec3[]({keeps});\n" + """
 void main()
@@ -150,8 +155,14 @@ void main()
   vec4 light = texelFetch(light_data, pixel, 0);
   vec3 to_light = light.xyz - p * light.w;
   float t = hair_transmittance(p, to_light, light.w > 0.0 ? 1.0 : 1e30, centre_sigma.xyz, semi_axes, centre_sigma.w);
-  vec3 world = hair_world_transmittance(p, centre_sigma.xyz, semi_axes, centre_sigma.w, WORLD_KEEP);
-  fragColor = vec4(t, world.x, world.z, 1.0);
+  float tau[14], facing[14];
+  hair_world_depths(p, centre_sigma.xyz, semi_axes, centre_sigma.w, tau);
+  for (int k = 0; k < 14; ++k) {
+    facing[k] = dot(HAIR_WORLD_DIRECTIONS[k], normalize(light.xyz));
+  }
+  vec3 near, far;
+  vec3 world = hair_world_transmittance(tau, WORLD_KEEP, facing, near, far);
+  fragColor = vec4(t, world.x, sides == 0 ? world.z : (sides == 1 ? near.y : far.z), 1.0);
 }
 """)
     shader = gpu.shader.create_from_info(info)
@@ -163,6 +174,7 @@ void main()
         program.uniform_sampler("light_data", light_texture)
         program.uniform_float("centre_sigma", (*volume.centre, strength * volume.extinction))
         program.uniform_float("semi_axes", tuple(volume.semi_axes))
+        program.uniform_int("sides", sides)
 
     values = draw_full_screen(shader, bind)
     return values[:, 0], values[:, [1, 2]]
@@ -194,6 +206,15 @@ def check_self_shadowing():
           f"{world_reference.min():.3f} to {world_reference.max():.3f}")
     check((world_error <= 1e-4).all() and world_reference.min() < 0.5 < world_reference.max(),
           "self-shadowing of the world: GLSL agrees with the reference within 1e-4 (inside and outside the hair)")
+    # Split by the camera's side (the camera towards each pixel's light vector): near side's green, far side's blue.
+    facing = light_vectors[:, :3] @ self_shadow.WORLD_DIRECTIONS.T / np.linalg.norm(light_vectors[:, :3], axis=1, keepdims=True)
+    _, near, far = self_shadow.world_transmittance_by_side(self_shadow.world_depths(points, volume, strength), WORLD_KEEP, facing)
+    side_error = max(np.abs(transmittance_on_gpu(points, light_vectors, volume, strength, sides=1)[1][:, 1] - near[:, 1]).max(),
+                     np.abs(transmittance_on_gpu(points, light_vectors, volume, strength, sides=2)[1][:, 1] - far[:, 2]).max())
+    print(f"self-shadowing of the world by side: max |T_glsl - T_ref| = {side_error:.2e}, near minus far from "
+          f"{(near - far).min():.3f} to {(near - far).max():.3f}")
+    check(side_error <= 1e-4 and (near - far).min() < -0.05 and (near - far).max() > 0.05,
+          "self-shadowing of the world by side: GLSL agrees with the reference within 1e-4, either side the darker")
     error = np.abs(shader_values - reference)
     shadowed = reference < 0.99
     print(f"self-shadowing: max |T_glsl - T_ref| = {error.max():.2e}, mean {error.mean():.2e} over {count} "
@@ -248,7 +269,7 @@ void main()
 
 def world_grid_on_gpu(occlusion, strength, points):
     """world_occlusion.glsl's world_grid_depths per pixel, three directions a pass, and its
-    world_grid_transmittance with WORLD_KEEP: [N, 17]."""
+    self_shadow.glsl's hair_world_transmittance of those depths with WORLD_KEEP: [N, 17]."""
     import gpu
 
     from hairlod.blender.preview import world_occlusion_texture
@@ -268,7 +289,12 @@ void main()
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   float tau[14];
   world_grid_depths(texelFetch(point_data, pixel, 0).xyz, lower_scale, extent, tau);
-  vec3 values = world_grid_transmittance(tau, WORLD_KEEP);
+  float facing[14];
+  for (int k = 0; k < 14; ++k) {
+    facing[k] = 1.0;
+  }
+  vec3 near, far;
+  vec3 values = hair_world_transmittance(tau, WORLD_KEEP, facing, near, far);
   for (int c = 0; c < 3 && first + c < 14; ++c) {
     values[c] = tau[first + c];
   }
@@ -489,7 +515,8 @@ def run():
         size = count // len(groups)
         for g, (n, rho) in enumerate(groups):
             rows = slice(g * size, (g + 1) * size)
-            reference[rows] = bcsdf.evaluate("aggregated", params, wi[rows], wo[rows], hair_count=n, density=rho)
+            reference[rows] = bcsdf.evaluate("aggregated", params, wi[rows], wo[rows], hair_count=n, density=rho,
+                                             aggregated_fibre="material")
         bad = ~np.isfinite(shader_values).all(axis=1) | (shader_values < 0).any(axis=1)
         for k in np.flatnonzero(bad)[:5]:
             print("bad:", wi[k], wo[k], hair_count[k], density[k], shader_values[k], reference[k])
@@ -506,7 +533,7 @@ def run():
         # n = 1, rho = 1: the same function towards the back (float32 rounding apart, 1e-5 relative, well
         # under the tables' interpolation error). Towards the front it leaves out A_1+, the back-scatter of a
         # thick hair's own hairs behind the shaded one (Huang 2025 Eq. 10), of which a strand has none: with
-        # no hair behind it, a strand is the R, TT, D fibre of Huang 2025 Eq. 1 (C++ "fiber_rtd", 5 % + 1 %
+        # no hair behind it, a strand is the material's Chiang fibre in the far field (C++ "chiang", 5 % + 1 %
         # of peak as above), and with hair behind it that fibre plus the hair behind's A_1 + A_3.
         ones = np.ones(count)
         cos_phi = np.einsum("ij,ij->i", wi[:, 1:], wo[:, 1:]) / (np.linalg.norm(wi[:, 1:], axis=1) *
@@ -516,7 +543,7 @@ def run():
         single = evaluate_on_gpu(tables, wi, wo, ones, ones, single_hair=True)
         general = evaluate_on_gpu(tables, wi, wo, ones, ones)
         alone = evaluate_on_gpu(tables, wi, wo, ones, ones, single_hair=True, behind=0.0)
-        fibre = bcsdf.evaluate("fiber_rtd", params, wi, wo)
+        fibre = bcsdf.evaluate("chiang", params, wi, wo)
         single_scale = fibre.max()
         gap = np.abs(single - general)[back] / np.maximum(np.abs(general[back]), 1e-3 * single_scale)
         print(f"{name}, single hair: max |S_single - S_general| / S_general towards the back = {gap.max():.2e}")
@@ -529,7 +556,7 @@ def run():
               f"{name}: the strands' shader leaves out the general shader's A_1+ towards the front, and only that")
         check(np.isfinite(alone).all() and
               (np.abs(alone - fibre) <= 0.05 * fibre + 0.01 * single_scale).all(),
-              f"{name}: a strand with no hair behind it is Huang 2025 Eq. 1's fibre (C++ fiber_rtd) within 5% + 1% of peak")
+              f"{name}: a strand with no hair behind it is the material's fibre (C++ chiang, far field) within 5% + 1% of peak")
         check(bool(np.all(single >= alone - 1e-6 * single_scale)), f"{name}: the hair behind a strand adds light, never takes it")
 
         # The hair behind: all of it is aggregated_bcsdf; less of it takes only B^'s A_1 + A_3 away,

@@ -154,11 +154,12 @@ AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples, double
 }
 
 AggregatedBcsdf::AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
-                                 std::shared_ptr<const AggregatedTable> table)
+                                 std::shared_ptr<const AggregatedTable> table, AggregatedFibre fibre)
     : fiber_(params), cluster_(cluster), table_(std::move(table)) {
     validate_cluster(cluster_);
     if (!table_) table_ = std::make_shared<const AggregatedTable>(aggregated_table(fiber_));
-    const auto shapes = fiber_.lobe_shapes();
+    if (fibre == AggregatedFibre::Material) material_.emplace(params);
+    const auto shapes = material_ ? material_->lobe_shapes() : fiber_.lobe_shapes();
     // B^ varies with theta_d; its shape at theta_d = 0 (channel mean) stands for it in lobe_shapes().
     const DualScatteringSample normal = table_->sample(0.0);
     const double delta_b = (normal.delta_b.x + normal.delta_b.y + normal.delta_b.z) / 3.0;
@@ -210,7 +211,15 @@ LobeValues AggregatedBcsdf::lobes_at(const glm::dvec3& wi, const glm::dvec3& wo,
     const glm::dvec3 beta_f2 = hair.beta_f * hair.beta_f;
     spread.longitudinal_variance = 4.0 * crossed * (beta_f2.x + beta_f2.y + beta_f2.z) / 3.0;
     spread.azimuthal_variance = crossed * sigma_f2_mean;
-    LobeValues out = fiber_.eval_lobes(wi, wo, spread);
+    LobeValues out;
+    if (material_) {
+        // The material's TRT and TRRT+ together in D^'s place; B^ takes the fourth.
+        out = material_->eval_lobes(wi, wo, spread);
+        out.value[2] += out.value[3];
+        out.value[3] = glm::dvec3(0.0);
+    } else {
+        out = fiber_.eval_lobes(wi, wo, spread);
+    }
     out.count = 4;
 
     // Huang 2025 Eq. 10-11: B^ = A_1+ + A_1 + A_3 towards the back hemisphere, with

@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+
+#include <tbb/parallel_for.h>
 
 #include "hairlod/bcsdf/attenuation.h"
 #include "hairlod/bcsdf/fiber_frame.h"
 #include "hairlod/bcsdf/longitudinal.h"
 #include "hairlod/bcsdf/quadrature.h"
+#include "hairlod/core/error.h"
 
 namespace hairlod::bcsdf {
 
@@ -70,19 +74,13 @@ LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, d
     return out;
 }
 
-LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
-    const FiberDirection di = fiber_direction(wi);
-    const FiberDirection dout = fiber_direction(wo);
-    const std::array<double, 4> m = longitudinal(di, dout);
-    const double phi = di.phi - dout.phi;
-
+LobeValues ChiangBcsdf::far_field_azimuthal(double sin_theta_o, double cos_theta_o, double phi) const {
     // d'Eon et al. 2011, Sec. 4 (far-field azimuthal scattering): N_p(phi) = 1/2 integral over h of A_p(h) D_p(phi - Phi(p, h)) dh,
     // integrated in gamma_o (dh = cos(gamma_o) d gamma_o), where Phi has a bounded slope.
-    const LobeValues integral = integrate_gauss_legendre(
+    return integrate_gauss_legendre(
         [&](double gamma_o) {
             const double h = std::sin(gamma_o);
-            const FiberAttenuation att =
-                fiber_attenuation(params_.eta, params_.sigma_a, dout.sin_theta, dout.cos_theta, h);
+            const FiberAttenuation att = fiber_attenuation(params_.eta, params_.sigma_a, sin_theta_o, cos_theta_o, h);
             const double jacobian = 0.5 * std::cos(gamma_o);
             LobeValues value;
             value.count = 4;
@@ -92,13 +90,59 @@ LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) c
             return value;
         },
         -0.5 * kPi, 0.5 * kPi, panels_);
+}
 
+LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo) const {
+    const FiberDirection di = fiber_direction(wi);
+    const FiberDirection dout = fiber_direction(wo);
+    const std::array<double, 4> m = longitudinal(di, dout);
+    const LobeValues integral = far_field_azimuthal(dout.sin_theta, dout.cos_theta, di.phi - dout.phi);
     const double inv_cos = 1.0 / std::max(di.cos_theta, kMinCos);
     const std::array<double, 4> weight{params_.weight_r, params_.weight_tt, params_.weight_trt, params_.weight_trt};
     LobeValues out;
     out.count = 4;
     for (int p = 0; p < 4; ++p) out.value[p] = (weight[p] * m[p] * inv_cos) * integral.value[p];
     return out;
+}
+
+LobeValues ChiangBcsdf::eval_lobes(const glm::dvec3& wi, const glm::dvec3& wo, const RtdSpread& spread) const {
+    const FiberDirection di = fiber_direction(wi);
+    const FiberDirection dout = fiber_direction(wo);
+    const LobeValues azimuthal = far_field_azimuthal(dout.sin_theta, dout.cos_theta, di.phi - dout.phi);
+    const std::array<glm::dvec3, 4> attenuation =
+        mean_fiber_attenuation(params_.eta, params_.sigma_a, dout.sin_theta, dout.cos_theta);
+    const double keep = std::exp(-0.5 * spread.azimuthal_variance);
+    const double inv_cos = 1.0 / std::max(di.cos_theta, kMinCos);
+    const std::array<double, 4> weight{params_.weight_r, params_.weight_tt, params_.weight_trt, params_.weight_trt};
+    LobeValues out;
+    out.count = 4;
+    for (int p = 0; p < 4; ++p) {
+        const double m = tilted_deon_longitudinal(di.sin_theta, di.cos_theta, dout.sin_theta, dout.cos_theta, lobes_[p].shift,
+                                                  lobes_[p].variance + spread.longitudinal_variance);
+        const glm::dvec3 mean = attenuation[p] / (2.0 * kPi);
+        out.value[p] = (weight[p] * m * inv_cos) * spread.attenuation * (mean + keep * (azimuthal.value[p] - mean));
+    }
+    return out;
+}
+
+std::vector<glm::dvec3> far_field_azimuthal_table(const ChiangBcsdf& bcsdf, int theta_samples, int phi_samples) {
+    if (theta_samples < 2 || phi_samples < 2)
+        throw Error("far_field_azimuthal_table needs at least 2 samples on each axis, got theta_samples = " +
+                    std::to_string(theta_samples) + ", phi_samples = " + std::to_string(phi_samples));
+    const HairParams& params = bcsdf.params();
+    const std::array<double, 4> weight{params.weight_r, params.weight_tt, params.weight_trt, params.weight_trt};
+    std::vector<glm::dvec3> table(static_cast<std::size_t>(4) * theta_samples * phi_samples);
+    // Rows are independent; each takes 8 x panels fibre paths per node.
+    tbb::parallel_for(0, theta_samples, [&](int j) {
+        const double theta_o = 0.5 * kPi * j / (theta_samples - 1);
+        for (int k = 0; k < phi_samples; ++k) {
+            const LobeValues lobes =
+                bcsdf.far_field_azimuthal(std::sin(theta_o), std::cos(theta_o), kPi * k / (phi_samples - 1));
+            for (int p = 0; p < 4; ++p)
+                table[(static_cast<std::size_t>(p) * theta_samples + j) * phi_samples + k] = weight[p] * lobes.value[p];
+        }
+    });
+    return table;
 }
 
 }  // namespace hairlod::bcsdf

@@ -31,7 +31,7 @@ std::unique_ptr<FiberBcsdf> make_bcsdf(BcsdfModel model, const HairParams& param
                                                                default_circular_gaussian_tables());
         case BcsdfModel::FiberRtd: return std::make_unique<FiberRtdBcsdf>(params);
         case BcsdfModel::Realtime: return std::make_unique<RealtimeBcsdf>(params, options.realtime_tt);
-        case BcsdfModel::Aggregated: return std::make_unique<AggregatedBcsdf>(params, options.cluster);
+        case BcsdfModel::Aggregated: return std::make_unique<AggregatedBcsdf>(params, options.cluster, nullptr, options.aggregated_fibre);
     }
     throw Error("unknown BCSDF model");
 }

@@ -9,11 +9,13 @@
 // variance sigma_f^2, A_1, A_3, Delta_b and sigma_b are tabulated over theta_d from the single fibre by
 // numerical integration (dual_scattering.h) when the model is built.
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
+#include "hairlod/bcsdf/chiang.h"
 #include "hairlod/bcsdf/dual_scattering.h"
 #include "hairlod/bcsdf/fiber_rtd.h"
 
@@ -91,11 +93,18 @@ struct AggregatedTable {
 AggregatedTable aggregated_table(const FiberRtdBcsdf& fiber, int samples = 33,
                                  double backscatter_density = kDefaultBackscatterDensity);
 
+// The fibre whose lobes the aggregated BCSDF attenuates and widens (Huang 2025 Eq. 7 and 9): the R, TT, D
+// fibre of Huang 2025 Eq. 1 (the renderer's thick hairs, the baked tables), or the material's own Chiang fibre in the
+// far field (ChiangBcsdf, its TRT and TRRT+ in D^'s place), as the viewport preview shades strands and
+// thick hairs (docs/preview.md, "The material's fibre in the preview"). The per-hair terms (a_F, a_B,
+// A_1, A_3, sigma_f^2) are the R, TT, D fibre's either way: both have the material's albedo at every theta.
+enum class AggregatedFibre { Rtd, Material };
+
 class AggregatedBcsdf final : public FiberBcsdf {
 public:
     // Validates params and cluster (hair_count >= 1, density in (0, 1]); builds the table unless given.
     AggregatedBcsdf(const HairParams& params, const ClusterState& cluster,
-                    std::shared_ptr<const AggregatedTable> table = nullptr);
+                    std::shared_ptr<const AggregatedTable> table = nullptr, AggregatedFibre fibre = AggregatedFibre::Rtd);
 
     // Lobes R^, TT^, D^, B^, each multiplied by the shadowing-masking S(phi, theta_d) of Huang 2025 Eq. 15; B^'s
     // attenuation is capped by the energy budget 1 - a_F^(n-1) (a_f + a_b) at theta_o, so the lossless model's
@@ -118,6 +127,7 @@ private:
     LobeValues lobes_at(const glm::dvec3& wi, const glm::dvec3& wo, const ClusterState& cluster) const;
 
     FiberRtdBcsdf fiber_;
+    std::optional<ChiangBcsdf> material_;  // the fibre of AggregatedFibre::Material
     ClusterState cluster_;
     std::shared_ptr<const AggregatedTable> table_;
     std::array<LongitudinalLobe, 4> lobes_;

@@ -21,6 +21,7 @@ struct ModelOptions {
     MarschnerCaustic marschner_caustic{};
     RealtimeTT realtime_tt = RealtimeTT::Tafuri;
     ClusterState cluster{};
+    AggregatedFibre aggregated_fibre = AggregatedFibre::Rtd;
     int huang_residual_samples = HuangBcsdf::kDefaultResidualSamples;
 };
 

@@ -1,15 +1,20 @@
 /* The aggregated BCSDF of a thick hair (hair-lod-aggregated-bcsdf.txt, Huang et al. 2025, Eq. 6-15)
- * over the R, TT, D fibre of Huang 2025 Eq. 1, as cpp/src/bcsdf/aggregated.cpp and fiber_rtd.cpp evaluate it,
- * reading the baked tables (cpp/src/bcsdf/bake.cpp) instead of integrating:
- *   fiber_lut:       rows A_R, A_TT, A_D over theta_o in [0, pi/2]
+ * over the material's own fibre (Chiang et al. 2016 in the far field, d'Eon et al. 2011 Sec. 4), as
+ * cpp/src/bcsdf/aggregated.cpp evaluates it with AggregatedFibre::Material, reading baked tables
+ * (cpp/src/bcsdf/bake.cpp, chiang.cpp's far_field_azimuthal_table) instead of integrating:
+ *   fiber_lut:       rows A_R, A_TT, A_D over theta_o in [0, pi/2] (the fibre's directional albedo)
  *   dual_lut:        rows a_f, a_b, A_1, A_3, Delta_b, sigma_b, sigma_f^2, beta_f^2 over theta_d in [-pi/2, pi/2]
  *   aggregated_lut:  blocks a_F^(n-1), A_1+, B^ budget, each over (theta_d in [-pi/2, pi/2], n in [1, n_max])
+ *   material_lut:    N_p of R, TT, TRT, TRRT+ over (|theta_o|, phi in [0, pi]) and their means over phi
+ *                    (preview_luts.material_fibre_rows)
  * Texel centres sit on the axis nodes; every lookup interpolates linearly with texelFetch, so the
  * result does not depend on the sampler's filter. Directions are unit vectors; the fibre tangent is
  * t, theta is measured from the normal plane (sin theta = dot(w, t)), as in pbrt and docs/ARCHITECTURE.md ("Conventions").
- * Needs: sampler2D fiber_lut, dual_lut, aggregated_lut; vec4 lobe_shapes (R shift, R variance,
- * TT shift, TT variance); vec4 lobe_tilts (sin 2s, cos 2s of the R and of the TT shift s); vec4 lut_constants (TT azimuthal variance, n_max,
- * deon_log_normalisation of the R and of the TT variance).
+ * Needs: sampler2D fiber_lut, dual_lut, aggregated_lut, material_lut; vec4 lobe_shapes (R shift, R variance,
+ * TT shift, TT variance); vec4 lobe_tilts (sin 2s, cos 2s of the R and of the TT shift s); vec4 trt_lobe (sin 2s,
+ * cos 2s of the TRT shift, its variance, its deon_log_normalisation); vec4 lut_constants (the R / TT / D
+ * fibre's TT azimuthal variance, which the material's fibre does not read, n_max, deon_log_normalisation of
+ * the R and of the TT variance).
  * Shaders that draw single strands only (n = 1, rho = 1) define HAIRLOD_SINGLE_HAIR: what depends on n is then
  * constant and left out, and so is A_1+ (a strand holds no hairs behind itself; aggregated_bcsdf_behind). */
 
@@ -102,41 +107,34 @@ float hairlod_gaussian(float x, float variance)
   return exp(-0.5 * x * x / variance) / sqrt(2.0 * HAIRLOD_PI * variance);
 }
 
-/* A Gaussian wrapped onto the circle: a unit-area density on [-pi, pi) for every variance. Narrow
- * (variance <= 4): the sum of the Gaussian's copies 2 pi k away, x taken into [-pi, pi] first so that
- * the copies |k| <= 2 hold all but exp(-(5 pi)^2 / 8) ~ 4e-14 of the peak. Wide: the Fourier series
- * (1 + 2 sum q^(k^2) cos(k x)) / 2 pi, q = exp(-variance / 2), its powers and cosines by recurrence
- * (cos((k + 1) x) = 2 cos x cos(k x) - cos((k - 1) x); q^((k + 1)^2) = q^(k^2) q^(2 k + 1)): one
- * exponential and one cosine instead of seven of each. */
-float wrapped_gaussian(float x, float variance)
+/* Lobe `lobe`'s (R, TT, TRT, TRRT+) azimuthal part N_p of the material's fibre at |theta_o| and phi in [0, pi]
+ * (material_lut: preview_luts.material_fibre_rows), bilinear between the nodes; `keep` in (0, 1] takes it
+ * towards its mean over phi (the row's last texel), as forward scatterings spread it, keeping its integral. */
+vec3 material_azimuthal(int lobe, float abs_theta_o, float phi, float keep)
 {
-  if (variance <= 4.0) {
-    x -= 2.0 * HAIRLOD_PI * floor(x / (2.0 * HAIRLOD_PI) + 0.5);
-    float scale = -0.5 / variance;
-    float sum = 0.0;
-    for (int k = -2; k <= 2; ++k) {
-      float shifted = x + 2.0 * HAIRLOD_PI * float(k);
-      sum += exp(scale * shifted * shifted);
-    }
-    return sum / sqrt(2.0 * HAIRLOD_PI * variance);
+  ivec2 size = textureSize(material_lut, 0);
+  int phi_samples = size.x - 1, theta_samples = size.y / 4;
+  float y = clamp(abs_theta_o / (0.5 * HAIRLOD_PI), 0.0, 1.0) * float(theta_samples - 1);
+  int j = min(int(y), theta_samples - 2);
+  float v = y - float(j);
+  float x = clamp(phi / HAIRLOD_PI, 0.0, 1.0) * float(phi_samples - 1);
+  int k = min(int(x), phi_samples - 2);
+  float u = x - float(k);
+  int row = lobe * theta_samples + j;
+  vec3 low = mix(texelFetch(material_lut, ivec2(k, row), 0).rgb, texelFetch(material_lut, ivec2(k + 1, row), 0).rgb, u);
+  vec3 high = mix(texelFetch(material_lut, ivec2(k, row + 1), 0).rgb,
+                  texelFetch(material_lut, ivec2(k + 1, row + 1), 0).rgb, u);
+  vec3 value = mix(low, high, v);
+  if (keep < 1.0) {
+    vec3 mean = mix(texelFetch(material_lut, ivec2(phi_samples, row), 0).rgb,
+                    texelFetch(material_lut, ivec2(phi_samples, row + 1), 0).rgb, v);
+    value = mean + keep * (value - mean);
   }
-  float q = exp(-0.5 * variance);
-  float cos_x = cos(x), cos_previous = 1.0, cos_k = cos_x;
-  float power = q, step = q * q * q;  /* q^(k^2) and q^(2 k + 1) at k = 1 */
-  float sum = 1.0;
-  for (int k = 1; k <= 7; ++k) {
-    sum += 2.0 * power * cos_k;
-    float cos_next = 2.0 * cos_x * cos_k - cos_previous;
-    cos_previous = cos_k;
-    cos_k = cos_next;
-    power *= step;
-    step *= q * q;
-  }
-  return sum / (2.0 * HAIRLOD_PI);
+  return value;
 }
 
-/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15); built with
- * HAIRLOD_SINGLE_HAIR, of a strand: the single fibre of Huang 2025 Eq. 1 and the back-scatter of the hair
+/* S(wi, wo) of a thick hair with n hairs crossed and density rho (Huang 2025 Eq. 6-15) over the material's
+ * fibre; built with HAIRLOD_SINGLE_HAIR, of a strand: the material's fibre and the back-scatter of the hair
  * behind it. `behind` in [0, 1] is the share of the light that
  * meets hair beyond the hair along wi: the back-scatter of the hair behind, A_1 + A_3 of B^ (dual
  * scattering's backscattering attenuation, Zinke et al. 2008 Sec. 4.2, for hair that fills the half-space
@@ -159,7 +157,7 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
 #ifdef HAIRLOD_SINGLE_HAIR
   /* A strand: the lobes keep their own widths, whose normalisations come as uniforms (lut_constants.zw)
    * instead of being taken again in every fragment. */
-  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w, azimuthal_tt = lut_constants.x;
+  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w;
   float normalisation_r = lut_constants.z, normalisation_tt = lut_constants.w;
 #else
   /* Across the fibre the forward scatterings widen by sigma_f^2 each, along it by Zinke's beta_f^2
@@ -168,22 +166,30 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
   vec3 beta_f2 = lut_row(dual_lut, 7, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
   float spread = (n - 1.0) * (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
   float along = 4.0 * (n - 1.0) * (beta_f2.r + beta_f2.g + beta_f2.b) / 3.0;
-  float v_r = lobe_shapes.y + along, v_tt = lobe_shapes.w + along, azimuthal_tt = lut_constants.x + spread;
+  float v_r = lobe_shapes.y + along, v_tt = lobe_shapes.w + along;
   float normalisation_r = deon_log_normalisation(v_r), normalisation_tt = deon_log_normalisation(v_tt);
 #endif
 
-  /* A_p at theta_o (fiber_rtd.cpp): the lossless fibre then returns A_R + A_TT + A_D. */
+  /* The material's fibre (Chiang et al. 2016) in the far field: sum_p M_p N_p / cos(theta_i) over R, TT, TRT and
+   * TRRT+, N_p tabulated (material_azimuthal), M_p the tilted d'Eon lobes; TRRT+ takes TRT's variance unshifted. */
+#ifdef HAIRLOD_SINGLE_HAIR
+  float v_trt = trt_lobe.z, normalisation_trt = trt_lobe.w, keep = 1.0;
+#else
+  float v_trt = trt_lobe.z + along, normalisation_trt = deon_log_normalisation(v_trt);
+  /* Huang 2025 Eq. 9's azimuthal spread of the n - 1 forward scatterings, a wrapped Gaussian of variance `spread`
+   * convolved with each lobe, on the lobes' first harmonic: exp(-spread / 2) of their departure from the mean. */
+  float keep = exp(-0.5 * spread);
+#endif
   float abs_theta_o = abs(theta_o);
-  vec3 a_r = lut_row(fiber_lut, 0, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
-  vec3 a_tt = lut_row(fiber_lut, 1, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
-  vec3 a_d = lut_row(fiber_lut, 2, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
   float inv_cos_i = 1.0 / max(cos_i, 1e-6);
-
   float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.xy, v_r, normalisation_r);
   float m_tt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.zw, v_tt, normalisation_tt);
-  float n_tt = wrapped_gaussian(phi - HAIRLOD_PI, azimuthal_tt);
-  vec3 value = attenuation * (a_r * (m_r * inv_cos_i / (2.0 * HAIRLOD_PI)) + a_tt * (m_tt * n_tt * inv_cos_i) +
-                              a_d / (HAIRLOD_PI * HAIRLOD_PI));
+  float m_trt = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, trt_lobe.xy, v_trt, normalisation_trt);
+  float m_rest = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, vec2(0.0, 1.0), v_trt, normalisation_trt);
+  vec3 value = attenuation * inv_cos_i * (m_r * material_azimuthal(0, abs_theta_o, phi, keep) +
+                                          m_tt * material_azimuthal(1, abs_theta_o, phi, keep) +
+                                          m_trt * material_azimuthal(2, abs_theta_o, phi, keep) +
+                                          m_rest * material_azimuthal(3, abs_theta_o, phi, keep));
 
   vec3 shadowing = vec3(1.0);
   if (phi < 0.5 * HAIRLOD_PI) {

@@ -12,12 +12,25 @@
  * through the hair volume (self_shadow.glsl: frame.hair_centre.xyz and frame.hair_axes.xyz, the
  * object-space ellipsoid, and frame.hair_centre.w, sigma; 0 disables it). Plus the world, through the hair volume
  * as the lights: as SRBF lights (srbf_world.glsl) when hair_world.uniform_part.w = 1, its uniform part
- * through the mean over 14 directions (hair_world_transmittance) and each lobe through the hair on its
- * own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional albedo,
- * the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform world
- * reads the same either way) through the mean over 14 directions; either with the light the hair around
+ * through 14 directions split by side (hair_world_transmittance, world_by_side) and each lobe through the
+ * hair on its own way (Xu 2011 Eq. 2), else an ambient term, the world colour times the hair's directional
+ * albedo, the fibre's A_R + A_TT + A_D at theta_o (which the SRBF table's uniform row holds too: a uniform
+ * world reads the same either way) through the same 14 directions; either with the light the hair around
  * scatters on from the directions it blocks (hair_scattered_share, frame.scattering.rgb its albedo) and
- * attenuated by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7). */
+ * attenuated by a_F^(n-1), the light a thick hair's n - 1 forward scatterings pass on (Huang 2025 Eq. 7).
+ * The lights are shaded with the material's own fibre (aggregated_bcsdf.glsl). */
+
+/* The uniform world's transmittance as the fibre gathers it at |theta_o| (Chiang et al. 2016's lobes): its
+ * R share (A_R of the albedo) from the directions on the camera's side, its TT share from the far side,
+ * the rest (TRT and beyond, D of the fibre's albedo) from every direction. */
+vec3 world_by_side(float abs_theta_o, vec3 near, vec3 far, vec3 all_directions)
+{
+  vec3 a_r = lut_row(fiber_lut, 0, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  vec3 a_tt = lut_row(fiber_lut, 1, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  vec3 a_d = lut_row(fiber_lut, 2, abs_theta_o, 0.0, 0.5 * HAIRLOD_PI);
+  return (a_r * near + a_tt * far + a_d * all_directions) / max(a_r + a_tt + a_d, vec3(1e-6));
+}
+
 vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, vec2 cluster)
 {
   float n = 1.0, rho = cluster.y;
@@ -71,16 +84,22 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
    * hair's hollow inside and its tips below as they are, the strands passing the light that runs along
    * them), else through the hair-volume ellipsoid. */
   bool world_grid = frame.world_grid_lower.w > 0.0;
-  float world_tau[14];
-  vec3 world_shadow;
+  float world_tau[14], facing[14];
   if (world_grid) {
     world_grid_depths(world_point, frame.world_grid_lower, frame.world_grid_extent.xyz, world_tau);
-    world_shadow = world_grid_transmittance(world_tau, world_keep);
   }
   else {
-    world_shadow = hair_world_transmittance(world_point, frame.hair_centre.xyz, frame.hair_axes.xyz,
-                                            frame.hair_centre.w, world_keep);
+    hair_world_depths(world_point, frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w, world_tau);
   }
+  /* Over all 14 directions, and over those on the camera's side and the far side apart: a strand on the
+   * outside of dense hair takes its R light from the camera's side, through little hair, its TT light from
+   * behind, through the hair (world_by_side). */
+  for (int k = 0; k < 14; ++k) {
+    facing[k] = dot(mat3(frame.model) * HAIR_WORLD_DIRECTIONS[k], wo);
+  }
+  vec3 world_near, world_far;
+  vec3 world_shadow = hair_world_transmittance(world_tau, world_keep, facing, world_near, world_far);
+  vec3 world_sides = world_by_side(abs(asin(clamp(dot(wo, t), -1.0, 1.0))), world_near, world_far, world_shadow);
   for (int k = 0; k < int(frame.counts.x); ++k) {
     vec3 to_light = frame.light_vectors[k].xyz - position * frame.light_vectors[k].w;
     /* Self-shadowing in object space, where the hair volume is: w = 1 maps a position, w = 0 a direction. */
@@ -127,7 +146,7 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     vec3 po = wo - sin_o * t;
     /* The response to a uniform unit world, for the uniform part and for the light scattered on below. */
     vec3 uniform_response = srbf_uniform_response(node_o);
-    vec3 world = hair_world.uniform_part.rgb * uniform_response * world_shadow;
+    vec3 world = hair_world.uniform_part.rgb * uniform_response * world_sides;
     /* The world's light that reaches p straight, averaged over the sphere: a lobe's mean radiance is
      * L_j (1 - e^(-2 kappa)) / (2 kappa) (lobe_colours[j].w, world_srbf.py), times its transmittance. */
     vec3 reaching = hair_world.uniform_part.rgb * world_shadow;
@@ -154,8 +173,8 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
     vec3 albedo = lut_row(fiber_lut, 0, theta_o, 0.0, 0.5 * HAIRLOD_PI) + lut_row(fiber_lut, 1, theta_o, 0.0, 0.5 * HAIRLOD_PI) +
                   lut_row(fiber_lut, 2, theta_o, 0.0, 0.5 * HAIRLOD_PI);
     /* With what the hair around p scatters on to it (hair_scattered_share): T / (1 - rho (1 - T)) of it. */
-    radiance += frame.ambient.rgb * albedo * forward_attenuation(0.0, n) * world_shadow *
-                (vec3(1.0) + hair_scattered_share(world_shadow, frame.scattering.rgb));
+    radiance += frame.ambient.rgb * albedo * forward_attenuation(0.0, n) *
+                (world_sides + world_shadow * hair_scattered_share(world_shadow, frame.scattering.rgb));
   }
   return radiance;
 }

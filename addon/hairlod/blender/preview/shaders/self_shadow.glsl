@@ -41,22 +41,41 @@ const vec3 HAIR_WORLD_DIRECTIONS[14] = vec3[](
     vec3(-HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL, HAIR_WORLD_DIAGONAL),
     vec3(-HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL, -HAIR_WORLD_DIAGONAL));
 
-/* The share of a uniform world's light that reaches p through the hair volume, per channel:
- * hair_transmittance over HAIR_WORLD_DIRECTIONS, the world occluded by the hair as the suns are, each
- * direction's T raised to its own keep[k] (1 - a_f at that direction's inclination to the strand: the
- * strands on the way pass a_f of the light on forwards, as they do a sun's) before the average.
- * Averaging T first and raising the mean overstates the light wherever the directions differ (Jensen's
- * inequality: the mean of T^keep is at most the mean of T to the power keep, for keep <= 1), most in
- * the channels hair scatters forwards most, red for brown hair. */
-vec3 hair_world_transmittance(vec3 p, vec3 centre, vec3 semi_axes, float sigma, vec3 keep[14])
+/* The optical depths from p out to the world along HAIR_WORLD_DIRECTIONS through the hair volume
+ * (object space): hair_optical_depth towards each direction taken as a sun. */
+void hair_world_depths(vec3 p, vec3 centre, vec3 semi_axes, float sigma, out float tau[14])
 {
-  /* T^keep = exp(-keep tau): one exponential per channel, where pow(T, keep) took a logarithm and an
-   * exponential per channel more for every direction, in every fragment. */
-  vec3 sum = vec3(0.0);
   for (int k = 0; k < 14; ++k) {
-    sum += exp(-keep[k] * hair_optical_depth(p, HAIR_WORLD_DIRECTIONS[k], 1e30, centre, semi_axes, sigma));
+    tau[k] = hair_optical_depth(p, HAIR_WORLD_DIRECTIONS[k], 1e30, centre, semi_axes, sigma);
   }
-  return sum / 14.0;
+}
+
+/* The share of a uniform world's light that reaches a point through the hair, per channel, from its
+ * optical depths tau along HAIR_WORLD_DIRECTIONS (hair_world_depths, or the grid's world_grid_depths): each
+ * direction's T raised to its own keep[k] (1 - a_f at that direction's inclination to the strand: the
+ * strands on the way pass a_f of the light on forwards, as they do a sun's), exp(-keep tau), averaged
+ * over the 14 directions (returned), and over the directions on the camera's side (facing[k] > 0, the
+ * cosine between direction k and the direction towards the camera) and on the far side apart (`near`,
+ * `far`), a direction across the view counting half to each. Averaging T first and raising the mean
+ * overstates the light wherever the directions differ (Jensen's inequality), most in the channels hair
+ * scatters forwards most, red for brown hair. hairlod/self_shadow.py's world_transmittance_by_side is the
+ * reference. */
+vec3 hair_world_transmittance(float tau[14], vec3 keep[14], float facing[14], out vec3 near, out vec3 far)
+{
+  near = vec3(0.0);
+  far = vec3(0.0);
+  float near_count = 0.0;
+  for (int k = 0; k < 14; ++k) {
+    vec3 through = exp(-keep[k] * tau[k]);
+    float near_weight = facing[k] > 1e-4 ? 1.0 : (facing[k] < -1e-4 ? 0.0 : 0.5);
+    near += near_weight * through;
+    far += (1.0 - near_weight) * through;
+    near_count += near_weight;
+  }
+  vec3 all_directions = (near + far) / 14.0;
+  near = near_count > 0.0 ? near / near_count : all_directions;
+  far = near_count < 14.0 ? far / (14.0 - near_count) : all_directions;
+  return all_directions;
 }
 
 /* The world's light the hair around a point scatters on to it, as a share of the light that reaches the

@@ -17,15 +17,3 @@ void world_grid_depths(vec3 p, vec4 lower_scale, vec3 extent, out float tau[14])
     }
   }
 }
-
-/* The share of a uniform world's light that reaches a point of optical depths tau through the hair,
- * per channel: exp(-keep[k] tau[k]) averaged over the 14 directions (as hair_world_transmittance does
- * through the ellipsoid; keep[k] = 1 - a_f at direction k's inclination to the strand). */
-vec3 world_grid_transmittance(float tau[14], vec3 keep[14])
-{
-  vec3 sum = vec3(0.0);
-  for (int k = 0; k < 14; ++k) {
-    sum += exp(-keep[k] * tau[k]);
-  }
-  return sum / 14.0;
-}
