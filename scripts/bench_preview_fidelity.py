@@ -75,6 +75,13 @@ HAIRS = ("Ratboy_mohawk", "generated")
 RAMP = np.linspace(0.0, 1.0, 33) ** 2.2  # written values, denser near black
 DELAY = 1.0
 QUIET = 1.0  # seconds without a redraw: the viewport is at rest
+# The viewport's anti-aliasing while measuring (Preferences > Viewport > Anti-Aliasing), whose samples the
+# preview's hair layer averages at rest: 32, so that the preview is measured for its bias. At Blender's
+# default of 8 its own sampling noise (strands thinner than a pixel drawn on a sample by the probability of
+# their width) widens its luminance spread: the mohawk's mid view read 1.32 of the converged reference's at 8
+# samples and 0.93 at 32, lit by the sun alone, while its mean per band of the reference's brightness held
+# (docs/preview.md, "The preview's own noise").
+ANTI_ALIASING = "32"
 
 
 def parse_args():
@@ -92,6 +99,9 @@ def parse_args():
     parser.add_argument("--world", type=float, default=0.15, help="the uniform world's colour (grey)")
     parser.add_argument("--sun", type=float, default=SUN_IRRADIANCE,
                         help=f"the sun's irradiance (default {SUN_IRRADIANCE:g}; 0 lights the hair by the world alone)")
+    parser.add_argument("--sun-towards", type=lambda text: tuple(float(x) for x in text.split(",")),
+                        help="the direction towards the sun, x,y,z in the hair's frame (Z up, the camera on -y; "
+                        "default above the camera's left, as hairlod.render.default_lights)")
     parser.add_argument("--strand-coverage", choices=("on", "off"), default="on",
                         help="the preview's Strand Coverage (default on, the panel's default)")
     parser.add_argument("--cycles-samples", type=int, default=0,
@@ -105,6 +115,9 @@ def parse_args():
                         "preview holds")
     parser.add_argument("--hairs", default=",".join(HAIRS),
                         help=f"which hairs, comma-separated (default all): {', '.join(HAIRS)}")
+    parser.add_argument("--anti-aliasing", choices=("5", "8", "11", "16", "32"), default=ANTI_ALIASING,
+                        help=f"the viewport's anti-aliasing samples while measuring (default {ANTI_ALIASING}: the "
+                        "preview's bias; Blender's default 8 adds the noise an artist sees at rest)")
     parser.add_argument("--arrays", action="store_true",
                         help="also write each view's images as fidelity_<hair>_<view>[_<hdri>].npz beside the PNGs: the preview's "
                         "hair radiance and coverage, the path-traced hair's (unmixed from the sky) and its coverage")
@@ -117,6 +130,9 @@ def parse_args():
         parser.error(f"--spp {args.spp} and --max-spp {args.max_spp}: need 1 <= spp <= max-spp")
     if not 0.0 <= args.spread_tolerance < 1.0:
         parser.error(f"--spread-tolerance {args.spread_tolerance:g}: need 0 <= tolerance < 1")
+    if args.sun_towards is not None and (len(args.sun_towards) != 3 or not np.all(np.isfinite(args.sun_towards))
+                                         or not np.linalg.norm(args.sun_towards) > 0.0):
+        parser.error(f"--sun-towards {args.sun_towards}: need three finite numbers, not all 0")
     return args
 
 
@@ -273,15 +289,19 @@ def steps(args):
                        strand_coverage=args.strand_coverage == "on", shadowing=args.shadowing,
                        cycles_samples=args.cycles_samples, hdri=args.hdri, hdri_strength=args.hdri_strength,
                        max_bounces=args.max_bounces, hairs=args.hairs.split(","),
-                       spread_tolerance=args.spread_tolerance, max_spp=args.max_spp, arrays=args.arrays)
+                       spread_tolerance=args.spread_tolerance, max_spp=args.max_spp, arrays=args.arrays,
+                       anti_aliasing=args.anti_aliasing, sun_towards=args.sun_towards)
     window_steps.report(results, args.out)
 
 
 def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, strand_coverage=True, shadowing=None,
             cycles_samples=0, sun_irradiance=SUN_IRRADIANCE, hdri=None, hdri_strength=1.0, max_bounces=None,
-            hairs=HAIRS, spread_tolerance=SPREAD_TOLERANCE, max_spp=MAX_SPP, arrays=False):
+            hairs=HAIRS, spread_tolerance=SPREAD_TOLERANCE, max_spp=MAX_SPP, arrays=False, anti_aliasing=None,
+            sun_towards=None):
     """The steps of the measurement (a generator for window_steps.run or tests/ui/harness.run), per hair
-    and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's."""
+    and view, into `results` ({"<hair> <view>": entry}); arguments as the command line's (anti_aliasing None
+    keeps the preferences' samples; sun_towards None puts the sun above the camera's left, as
+    hairlod.render.default_lights). The preferences' anti-aliasing is restored afterwards."""
     import addon_utils
 
     from harness import screenshot
@@ -305,6 +325,10 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
     region = next(r for r in area.regions if r.type == 'WINDOW')
     space, region_3d = area.spaces.active, area.spaces.active.region_3d
     space.overlay.show_overlays = False
+    preferences = bpy.context.preferences.system
+    anti_aliasing_before = preferences.viewport_aa
+    if anti_aliasing is not None:
+        preferences.viewport_aa = anti_aliasing
     space.show_gizmo = False
     space.show_region_toolbar = False
     space.show_region_header = False
@@ -378,6 +402,8 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
                 from mathutils import Vector
                 region_3d.view_rotation = Vector(-forward).to_track_quat('Z', 'Y')
                 sun_direction = render.default_lights(camera)["directional"][0][0]
+                if sun_towards is not None:
+                    sun_direction = tuple(-np.asarray(sun_towards, np.float64) / np.linalg.norm(sun_towards))
                 sun = bpy.data.objects.get("Sun") or bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))
                 if sun.name not in scene.collection.objects:
                     scene.collection.objects.link(sun)
@@ -489,6 +515,7 @@ def measure(results, views=("mid", "near"), spp=256, scale=0.25, world=0.15, str
             bpy.data.objects.remove(holder)
     finally:
         redraws.remove()
+        preferences.viewport_aa = anti_aliasing_before
 
 
 if __name__ == "__main__":

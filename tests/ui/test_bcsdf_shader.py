@@ -574,6 +574,37 @@ def run():
               f"{np.mean(taken > tolerance):.0%} of the front configurations")
         check(bool(taken.max() > 100.0 * tolerance), f"{name}: the hair behind's back-scatter is there towards the front")
 
+        # Light that crossed m strands on its way (hair_shading.glsl, Zinke et al. 2008 Sec. 4.2's forward-scattered
+        # light): a strand shades it with its lobes widened by m forward scatterings, as a thick hair of n = 1 + m
+        # widens its own (Huang 2025 Eq. 9), without that hair's a_F^m, which the light's transmittance holds.
+        # Towards the back, where neither adds B^, the strands' aggregated_bcsdf_crossed at m times a_F^m reads
+        # the general aggregated_bcsdf at n = 1 + m, rho = 1 (float32 rounding apart).
+        crossed = hair_count - 1.0
+        widened = evaluate_on_gpu(tables, wi, wo, crossed, ones, single_hair=True,
+                                  call="aggregated_bcsdf_crossed(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), "
+                                       "1.0, 1.0, 1.0, i.w)")
+        straight = evaluate_on_gpu(tables, wi, wo, crossed, ones, single_hair=True,
+                                   call="aggregated_bcsdf_crossed(normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), "
+                                        "1.0, 1.0, 1.0, 0.0)")
+        # theta_d as aggregated_bcsdf takes it (atan, not Mesa's coarser asin).
+        inclination = "atan(clamp(normalize({0}).x, -1.0, 1.0), sqrt(max(1.0 - normalize({0}).x * normalize({0}).x, 0.0)))"
+        theta_d = f"0.5 * ({inclination.format('o.xyz')} - {inclination.format('i.xyz')})"
+        thick = evaluate_on_gpu(tables, wi, wo, hair_count, ones)
+        kept = evaluate_on_gpu(tables, wi, wo, hair_count, ones,
+                               call=f"forward_attenuation({theta_d}, i.w) + step(2.0, o.w) * aggregated_bcsdf("
+                                    "normalize(i.xyz), normalize(o.xyz), vec3(1.0, 0.0, 0.0), i.w, o.w)")
+        gap = np.abs(widened * kept - thick)[back] / np.maximum(np.abs(thick[back]), 1e-3 * scale)
+        print(f"{name}, light that crossed strands: max |S_crossed a_F^m - S(n = 1 + m)| / S towards the back = {gap.max():.2e}")
+        check(np.isfinite(widened).all() and (gap <= 1e-4).all(),
+              f"{name}: a strand shades light that crossed m strands as a thick hair of n = 1 + m does, without its a_F^m")
+        check(bool(np.all(np.abs(straight - single) <= 1e-6 * single_scale)),
+              f"{name}: light that crossed no strand is shaded as aggregated_bcsdf_behind shades it")
+        # The widening flattens the fibre's peaks across the directions that crossed most (m >= 10).
+        many = crossed >= 10.0
+        check(bool(widened[many].max() < 0.5 * straight[many].max()),
+              f"{name}: light that crossed many strands arrives with its lobes widened (peak "
+              f"{widened[many].max():.3g} against {straight[many].max():.3g})")
+
 
 def check_forward_share():
     """aggregated_bcsdf.glsl's forward_share (a_f at a light's inclination to the strand: the suns' and each

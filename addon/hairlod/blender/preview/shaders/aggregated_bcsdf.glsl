@@ -15,7 +15,7 @@
  * cos 2s of the TRT shift, its variance, its deon_log_normalisation); vec4 lut_constants (the R / TT / D
  * fibre's TT azimuthal variance, which the material's fibre does not read, n_max, deon_log_normalisation of
  * the R and of the TT variance).
- * Shaders that draw single strands only (n = 1, rho = 1) define HAIRLOD_SINGLE_HAIR: what depends on n is then
+ * Shaders that draw single strands only (n = 1, rho = 1) define HAIRLOD_SINGLE_HAIR: a_F^(n-1) is then
  * constant and left out, and so is A_1+ (a strand holds no hairs behind itself; aggregated_bcsdf_behind). */
 
 #define HAIRLOD_PI 3.14159265358979
@@ -138,8 +138,11 @@ vec3 material_azimuthal(int lobe, float abs_theta_o, float phi, float keep)
  * behind it. `behind` in [0, 1] is the share of the light that
  * meets hair beyond the hair along wi: the back-scatter of the hair behind, A_1 + A_3 of B^ (dual
  * scattering's backscattering attenuation, Zinke et al. 2008 Sec. 4.2, for hair that fills the half-space
- * behind), scales with it; A_1+, the hair's own side scattering (Huang 2025 Eq. 10), does not. Returns RGB. */
-vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float behind)
+ * behind), scales with it; A_1+, the hair's own side scattering (Huang 2025 Eq. 10), does not. `crossed`
+ * (>= 0) is the number of strands the light crossed on its way to the hair, each widening the lobes by
+ * one forward scattering as the n - 1 inside a thick hair do (Zinke et al. 2008 Sec. 4.2's global
+ * multiple scattering); their attenuation is the caller's (the light's transmittance). Returns RGB. */
+vec3 aggregated_bcsdf_crossed(vec3 wi, vec3 wo, vec3 t, float n, float rho, float behind, float crossed)
 {
   float sin_i = clamp(dot(wi, t), -1.0, 1.0), sin_o = clamp(dot(wo, t), -1.0, 1.0);
   float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0)), cos_o = sqrt(max(1.0 - sin_o * sin_o, 0.0));
@@ -154,32 +157,32 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
   vec3 a_f = lut_row(dual_lut, 0, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
   /* Huang 2025 Eq. 7 and 9: n - 1 forward scatterings attenuate and widen R^, TT^, D^. */
   vec3 attenuation = forward_attenuation(theta_d, n);
-#ifdef HAIRLOD_SINGLE_HAIR
-  /* A strand: the lobes keep their own widths, whose normalisations come as uniforms (lut_constants.zw)
-   * instead of being taken again in every fragment. */
-  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w;
-  float normalisation_r = lut_constants.z, normalisation_tt = lut_constants.w;
-#else
   /* Across the fibre the forward scatterings widen by sigma_f^2 each, along it by Zinke's beta_f^2
-   * (aggregated.cpp says why). */
-  vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
-  vec3 beta_f2 = lut_row(dual_lut, 7, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
-  float spread = (n - 1.0) * (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
-  float along = 4.0 * (n - 1.0) * (beta_f2.r + beta_f2.g + beta_f2.b) / 3.0;
-  float v_r = lobe_shapes.y + along, v_tt = lobe_shapes.w + along;
-  float normalisation_r = deon_log_normalisation(v_r), normalisation_tt = deon_log_normalisation(v_tt);
-#endif
+   * (aggregated.cpp says why): the n - 1 inside a thick hair and the `crossed` on the light's way. */
+  float scatterings = n - 1.0 + crossed;
+  float spread = 0.0, along = 0.0;
+  float v_r = lobe_shapes.y, v_tt = lobe_shapes.w, v_trt = trt_lobe.z;
+  /* Unwidened lobes take their normalisations from uniforms (lut_constants.zw, trt_lobe.w) instead of
+   * taking them again in every fragment. */
+  float normalisation_r = lut_constants.z, normalisation_tt = lut_constants.w, normalisation_trt = trt_lobe.w;
+  if (scatterings > 0.0) {
+    vec3 sigma_f2 = lut_row(dual_lut, 6, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+    vec3 beta_f2 = lut_row(dual_lut, 7, theta_d, -0.5 * HAIRLOD_PI, 0.5 * HAIRLOD_PI);
+    spread = scatterings * (sigma_f2.r + sigma_f2.g + sigma_f2.b) / 3.0;
+    along = 4.0 * scatterings * (beta_f2.r + beta_f2.g + beta_f2.b) / 3.0;
+    v_r += along;
+    v_tt += along;
+    v_trt += along;
+    normalisation_r = deon_log_normalisation(v_r);
+    normalisation_tt = deon_log_normalisation(v_tt);
+    normalisation_trt = deon_log_normalisation(v_trt);
+  }
 
   /* The material's fibre (Chiang et al. 2016) in the far field: sum_p M_p N_p / cos(theta_i) over R, TT, TRT and
    * TRRT+, N_p tabulated (material_azimuthal), M_p the tilted d'Eon lobes; TRRT+ takes TRT's variance unshifted. */
-#ifdef HAIRLOD_SINGLE_HAIR
-  float v_trt = trt_lobe.z, normalisation_trt = trt_lobe.w, keep = 1.0;
-#else
-  float v_trt = trt_lobe.z + along, normalisation_trt = deon_log_normalisation(v_trt);
-  /* Huang 2025 Eq. 9's azimuthal spread of the n - 1 forward scatterings, a wrapped Gaussian of variance `spread`
+  /* Huang 2025 Eq. 9's azimuthal spread of the forward scatterings, a wrapped Gaussian of variance `spread`
    * convolved with each lobe, on the lobes' first harmonic: exp(-spread / 2) of their departure from the mean. */
   float keep = exp(-0.5 * spread);
-#endif
   float abs_theta_o = abs(theta_o);
   float inv_cos_i = 1.0 / max(cos_i, 1e-6);
   float m_r = tilted_deon_longitudinal(sin_i, cos_i, sin_o, cos_o, lobe_tilts.xy, v_r, normalisation_r);
@@ -223,6 +226,12 @@ vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float
     shadowing = p_s * a_f + vec3(1.0 - p_m - p_s);
   }
   return value * shadowing;
+}
+
+/* The same for light that reaches the hair straight. */
+vec3 aggregated_bcsdf_behind(vec3 wi, vec3 wo, vec3 t, float n, float rho, float behind)
+{
+  return aggregated_bcsdf_crossed(wi, wo, t, n, rho, behind, 0.0);
 }
 
 /* The same with hair everywhere behind (the model of cpp/src/bcsdf/aggregated.cpp). */

@@ -112,6 +112,7 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
      * 2008 Sec. 4.2; a_f at the light's inclination). */
     vec3 a_f = forward_share(wi, t);
     vec3 shadow;
+    float straight = 1.0;
     /* The back-scatter of the hair behind (B^'s A_1 + A_3) needs hair there: the chance that the light
      * passing the hair meets a strand beyond it, 1 - exp(-tau) over the map's optical depth past the
      * hair; a sparse wisp has little behind it. Lights without a map keep it whole. */
@@ -123,9 +124,9 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
        * strands themselves: the light that crossed tau of them keeps Zinke's forward transmittance
        * T_f = prod a_f = a_f^tau = exp(-tau (-ln a_f)) per sample, the spread of tau between the samples
        * (depths, texels) averaged after. */
-      shadow = visible_transmittance(k, seen, -wo, k == 0 || at_own_depth ? first_density : light_side_density(k, seen),
-                                     light_pixel_size(k, light_depth(k, seen)), -frame.shadow.z * log(a_f),
-                                     OPACITY_LAYER_STEPS.w * frame.light_shadow[k].z);
+      shadow = visible_transmittance_straight(k, seen, -wo, k == 0 || at_own_depth ? first_density : light_side_density(k, seen),
+                                              light_pixel_size(k, light_depth(k, seen)), -frame.shadow.z * log(a_f),
+                                              OPACITY_LAYER_STEPS.w * frame.light_shadow[k].z, frame.shadow.z, straight);
     }
     else {
       /* Through the hair volume, a uniform random medium (self_shadow.glsl): the number of strands crossed
@@ -133,7 +134,17 @@ vec3 hair_radiance(vec3 position, vec3 t, vec3 wo, float across, vec3 ellipse, v
       shadow = exp(-(vec3(1.0) - a_f) * hair_optical_depth(p_object, to_light_object, frame.light_vectors[k].w > 0.0 ? 1.0 : 1e30,
                                                             frame.hair_centre.xyz, frame.hair_axes.xyz, frame.hair_centre.w));
     }
-    radiance += shadow * frame.light_colours[k].rgb / distance2 * aggregated_bcsdf_behind(wi, wo, t, n, rho, behind) * cos_i;
+    /* Light that crossed strands on its way arrives widened by their forward scatterings (Zinke et al. 2008
+     * Sec. 4.2's global multiple scattering, as Huang 2025 Eq. 9 widens a thick hair's lobes): of the
+     * transmitted light, the share exp(-tau) crossed none; the rest crossed, on average, N of them, the Poisson
+     * number of strands crossed weighted by the a_f^N each keeps, given N >= 1: tau a_f / (1 - exp(-tau a_f)). */
+    vec3 incoming = frame.light_colours[k].rgb / distance2 * cos_i;
+    vec3 passed = max(shadow - vec3(straight), vec3(0.0));
+    float tau = -log(max(straight, 1e-6)) / max(frame.shadow.z, 1e-6);
+    float kept = frame.shadow.z * tau * (a_f.r + a_f.g + a_f.b) / 3.0;
+    float crossed = kept > 1e-4 ? kept / (1.0 - exp(-kept)) : 1.0;
+    radiance += incoming * (min(vec3(straight), shadow) * aggregated_bcsdf_behind(wi, wo, t, n, rho, behind) +
+                            passed * aggregated_bcsdf_crossed(wi, wo, t, n, rho, behind, crossed));
   }
   if (hair_world.uniform_part.w > 0.5) {
     /* Each SRBF light reaches the hair through the hair on its own way (Xu 2011 Eq. 2, the effective

@@ -87,13 +87,15 @@ float hair_behind_optical_depth(int k, vec3 p)
  * around its position (percentage-closer filtering, as the thesis's shadow maps,
  * realtime-pbr-hair-thesis.txt Sec. 4.5, one texel per depth), those where the light meets no hair left
  * out. 1 outside the map. */
-vec3 visible_transmittance(int k, vec3 p, vec3 into, float density, float bias, vec3 keep, float reach)
+vec3 visible_transmittance_straight(int k, vec3 p, vec3 into, float density, float bias, vec3 keep, float reach,
+                                    float per_strand, out float straight)
 {
   /* Positions along p + t into are linear in clip space; so is their depth from a sun. */
   vec4 clip = frame.light_view_projection[k] * vec4(p, 1.0);
   vec4 clip_into = frame.light_view_projection[k] * vec4(into, 0.0);
   vec4 light = frame.light_vectors[k];
   vec3 sum = vec3(0.0);
+  straight = 0.0;
   int in_hair = 0;
   for (int i = 0; i < 4; ++i) {
     float u = (float(i) + 0.5) / 4.0;
@@ -107,10 +109,18 @@ vec3 visible_transmittance(int k, vec3 p, vec3 into, float density, float bias, 
     float depth = light.w > 0.0 ? length(q - light.xyz) : -dot(light.xyz, q);
     float tau = layered_optical_depth(texelFetch(opacity_map, texel, 0), depth - bias - first, frame.light_shadow[k].z);
     sum += exp(-tau * keep);
+    straight += exp(-tau * per_strand);
     ++in_hair;
   }
+  straight = in_hair > 0 ? straight / float(in_hair) : 1.0;
   /* Texels the light meets no hair in lie beyond the hair's edge (the point is on a strand): they would
    * light an edge strand as if nothing stood above it. 1 where no texel holds hair. */
   return in_hair > 0 ? sum / float(in_hair) : vec3(1.0);
+}
+
+vec3 visible_transmittance(int k, vec3 p, vec3 into, float density, float bias, vec3 keep, float reach)
+{
+  float straight;
+  return visible_transmittance_straight(k, p, into, density, bias, keep, reach, 0.0, straight);
 }
 #endif
